@@ -1,0 +1,405 @@
+"""Ground motion: analytic pulses, harmonic motion and recorded accelerograms.
+
+A :class:`GroundMotion` holds a horizontal and a vertical :class:`Component`;
+each component gives the ground acceleration (m/s^2), velocity (m/s) and
+displacement (m) as vectorised functions of time (s).  Velocity and
+displacement are exact integrals of the acceleration (closed forms for the
+analytic motions; exact integration of the piecewise-linear record), with the
+ground at rest at ``t = 0`` except for harmonic motion, whose velocity starts
+at ``A omega`` (the blocks then start at rest relative to the ground).
+"""
+
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from . import records
+
+
+class Component:
+    """One direction of ground motion.  Subclasses implement the three functions."""
+
+    #: natural end of the motion (s); a simulation without a duration runs this long.
+    end_time: float = np.inf
+
+    def acceleration(self, t):
+        raise NotImplementedError
+
+    def velocity(self, t):
+        raise NotImplementedError
+
+    def displacement(self, t):
+        raise NotImplementedError
+
+    @property
+    def peak_acceleration(self) -> float:
+        """Largest |acceleration|, m/s^2."""
+        raise NotImplementedError
+
+
+class Still(Component):
+    """No motion."""
+
+    end_time = 0.0
+
+    def acceleration(self, t):
+        return np.zeros_like(np.asarray(t, dtype=float))
+
+    velocity = displacement = acceleration
+    peak_acceleration = 0.0
+
+
+@dataclass(frozen=True)
+class Harmonic(Component):
+    """``u = A sin(2 pi f t)``.  amplitude A (m), frequency f (Hz)."""
+
+    amplitude: float
+    frequency: float
+
+    @property
+    def _omega(self):
+        return 2.0 * np.pi * self.frequency
+
+    def displacement(self, t):
+        return self.amplitude * np.sin(self._omega * np.asarray(t, dtype=float))
+
+    def velocity(self, t):
+        return self.amplitude * self._omega * np.cos(self._omega * np.asarray(t, dtype=float))
+
+    def acceleration(self, t):
+        return -self.amplitude * self._omega**2 * np.sin(self._omega * np.asarray(t, dtype=float))
+
+    @property
+    def peak_acceleration(self):
+        return abs(self.amplitude) * self._omega**2
+
+
+@dataclass(frozen=True)
+class Pulse(Component):
+    """Acceleration pulse of amplitude ``a_p`` (m/s^2) lasting ``T_p`` (s) from t = 0.
+
+    shape: ``"rectangular"`` (a_p), ``"sine"`` (a_p sin(2 pi t/T_p), one full
+    cycle) or ``"cosine"`` (a_p cos(2 pi t/T_p), one full cycle).
+    """
+
+    amplitude: float
+    duration: float
+    shape: str = "rectangular"
+
+    def __post_init__(self):
+        if self.duration <= 0:
+            raise ValueError(f"pulse duration must be positive, got {self.duration}")
+        if self.shape not in ("rectangular", "sine", "cosine"):
+            raise ValueError(f"unknown pulse shape {self.shape!r}")
+
+    @property
+    def end_time(self):
+        return self.duration
+
+    def _parts(self, t):
+        t = np.asarray(t, dtype=float)
+        tau = np.clip(t, 0.0, self.duration)
+        return t, tau, 2.0 * np.pi / self.duration
+
+    def acceleration(self, t):
+        t, tau, w = self._parts(t)
+        inside = (t >= 0) & (t < self.duration)
+        if self.shape == "rectangular":
+            a = np.full_like(tau, self.amplitude)
+        elif self.shape == "sine":
+            a = self.amplitude * np.sin(w * tau)
+        else:
+            a = self.amplitude * np.cos(w * tau)
+        return np.where(inside, a, 0.0)
+
+    def velocity(self, t):
+        t, tau, w = self._parts(t)
+        ap = self.amplitude
+        if self.shape == "rectangular":
+            return ap * tau
+        if self.shape == "sine":
+            return ap / w * (1.0 - np.cos(w * tau))
+        return ap / w * np.sin(w * tau)
+
+    def displacement(self, t):
+        t, tau, w = self._parts(t)
+        ap, tp = self.amplitude, self.duration
+        after = np.maximum(t - tp, 0.0)
+        if self.shape == "rectangular":
+            return ap * tau**2 / 2.0 + ap * tp * after
+        if self.shape == "sine":
+            return ap / w * (tau - np.sin(w * tau) / w)  # the velocity is back to zero at T_p
+        return ap / w**2 * (1.0 - np.cos(w * tau))
+
+    @property
+    def peak_acceleration(self):
+        return abs(self.amplitude)
+
+
+@dataclass(frozen=True)
+class Ramp(Component):
+    """``a = rate * t`` (m/s^2 per s), held at ``peak`` (m/s^2) once reached, if given."""
+
+    rate: float
+    peak: float | None = None
+
+    def _t_hold(self):
+        return np.inf if self.peak is None else abs(self.peak / self.rate)
+
+    def acceleration(self, t):
+        t = np.maximum(np.asarray(t, dtype=float), 0.0)
+        return self.rate * np.minimum(t, self._t_hold())
+
+    def velocity(self, t):
+        t = np.maximum(np.asarray(t, dtype=float), 0.0)
+        th = self._t_hold()
+        tau = np.minimum(t, th)
+        return self.rate * (tau**2 / 2.0 + th * np.maximum(t - th, 0.0)) if np.isfinite(th) else self.rate * t**2 / 2.0
+
+    def displacement(self, t):
+        t = np.maximum(np.asarray(t, dtype=float), 0.0)
+        th = self._t_hold()
+        if not np.isfinite(th):
+            return self.rate * t**3 / 6.0
+        tau = np.minimum(t, th)
+        after = np.maximum(t - th, 0.0)
+        return self.rate * (tau**3 / 6.0 + th**2 / 2.0 * after + th * after**2 / 2.0)
+
+    @property
+    def peak_acceleration(self):
+        return np.inf if self.peak is None else abs(self.peak)
+
+
+@dataclass(frozen=True, eq=False)
+class Sampled(Component):
+    """A record: accelerations ``samples`` (m/s^2) every ``dt`` s from ``t = 0``.
+
+    Linear between samples, zero after the last one (the ground then coasts at
+    its final velocity).  Velocity and displacement are the exact integrals of
+    that piecewise-linear acceleration.
+    """
+
+    samples: np.ndarray
+    dt: float
+    name: str = "record"
+    _v: np.ndarray = field(init=False, repr=False)
+    _u: np.ndarray = field(init=False, repr=False)
+
+    def __post_init__(self):
+        a = np.array(self.samples, dtype=float)
+        if a.ndim != 1 or len(a) < 2:
+            raise ValueError(f"{self.name}: a record needs a 1-D array of at least 2 accelerations")
+        if not np.all(np.isfinite(a)):
+            bad = int(np.argmax(~np.isfinite(a)))
+            raise ValueError(f"{self.name}: sample {bad} is not finite")
+        if not self.dt > 0:
+            raise ValueError(f"{self.name}: dt must be positive, got {self.dt}")
+        a.flags.writeable = False
+        object.__setattr__(self, "samples", a)
+        v, u = _integrate_piecewise_linear(a, self.dt)
+        object.__setattr__(self, "_v", v)
+        object.__setattr__(self, "_u", u)
+
+    @property
+    def end_time(self):
+        return (len(self.samples) - 1) * self.dt
+
+    def _locate(self, t):
+        t = np.asarray(t, dtype=float)
+        n = len(self.samples)
+        k = np.clip(np.floor(t / self.dt).astype(np.int64), 0, n - 2)
+        tau = np.clip(t - k * self.dt, 0.0, None)
+        a0 = self.samples[k]
+        slope = (self.samples[k + 1] - a0) / self.dt
+        inside = (t >= 0) & (t <= self.end_time)
+        return t, k, tau, a0, slope, inside
+
+    def acceleration(self, t):
+        t, k, tau, a0, slope, inside = self._locate(t)
+        return np.where(inside, a0 + slope * tau, 0.0)
+
+    def velocity(self, t):
+        t, k, tau, a0, slope, inside = self._locate(t)
+        v_in = self._v[k] + a0 * tau + slope * tau**2 / 2.0
+        return np.where(t < 0, 0.0, np.where(inside, v_in, self._v[-1]))
+
+    def displacement(self, t):
+        t, k, tau, a0, slope, inside = self._locate(t)
+        u_in = self._u[k] + self._v[k] * tau + a0 * tau**2 / 2.0 + slope * tau**3 / 6.0
+        u_after = self._u[-1] + self._v[-1] * (t - self.end_time)
+        return np.where(t < 0, 0.0, np.where(inside, u_in, u_after))
+
+    @property
+    def peak_acceleration(self):
+        return float(np.max(np.abs(self.samples)))
+
+
+def _integrate_piecewise_linear(a, dt):
+    v = np.zeros_like(a)
+    u = np.zeros_like(a)
+    v[1:] = np.cumsum(dt * (a[:-1] + a[1:]) / 2.0)
+    u[1:] = np.cumsum(dt * v[:-1] + dt**2 * (2.0 * a[:-1] + a[1:]) / 6.0)
+    return v, u
+
+
+def baseline_correct(a, dt, degree: int = 2):
+    """Remove the low-order drift of a record's velocity.
+
+    Fits ``p(t) = sum_{k=1..degree} b_k t^k`` (no constant: the ground starts
+    at rest) to the velocity of the piecewise-linear acceleration by least
+    squares and subtracts ``p'(t)`` from the acceleration, so the corrected
+    record's velocity has no polynomial trend and the displacement does not
+    run away.  Returns the corrected accelerations (m/s^2).
+    """
+    a = np.asarray(a, dtype=float)
+    t = np.arange(len(a)) * dt
+    v, _ = _integrate_piecewise_linear(a, dt)
+    basis = np.column_stack([t**k for k in range(1, degree + 1)])
+    coef, *_ = np.linalg.lstsq(basis, v, rcond=None)
+    drift = sum(k * coef[k - 1] * t ** (k - 1) for k in range(1, degree + 1))
+    return a - drift
+
+
+@dataclass(frozen=True, eq=False)
+class GroundMotion:
+    """Horizontal and vertical ground motion (FORMULATION section 2)."""
+
+    horizontal: Component = field(default_factory=Still)
+    vertical: Component = field(default_factory=Still)
+    name: str = "ground motion"
+
+    @property
+    def end_time(self) -> float:
+        return max(self.horizontal.end_time, self.vertical.end_time)
+
+    def acceleration(self, t):
+        """``(a_x, a_y)`` at times ``t``, m/s^2."""
+        return self.horizontal.acceleration(t), self.vertical.acceleration(t)
+
+    def velocity(self, t):
+        return self.horizontal.velocity(t), self.vertical.velocity(t)
+
+    def displacement(self, t):
+        return self.horizontal.displacement(t), self.vertical.displacement(t)
+
+
+def still() -> GroundMotion:
+    """No ground motion."""
+    return GroundMotion(name="none")
+
+
+def harmonic(amplitude: float | None = None, frequency: float = 1.0, *, pga: float | None = None,
+             vertical_amplitude: float = 0.0) -> GroundMotion:
+    """Harmonic ground displacement ``u_g = A sin(2 pi f t)``.
+
+    amplitude : A in m; or give ``pga`` (m/s^2) and A = pga / (2 pi f)^2.
+    frequency : f in Hz.
+    vertical_amplitude : m, a vertical component in phase with the horizontal.
+    """
+    if frequency <= 0:
+        raise ValueError(f"frequency must be positive, got {frequency}")
+    if (amplitude is None) == (pga is None):
+        raise ValueError("give exactly one of amplitude and pga")
+    if amplitude is None:
+        amplitude = pga / (2.0 * np.pi * frequency) ** 2
+    vertical = Harmonic(vertical_amplitude, frequency) if vertical_amplitude else Still()
+    return GroundMotion(Harmonic(amplitude, frequency), vertical, name=f"harmonic {amplitude:g} m at {frequency:g} Hz")
+
+
+def rectangular_pulse(amplitude: float, duration: float) -> GroundMotion:
+    """Constant acceleration ``amplitude`` (m/s^2) for ``duration`` (s) from t = 0."""
+    return GroundMotion(Pulse(amplitude, duration, "rectangular"), name=f"rectangular pulse {amplitude:g} m/s^2")
+
+
+def sine_pulse(amplitude: float, duration: float) -> GroundMotion:
+    """One-sine acceleration pulse ``a_p sin(2 pi t / T_p)``, 0 <= t < T_p."""
+    return GroundMotion(Pulse(amplitude, duration, "sine"), name=f"one-sine pulse {amplitude:g} m/s^2")
+
+
+def cosine_pulse(amplitude: float, duration: float) -> GroundMotion:
+    """One-cosine acceleration pulse ``a_p cos(2 pi t / T_p)``, 0 <= t < T_p."""
+    return GroundMotion(Pulse(amplitude, duration, "cosine"), name=f"one-cosine pulse {amplitude:g} m/s^2")
+
+
+def ramp(rate: float, peak: float | None = None) -> GroundMotion:
+    """Monotonic acceleration ``a_g = rate * t`` (m/s^2 per s), optionally held at ``peak``."""
+    return GroundMotion(Ramp(rate, peak), name=f"ramp {rate:g} m/s^3")
+
+
+def record(source, dt: float | None = None, scale: float = 1.0, pga: float | None = None,
+           vertical=None, *, units: str = "m/s^2", component: int | None = None,
+           baseline: bool = True) -> GroundMotion:
+    """A recorded accelerogram as ground motion.
+
+    source : path of a PEER AT2 file or a column text file, the name of a
+        bundled record (see :data:`dem_core.records.BUNDLED`), or an array of
+        accelerations in m/s^2 (then ``dt`` is required).
+    dt : s, sampling interval; read from the file when it has a time column or header.
+    scale : factor applied to both components; ignored when ``pga`` is given.
+    pga : m/s^2, scale the horizontal component to this peak (the vertical by the same factor).
+    vertical : None, a 1-based component index of the same file, another
+        source (path or array, same dt), or a bundled record's own vertical with ``True``.
+    units : of a text file (``"m/s^2"``, ``"g"``, ``"cm/s^2"``); AT2 files state theirs.
+    component : 1-based component of a multi-column file (default: the first,
+        or the bundled record's documented one).
+    baseline : remove the polynomial velocity drift (see :func:`baseline_correct`).
+    """
+    horizontal, dt, name, bundled = _load(source, dt, units, component)
+    if vertical is True:
+        if bundled is None or bundled.vertical_component is None:
+            raise ValueError(f"{name}: has no bundled vertical component")
+        vertical = bundled.vertical_component
+    if vertical is None or vertical is False:
+        vert = None
+    elif isinstance(vertical, (int, np.integer)) and not isinstance(vertical, bool):
+        vert, vdt, _, _ = _load(source, dt, units, int(vertical))
+    else:
+        vert, vdt, _, _ = _load(vertical, dt, units, None)
+    if vert is not None:
+        if abs(vdt - dt) > 1e-9 * dt:
+            raise ValueError(f"{name}: vertical component is sampled every {vdt} s, horizontal every {dt} s")
+        n = max(len(horizontal), len(vert))
+        horizontal = np.pad(horizontal, (0, n - len(horizontal)))
+        vert = np.pad(vert, (0, n - len(vert)))
+    peak = float(np.max(np.abs(horizontal)))
+    if pga is not None:
+        if pga < 0 or peak == 0:
+            raise ValueError(f"{name}: cannot scale to pga={pga} (record peak {peak})")
+        scale = pga / peak
+    if baseline:
+        horizontal = baseline_correct(horizontal, dt)
+        vert = None if vert is None else baseline_correct(vert, dt)
+    h = Sampled(horizontal * scale, dt, name=name)
+    v = Sampled(vert * scale, dt, name=name + " (vertical)") if vert is not None else Still()
+    return GroundMotion(h, v, name=f"{name} x{scale:.4g}")
+
+
+def _load(source, dt, units, component):
+    """Accelerations from any record source: ``(a m/s^2, dt, name, bundled entry or None)``."""
+    if isinstance(source, (str, Path)) and str(source) in records.BUNDLED and not Path(source).exists():
+        entry = records.BUNDLED[str(source)]
+        path = records.bundled_path(str(source))
+        a, step = _read_file(path, entry.dt, entry.units, component or entry.component)
+        return a, step, str(source), entry
+    if isinstance(source, (str, Path)):
+        path = Path(source)
+        a, step = _read_file(path, dt, units, component or 1)
+        return a, step, path.stem, None
+    a = np.asarray(source, dtype=float)
+    if dt is None:
+        raise ValueError("an array record needs dt (s)")
+    return a, float(dt), "array record", None
+
+
+def _read_file(path, dt, units, component):
+    if path.suffix.lower() == ".at2":
+        a, step = records.read_at2(path)
+        if component not in (None, 1):
+            raise records.RecordError(f"{path}: an AT2 file holds one component, asked for component {component}")
+        return a, step
+    a, step, t0 = records.read_text_record(path, dt=dt, units=units, component=component)
+    lead = int(round(t0 / step))
+    if lead > 0 and abs(lead * step - t0) < 1e-6 * step:
+        a = np.concatenate([np.zeros(lead), a])  # first sample at t0 > 0: the ground is still before it
+    return a, step

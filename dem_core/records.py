@@ -1,0 +1,186 @@
+"""Readers for recorded accelerograms: PEER AT2 and plain column text.
+
+Every reader returns accelerations in m/s^2 and raises :class:`RecordError`
+naming the file and line of anything it cannot read.  The records bundled
+with the package are listed in :data:`BUNDLED` (sources in
+``dem_core/data/records/SOURCES.md``).
+"""
+
+import re
+from dataclasses import dataclass
+from importlib import resources
+from pathlib import Path
+
+import numpy as np
+
+G_STANDARD = 9.80665  # m/s^2, the g that record files in units of g refer to
+
+
+class RecordError(ValueError):
+    """A record file that cannot be read; the message names the file and line."""
+
+
+@dataclass(frozen=True)
+class BundledRecord:
+    file: str
+    component: int  # 1-based data column (after the time column, if any)
+    units: str
+    dt: float | None = None
+    vertical_component: int | None = None
+    description: str = ""
+
+
+BUNDLED = {
+    "el_centro_1940": BundledRecord("elcentro_1940_NS_RSN6_ELC180.AT2", 1, "g",
+                                    description="Imperial Valley 1940, El Centro Array #9, comp 180 (PGA 0.281 g)"),
+    "mexico_city_1985": BundledRecord("mexico_1985_SCT_t_NS_EW_V_g.txt", 2, "g", vertical_component=3,
+                                      description="Michoacan 1985, Mexico City SCT, EW (PGA 0.171 g), vertical available"),
+    "northridge_1994": BundledRecord("northridge_1994_sylmar_county_hospital_ms2.dat", 1, "m/s^2",
+                                     description="Northridge 1994, Sylmar County Hospital (PGA 8.27 m/s^2)"),
+    "kalamata_1986": BundledRecord("kalamata_1986_acc_ms2_dt0.02.txt", 1, "m/s^2", dt=0.02,
+                                   description="Kalamata 1986, near field (PGA 2.91 m/s^2)"),
+}
+
+
+def bundled_path(name: str) -> Path:
+    """Path of a bundled record file, by its key in :data:`BUNDLED`."""
+    if name not in BUNDLED:
+        raise KeyError(f"no bundled record named {name!r}; available: {', '.join(BUNDLED)}")
+    return Path(str(resources.files("dem_core") / "data" / "records" / BUNDLED[name].file))
+
+
+def _unit_factor(units: str, where: str) -> float:
+    u = units.strip().lower().replace(" ", "")
+    if u == "g":
+        return G_STANDARD
+    if u in ("m/s^2", "m/s2", "m/s/s", "ms-2", "m/s**2"):
+        return 1.0
+    if u in ("cm/s^2", "cm/s2", "gal"):
+        return 0.01
+    raise RecordError(f"{where}: unknown units {units!r} (use 'g', 'm/s^2' or 'cm/s^2')")
+
+
+def read_at2(path) -> tuple[np.ndarray, float]:
+    """Read a PEER NGA AT2 file: ``(acceleration (n,) m/s^2, dt s)``.
+
+    Four header lines; the third names the units, the fourth ``NPTS=..., DT=...``.
+    """
+    path = Path(path)
+    lines = _read_lines(path)
+    if len(lines) < 4:
+        raise RecordError(f"{path}: an AT2 file has 4 header lines, found only {len(lines)} lines")
+    units_line = lines[2].upper()
+    if "UNITS OF G" in units_line:
+        factor = G_STANDARD
+    elif "CM/S" in units_line or "CM/SEC" in units_line:
+        factor = 0.01
+    else:
+        raise RecordError(f"{path}:3: cannot tell the units from {lines[2].strip()!r}")
+    m = re.search(r"NPTS\s*=\s*(\d+)\s*,\s*DT\s*=\s*([0-9.Ee+-]+)", lines[3], re.IGNORECASE)
+    if not m:
+        raise RecordError(f"{path}:4: expected 'NPTS= n, DT= dt', found {lines[3].strip()!r}")
+    npts, dt = int(m.group(1)), float(m.group(2))
+    if dt <= 0:
+        raise RecordError(f"{path}:4: DT must be positive, found {dt}")
+    values = []
+    for lineno, line in enumerate(lines[4:], start=5):
+        for token in line.split():
+            values.append(_number(token, path, lineno))
+    if len(values) != npts:
+        raise RecordError(f"{path}: header says NPTS={npts} but the file holds {len(values)} values")
+    return np.array(values) * factor, dt
+
+
+def read_columns(path) -> np.ndarray:
+    """Read whitespace- or comma-separated numeric columns: ``(n_rows, n_columns)``.
+
+    Blank lines and lines starting with ``#`` are skipped; every other line
+    must hold the same number of numbers.
+    """
+    path = Path(path)
+    rows = []
+    width = None
+    for lineno, line in enumerate(_read_lines(path), start=1):
+        text = line.strip()
+        if not text or text.startswith("#"):
+            continue
+        row = [_number(tok, path, lineno) for tok in re.split(r"[,\s;]+", text) if tok]
+        if width is None:
+            width = len(row)
+        elif len(row) != width:
+            raise RecordError(f"{path}:{lineno}: expected {width} columns as on the first data line, found {len(row)}")
+        rows.append(row)
+    if not rows:
+        raise RecordError(f"{path}: no data lines")
+    return np.array(rows, dtype=float)
+
+
+def read_text_record(path, *, dt=None, units="m/s^2", component=1, time_column=None):
+    """Read one component of a column text record: ``(acceleration m/s^2, dt s, t0 s)``.
+
+    path : 1 column (accelerations; ``dt`` required), or a time column
+        followed by one or more components.
+    component : 1-based index of the component among the non-time columns.
+    time_column : whether column 1 holds time; ``None`` decides from the data
+        (a uniformly increasing first column, of step ``dt`` when given).
+    """
+    path = Path(path)
+    data = read_columns(path)
+    factor = _unit_factor(units, str(path))
+    has_time = _first_column_is_time(data, dt) if time_column is None else bool(time_column)
+    t0 = 0.0
+    if has_time:
+        t = data[:, 0]
+        steps = np.diff(t)
+        if len(t) < 2 or np.any(steps <= 0):
+            bad = int(np.argmax(steps <= 0)) + 2 if len(t) >= 2 else 1
+            raise RecordError(f"{path}:{bad}: time column is not increasing")
+        step = float(np.median(steps))
+        off = np.abs(steps - step) > 1e-6 * step + 1e-9
+        if np.any(off):
+            raise RecordError(f"{path}:{int(np.argmax(off)) + 2}: time step {steps[np.argmax(off)]:.6g} s differs "
+                              f"from the record's step {step:.6g} s (uneven sampling is not supported)")
+        if dt is not None and abs(dt - step) > 1e-6 * step:
+            raise RecordError(f"{path}: dt={dt} was given but the time column steps by {step}")
+        dt, t0 = step, float(t[0])
+        columns = data[:, 1:]
+    else:
+        if dt is None:
+            raise RecordError(f"{path}: no time column; give dt (the sampling interval in s)")
+        columns = data
+    if columns.shape[1] == 0:
+        raise RecordError(f"{path}: only a time column, no accelerations")
+    if not 1 <= component <= columns.shape[1]:
+        raise RecordError(f"{path}: component {component} asked for, the file has {columns.shape[1]} "
+                          f"acceleration column(s)")
+    return columns[:, component - 1] * factor, float(dt), t0
+
+
+def _first_column_is_time(data, dt) -> bool:
+    if data.shape[1] < 2 or data.shape[0] < 3:
+        return False
+    steps = np.diff(data[:, 0])
+    step = np.median(steps)
+    if step <= 0 or np.any(np.abs(steps - step) > 1e-6 * step + 1e-9):
+        return False
+    return dt is None or abs(step - dt) <= 1e-6 * dt
+
+
+def _read_lines(path: Path) -> list:
+    try:
+        with open(path, encoding="utf-8", errors="strict", newline=None) as fh:
+            return fh.read().splitlines()
+    except FileNotFoundError:
+        raise RecordError(f"{path}: no such record file") from None
+    except UnicodeDecodeError as exc:
+        raise RecordError(f"{path}: not a text file ({exc.reason} at byte {exc.start})") from None
+
+
+def _number(token: str, path, lineno: int) -> float:
+    try:
+        value = float(token)
+    except ValueError:
+        raise RecordError(f"{path}:{lineno}: cannot read {token!r} as a number") from None
+    if not np.isfinite(value):
+        raise RecordError(f"{path}:{lineno}: value {token!r} is not finite")
+    return value

@@ -1,0 +1,218 @@
+"""What a scene is: immutable blocks, the base, contact parameters, friction overrides.
+
+A :class:`Scene` describes the model only; where the blocks are during a run
+lives in the simulation state (see :mod:`dem_core.simulation`).  Every engine
+(native core and adapters) builds from this one description.
+"""
+
+import dataclasses
+from dataclasses import dataclass, field
+from functools import cached_property
+
+import numpy as np
+
+from . import geometry
+from .contact import ContactParameters
+
+STANDARD_GRAVITY = 9.81  # m/s^2, the value FORMULATION's onset figures use (g b/h = 1.635 for 1 x 6 m)
+
+
+class SceneError(ValueError):
+    """A scene that cannot be simulated; the message names the block at fault."""
+
+
+@dataclass(frozen=True, eq=False)
+class Block:
+    """One rigid convex block (a drum, capital, epistyle, or the base).
+
+    vertices : (n, 2) array, m
+        Outline at the start of the run, world coordinates, convex.  Stored
+        counter-clockwise (clockwise input is reversed).
+    density : kg/m^3
+    depth : m, out-of-plane thickness; mass = density * area * depth.
+    friction : Coulomb coefficient of the block's surface; an interface uses
+        the smaller of its two blocks' values unless the scene overrides it.
+    angle : rad, rotation of ``vertices`` from the block's reference
+        orientation; reported rotations start from it.
+    """
+
+    name: str
+    vertices: np.ndarray
+    density: float = 2700.0
+    depth: float = 1.0
+    friction: float = 0.7
+    angle: float = 0.0
+
+    def __post_init__(self):
+        if not isinstance(self.name, str) or not self.name:
+            raise SceneError(f"block name must be a non-empty string, got {self.name!r}")
+        try:
+            v = geometry.as_convex_ccw(self.vertices, name=f"block '{self.name}'")
+        except geometry.GeometryError as exc:
+            raise SceneError(str(exc)) from None
+        v.flags.writeable = False
+        object.__setattr__(self, "vertices", v)
+        for attr in ("density", "depth"):
+            value = float(getattr(self, attr))
+            if not np.isfinite(value) or value <= 0:
+                raise SceneError(f"block '{self.name}': {attr} must be positive, got {value}")
+            object.__setattr__(self, attr, value)
+        mu = float(self.friction)
+        if not np.isfinite(mu) or mu < 0:
+            raise SceneError(f"block '{self.name}': friction must be >= 0, got {mu}")
+        object.__setattr__(self, "friction", mu)
+        object.__setattr__(self, "angle", float(self.angle))
+
+    @cached_property
+    def _properties(self) -> geometry.PolygonProperties:
+        return geometry.polygon_properties(self.vertices)
+
+    @property
+    def area(self) -> float:
+        """Polygon area, m^2."""
+        return self._properties.area
+
+    @property
+    def centroid(self) -> np.ndarray:
+        """Centre of mass at the start, (2,) m."""
+        return self._properties.centroid
+
+    @property
+    def mass(self) -> float:
+        """kg."""
+        return self.density * self.area * self.depth
+
+    @property
+    def inertia(self) -> float:
+        """Rotational inertia about the centre of mass, kg m^2 (exact for the polygon)."""
+        return self.density * self.depth * self._properties.polar_moment
+
+    @property
+    def width(self) -> float:
+        """Horizontal extent at the start, m."""
+        return float(np.ptp(self.vertices[:, 0]))
+
+    @property
+    def height(self) -> float:
+        """Vertical extent at the start, m."""
+        return float(np.ptp(self.vertices[:, 1]))
+
+    @property
+    def circumradius(self) -> float:
+        """Largest distance from the centre of mass to a vertex, m."""
+        return float(np.max(np.hypot(*(self.vertices - self.centroid).T)))
+
+    @property
+    def critical_angle(self) -> float:
+        """Rotation past which gravity alone tips the block over a bottom corner, rad.
+
+        ``atan(b / h)`` in the reference orientation (``angle`` undone): the
+        angle between the vertical and the line from the centre of mass to the
+        nearer of the lowest corners.
+        """
+        v = geometry.transform(self.vertices - self.centroid, -self.angle)
+        size = np.ptp(v, axis=0).max()
+        low = v[:, 1] <= v[:, 1].min() + 1e-9 * size
+        return float(np.arctan2(np.abs(v[low, 0]).min(), -v[:, 1].min()))
+
+
+def _friction_key(a: str, b: str) -> tuple[str, str]:
+    return (a, b) if a <= b else (b, a)
+
+
+@dataclass(frozen=True, eq=False)
+class Scene:
+    """A complete model: blocks resting on a base, contact law, friction overrides.
+
+    blocks : the free bodies, in the order results report them.
+    base : the stylobate; it moves with the ground and has no dynamics.
+    contact : :class:`~dem_core.contact.ContactParameters`.
+    interface_friction : mapping ``{(name_a, name_b): mu}`` that overrides the
+        default (smaller of the two blocks' values) at chosen interfaces.
+    gravity : m/s^2.
+    overlap_tolerance : allowed mean penetration between blocks at the start,
+        as a fraction of the smaller block's smaller extent.
+    """
+
+    blocks: tuple
+    base: Block
+    contact: ContactParameters = field(default_factory=ContactParameters)
+    interface_friction: dict = field(default_factory=dict)
+    gravity: float = STANDARD_GRAVITY
+    overlap_tolerance: float = 1e-4
+
+    def __post_init__(self):
+        blocks = tuple(self.blocks)
+        if not blocks:
+            raise SceneError("a scene needs at least one block")
+        for b in (*blocks, self.base):
+            if not isinstance(b, Block):
+                raise SceneError(f"scene members must be Block objects, got {type(b).__name__}")
+        object.__setattr__(self, "blocks", blocks)
+        names = [b.name for b in (self.base, *blocks)]
+        seen = set()
+        for n in names:
+            if n in seen:
+                raise SceneError(f"block name '{n}' is used twice; names identify blocks in results and friction overrides")
+            seen.add(n)
+        overrides = {}
+        for key, mu in dict(self.interface_friction).items():
+            a, b = key
+            for n in (a, b):
+                if n not in seen:
+                    raise SceneError(f"interface friction ({a!r}, {b!r}): no block named '{n}'")
+            if a == b:
+                raise SceneError(f"interface friction ({a!r}, {b!r}): a block has no interface with itself")
+            mu = float(mu)
+            if not np.isfinite(mu) or mu < 0:
+                raise SceneError(f"interface friction ({a!r}, {b!r}): mu must be >= 0, got {mu}")
+            overrides[_friction_key(a, b)] = mu
+        object.__setattr__(self, "interface_friction", overrides)
+        if not np.isfinite(self.gravity) or self.gravity < 0:
+            raise SceneError(f"gravity must be >= 0, got {self.gravity}")
+        self._check_initial_overlaps()
+
+    @property
+    def bodies(self) -> tuple:
+        """Base first, then the blocks: the index order of the compiled kernels."""
+        return (self.base, *self.blocks)
+
+    @property
+    def block_names(self) -> list:
+        return [b.name for b in self.blocks]
+
+    def friction(self, a: str, b: str) -> float:
+        """Coulomb coefficient of the interface between blocks named ``a`` and ``b``."""
+        key = _friction_key(a, b)
+        if key in self.interface_friction:
+            return self.interface_friction[key]
+        by_name = {blk.name: blk for blk in self.bodies}
+        return min(by_name[a].friction, by_name[b].friction)
+
+    def replace(self, **changes) -> "Scene":
+        """A copy with fields changed (the scene itself is immutable)."""
+        return dataclasses.replace(self, **changes)
+
+    def with_interface_friction(self, a: str, b: str, mu: float) -> "Scene":
+        """A copy whose interface between ``a`` and ``b`` has friction ``mu``."""
+        return self.replace(interface_friction={**self.interface_friction, (a, b): mu})
+
+    def _check_initial_overlaps(self):
+        bodies = self.bodies
+        for i in range(len(bodies)):
+            for j in range(i + 1, len(bodies)):
+                p, q = bodies[i], bodies[j]
+                reach = p.circumradius + q.circumradius
+                if np.hypot(*(p.centroid - q.centroid)) > reach:
+                    continue
+                contact = geometry.contact_geometry(p.vertices, q.vertices)
+                if contact is None:
+                    continue
+                depth = contact.area / max(contact.length, 1e-300)
+                allowed = self.overlap_tolerance * min(p.width, p.height, q.width, q.height)
+                if depth > allowed:
+                    raise SceneError(
+                        f"blocks '{p.name}' and '{q.name}' overlap at the start "
+                        f"(area {contact.area:.3e} m^2, mean penetration {depth:.3e} m > tolerance {allowed:.3e} m)"
+                    )
+

@@ -1,0 +1,189 @@
+"""Builders for the scenes of FORMULATION section 3.
+
+Every builder returns an immutable :class:`~dem_core.scene.Scene` whose base
+top is the line y = 0 and whose blocks rest on it touching (zero overlap).
+Shared keyword arguments: ``density`` (kg/m^3), ``friction``, ``depth`` (m),
+``contact`` (:class:`~dem_core.contact.ContactParameters`),
+``interface_friction`` ({(name_a, name_b): mu}), ``base_width`` (m).
+
+Block names: ``block``; ``drum1`` (bottom) .. ``drumN``, ``capital``;
+in colonnades ``c1_drum1`` .. (column ``c1`` is the leftmost), ``epistyle``
+or ``epistyle1``/``epistyle2``; in two-tier colonnades ``lower_``/``upper_``
+prefixes.  The base is ``base``.
+"""
+
+import numpy as np
+
+from .contact import ContactParameters
+from .geometry import rectangle, transform
+from .scene import Block, Scene, SceneError
+
+BASE_HEIGHT = 1.0  # m; the base is kinematic, its thickness only places its centroid
+
+
+def _base(width: float, friction: float, depth: float, x_centre: float = 0.0) -> Block:
+    return Block("base", rectangle(width, BASE_HEIGHT, x_centre - width / 2.0, -BASE_HEIGHT),
+                 density=1.0, depth=depth, friction=friction)
+
+
+def _scene(blocks, base_width, friction, depth, contact, interface_friction, x_centre=0.0):
+    span = max(b.vertices[:, 0].max() for b in blocks) - min(b.vertices[:, 0].min() for b in blocks)
+    base_width = max(3.0 * span, span + 4.0) if base_width is None else base_width
+    if base_width <= 0:
+        raise SceneError(f"base_width must be positive, got {base_width}")
+    return Scene(tuple(blocks), _base(base_width, friction, depth, x_centre),
+                 contact=contact or ContactParameters(), interface_friction=interface_friction or {})
+
+
+def _positive(**values):
+    for k, v in values.items():
+        if not (np.isfinite(v) and v > 0):
+            raise SceneError(f"{k} must be positive, got {v}")
+
+
+def block(width: float, height: float, tilt: float = 0.0, *, density: float = 2700.0, friction: float = 0.7,
+          depth: float = 1.0, name: str = "block", contact: ContactParameters | None = None,
+          interface_friction: dict | None = None, base_width: float | None = None) -> Scene:
+    """A single rectangular block (2b x 2h = width x height, m) on the base.
+
+    tilt : rad, initial rotation about the bottom corner it rests on:
+        positive (counter-clockwise) rests on the left corner (-b, 0),
+        negative on the right corner.
+    """
+    _positive(width=width, height=height)
+    v = rectangle(width, height, -width / 2.0, 0.0)
+    if tilt:
+        pivot = np.array([-width / 2.0 if tilt > 0 else width / 2.0, 0.0])
+        v = transform(v - pivot, tilt, pivot)
+    blk = Block(name, v, density=density, depth=depth, friction=friction, angle=tilt)
+    return _scene([blk], base_width, friction, depth, contact, interface_friction)
+
+
+def _column_blocks(n_drums, width, height, taper, capital, x_centre, y0, density, friction, depth, prefix):
+    """Drums (trapezoids if tapered) and an optional capital, bottom to top."""
+    if int(n_drums) != n_drums or n_drums < 1:
+        raise SceneError(f"n_drums must be a positive integer, got {n_drums}")
+    _positive(width=width, height=height)
+    if not 0.0 <= taper < 2.0:
+        raise SceneError(f"taper must be in [0, 2), got {taper}")
+    # mean width equals `width`, so the tapered column has the prismatic column's mass
+    w_bottom = width / (1.0 - taper / 2.0) if taper else width
+    w_top = w_bottom * (1.0 - taper)
+    drum_h = height / n_drums
+    blocks = []
+    for k in range(int(n_drums)):
+        f0, f1 = k / n_drums, (k + 1) / n_drums
+        wb = w_bottom + (w_top - w_bottom) * f0
+        wt = w_bottom + (w_top - w_bottom) * f1
+        yb, yt = y0 + k * drum_h, y0 + (k + 1) * drum_h
+        v = np.array([[x_centre - wb / 2, yb], [x_centre + wb / 2, yb], [x_centre + wt / 2, yt], [x_centre - wt / 2, yt]])
+        blocks.append(Block(f"{prefix}drum{k + 1}", v, density=density, depth=depth, friction=friction))
+    top = y0 + height
+    if capital is not None:
+        cw, ch = capital
+        _positive(capital_width=cw, capital_height=ch)
+        blocks.append(Block(f"{prefix}capital", rectangle(cw, ch, x_centre - cw / 2.0, top),
+                            density=density, depth=depth, friction=friction))
+        top += ch
+    return blocks, top
+
+
+def column(n_drums: int = 8, width: float = 1.0, height: float = 6.0, *, taper: float = 0.0,
+           capital: tuple | None = None, density: float = 2700.0, friction: float = 0.7, depth: float = 1.0,
+           contact: ContactParameters | None = None, interface_friction: dict | None = None,
+           base_width: float | None = None) -> Scene:
+    """A standalone column of ``n_drums`` equal-height drums, total ``height`` (m).
+
+    width : m, mean width of the shaft.
+    taper : (W_bottom - W_top) / W_bottom, with the mean width kept at
+        ``width`` so a tapered column has the prismatic column's mass.
+    capital : (width, height) in m of a block on top, or None.
+    """
+    blocks, _ = _column_blocks(n_drums, width, height, taper, capital, 0.0, 0.0, density, friction, depth, "")
+    return _scene(blocks, base_width, friction, depth, contact, interface_friction)
+
+
+def _epistyles(kind, centres, col_top_width, y, thickness, density, friction, depth, prefix):
+    """Epistyle blocks of type a-d (FORMULATION section 3) over column centres ``centres``."""
+    n = len(centres)
+    left_edge = centres[0] - col_top_width / 2.0
+    right_edge = centres[-1] + col_top_width / 2.0
+    if kind in ("a", "b"):
+        x0, x1 = left_edge, right_edge
+    elif kind in ("c", "d"):
+        x0, x1 = centres[0], centres[-1]
+    else:
+        raise SceneError(f"epistyle type must be 'a', 'b', 'c' or 'd', got {kind!r}")
+    if kind in ("a", "c"):
+        spans = [(x0, x1)]
+    else:
+        if n % 2 == 0:
+            raise SceneError(f"epistyle type {kind!r} meets over a middle column: needs an odd number of columns, got {n}")
+        mid = centres[n // 2]
+        spans = [(x0, mid), (mid, x1)]
+    names = [f"{prefix}epistyle"] if len(spans) == 1 else [f"{prefix}epistyle{k + 1}" for k in range(len(spans))]
+    return [Block(nm, rectangle(b - a, thickness, a, y), density=density, depth=depth, friction=friction)
+            for nm, (a, b) in zip(names, spans)]
+
+
+def colonnade(n_columns: int = 3, n_drums: int = 3, spacing: float = 2.5, *, epistyle: str = "a",
+              epistyle_density: float = 2700.0, epistyle_height: float = 0.8, width: float = 1.0,
+              height: float = 6.0, taper: float = 0.0, capital: tuple | None = None, density: float = 2700.0,
+              friction: float = 0.7, depth: float = 1.0, contact: ContactParameters | None = None,
+              interface_friction: dict | None = None, base_width: float | None = None) -> Scene:
+    """``n_columns`` equal columns at centre spacing ``spacing`` (m) carrying epistyles.
+
+    epistyle : "a" one block over the full width of the outer columns;
+        "b" two blocks meeting over the middle column, full width;
+        "c" one block from the centre line of the first column to that of the last;
+        "d" two such blocks meeting over the middle column.
+    epistyle_density : kg/m^3 (5000 to 10000 models the lost frieze load).
+    epistyle_height : m.  Other arguments as :func:`column`.
+    """
+    if int(n_columns) != n_columns or n_columns < 2:
+        raise SceneError(f"n_columns must be an integer >= 2, got {n_columns}")
+    _positive(spacing=spacing, epistyle_height=epistyle_height, epistyle_density=epistyle_density)
+    top_width = capital[0] if capital is not None else width * (1.0 - taper) / (1.0 - taper / 2.0)
+    if spacing < top_width:
+        raise SceneError(f"spacing {spacing} m is smaller than the column top width {top_width} m: columns would overlap")
+    centres = (np.arange(n_columns) - (n_columns - 1) / 2.0) * spacing
+    blocks = []
+    top = 0.0
+    for c, xc in enumerate(centres):
+        col, top = _column_blocks(n_drums, width, height, taper, capital, xc, 0.0, density, friction, depth,
+                                  f"c{c + 1}_")
+        blocks += col
+    blocks += _epistyles(epistyle, centres, top_width, top, epistyle_height, epistyle_density, friction, depth, "")
+    return _scene(blocks, base_width, friction, depth, contact, interface_friction)
+
+
+def two_tier_colonnade(n_columns: int = 3, spacing: float = 2.5, *, lower_drums: int = 3,
+                       lower_height: float = 4.5, lower_width: float = 0.9, upper_drums: int = 2,
+                       upper_height: float = 2.5, upper_width: float = 0.6, epistyle: str = "a",
+                       epistyle_height: float = 0.6, epistyle_density: float = 2700.0, density: float = 2700.0,
+                       friction: float = 0.7, depth: float = 1.0, contact: ContactParameters | None = None,
+                       interface_friction: dict | None = None, base_width: float | None = None) -> Scene:
+    """A lower row of columns, an epistyle, an upper row of smaller columns, another epistyle.
+
+    Both rows stand on the same centre lines, ``spacing`` apart; each row
+    carries epistyles of type ``epistyle`` (see :func:`colonnade`).
+    """
+    if int(n_columns) != n_columns or n_columns < 2:
+        raise SceneError(f"n_columns must be an integer >= 2, got {n_columns}")
+    _positive(spacing=spacing, epistyle_height=epistyle_height)
+    if spacing < max(lower_width, upper_width):
+        raise SceneError(f"spacing {spacing} m is smaller than a column width: columns would overlap")
+    centres = (np.arange(n_columns) - (n_columns - 1) / 2.0) * spacing
+    blocks = []
+    for c, xc in enumerate(centres):
+        blocks += _column_blocks(lower_drums, lower_width, lower_height, 0.0, None, xc, 0.0, density, friction,
+                                 depth, f"lower_c{c + 1}_")[0]
+    blocks += _epistyles(epistyle, centres, lower_width, lower_height, epistyle_height, epistyle_density,
+                         friction, depth, "lower_")
+    y_upper = lower_height + epistyle_height
+    for c, xc in enumerate(centres):
+        blocks += _column_blocks(upper_drums, upper_width, upper_height, 0.0, None, xc, y_upper, density, friction,
+                                 depth, f"upper_c{c + 1}_")[0]
+    blocks += _epistyles(epistyle, centres, upper_width, y_upper + upper_height, epistyle_height,
+                         epistyle_density, friction, depth, "upper_")
+    return _scene(blocks, base_width, friction, depth, contact, interface_friction)

@@ -1,0 +1,217 @@
+"""Running a scene under ground motion: ``simulate(scene, excitation, ...)``.
+
+The scene is the immutable model; the state (positions and half-step
+velocities, tangential contact forces) is created here, advanced by the
+compiled kernel in :mod:`dem_core._kernels` and returned as a
+:class:`~dem_core.result.Result`.
+"""
+
+import math
+import time
+
+import numpy as np
+
+from . import _kernels, contact
+from .excitation import GroundMotion, still
+from .result import Result
+
+#: fraction of the stability limit used when dt is not given
+DEFAULT_SAFETY = 0.8
+#: a pair overlapping by more than this fraction of the smaller block's area stops the run
+MAX_OVERLAP_FRACTION = 0.05
+#: a block moving faster than this multiple of the fastest physical speed stops the run
+SPEED_LIMIT_FACTOR = 10.0
+#: energy gained beyond the ground's work, as a fraction of sum(m g R) plus the gross ground work, that stops the run
+ENERGY_TOLERANCE = 0.05
+GROUND_MOTION_MODES = ("inertial", "moving_base")
+
+
+class SimulationUnstable(RuntimeError):
+    """The run lost stability; ``partial`` holds the result up to the last good output."""
+
+    def __init__(self, message: str, partial: Result | None):
+        super().__init__(message)
+        self.partial = partial
+
+
+def simulate(scene, excitation: GroundMotion | None = None, duration: float | None = None,
+             dt: float | None = None, output_dt: float | None = None, *,
+             ground_motion: str = "inertial", safety: float = DEFAULT_SAFETY) -> Result:
+    """Simulate ``scene`` under ``excitation`` with the native soft-contact DEM.
+
+    scene : :class:`~dem_core.scene.Scene`.
+    excitation : :class:`~dem_core.excitation.GroundMotion` (None: no ground motion).
+    duration : s; default the excitation's natural end (records, pulses).
+    dt : s; None picks ``safety`` x the stability limit
+        (:func:`dem_core.contact.stability_limit`).  A dt above the limit is refused.
+    output_dt : s between outputs (rounded to a whole number of steps); default 0.01 s.
+    ground_motion : ``"inertial"`` (base fixed, load ``-m a_g`` on every block,
+        FORMULATION section 2) or ``"moving_base"`` (the base follows u_g, v_g).
+        Either way positions are reported in the fixed frame, with
+        ``base_x`` the ground displacement.
+
+    Raises ``ValueError`` for a dt above the stability limit and
+    :class:`SimulationUnstable` (with the partial result) when the run loses stability.
+    """
+    excitation = still() if excitation is None else excitation
+    if ground_motion not in GROUND_MOTION_MODES:
+        raise ValueError(f"ground_motion must be one of {GROUND_MOTION_MODES}, got {ground_motion!r}")
+    if duration is None:
+        duration = excitation.end_time
+        if not np.isfinite(duration) or duration <= 0:
+            raise ValueError(f"give a duration: the excitation '{excitation.name}' has no natural end")
+    if not duration > 0:
+        raise ValueError(f"duration must be positive, got {duration}")
+
+    interfaces = contact.interface_arrays(scene)
+    limit = contact.stability_limit(scene, interfaces)
+    if dt is None:
+        dt = safety * limit
+    elif not dt > 0:
+        raise ValueError(f"dt must be positive, got {dt}")
+    elif dt > limit:
+        raise ValueError(f"dt = {dt:.4g} s is above the stability limit {limit:.4g} s of this scene "
+                         f"(contact stiffness kn = {scene.contact.kn:.3g}); use dt <= {limit:.4g} or dt=None")
+    n_steps = int(math.ceil(duration / dt - 1e-9))
+    output_dt = 0.01 if output_dt is None else output_dt
+    stride = max(1, int(round(output_dt / dt)))
+    n_out = n_steps // stride + 1
+
+    arrays = _scene_arrays(scene)
+    t_steps = np.arange(n_steps + 1) * dt
+    t_half = t_steps - 0.5 * dt
+    pos = arrays["pos0"].copy()
+    vel = np.zeros_like(pos)
+    if ground_motion == "inertial":
+        ax, ay = excitation.acceleration(t_steps[:-1])
+        load_x, load_y = -ax, -ay
+        base_x = np.full(n_steps + 1, pos[0, 0])
+        base_y = np.full(n_steps + 1, pos[0, 1])
+        base_vx = np.zeros(n_steps + 1)
+        base_vy = np.zeros(n_steps + 1)
+    else:
+        load_x = np.zeros(n_steps)
+        load_y = np.zeros(n_steps)
+        ux, uy = excitation.displacement(t_steps)
+        base_x, base_y = pos[0, 0] + ux, pos[0, 1] + uy
+        base_vx, base_vy = excitation.velocity(t_half)
+        vel[1:, 0], vel[1:, 1] = base_vx[0], base_vy[0]  # blocks start at rest relative to the ground
+    speed_limit = _speed_limit(scene, excitation, t_steps)
+    nb = pos.shape[0]
+    ft_el = np.zeros((nb, nb))
+    slip = np.zeros((nb, nb))
+    out_pos = np.full((n_out, nb, 3), np.nan)
+    peak = np.abs(pos[:, 2]).copy()
+    overturn_step = np.full(nb, -1, np.int64)
+
+    def run(steps, out):
+        return _kernels.integrate(
+            pos, vel, arrays["local_x"], arrays["local_y"], arrays["vstart"], arrays["inv_mass"],
+            arrays["inv_inertia"], arrays["radius"], arrays["area"], interfaces.kn, interfaces.cn, interfaces.kt,
+            interfaces.ct, interfaces.mu, interfaces.active, ft_el, slip, scene.gravity, load_x, load_y,
+            base_x, base_y, base_vx, base_vy, dt, steps, stride, out, arrays["crit_angle"], arrays["y_start"],
+            arrays["drop_limit"], peak, overturn_step, MAX_OVERLAP_FRACTION, arrays["skin"], speed_limit,
+            ENERGY_TOLERANCE)
+
+    t0 = time.perf_counter()
+    _ensure_compiled(run, pos, vel, nb)
+    compile_time = time.perf_counter() - t0
+    t0 = time.perf_counter()
+    status, step, i, j, written = run(n_steps, out_pos)
+    run_time = time.perf_counter() - t0
+
+    names = tuple(scene.block_names)
+    out_t = np.arange(n_out) * stride * dt
+    interface_slip = {}
+    bodies = scene.bodies
+    for a, b in zip(*np.nonzero(np.triu(slip) > 0)):
+        interface_slip[(bodies[a].name, bodies[b].name)] = float(slip[a, b])
+    over_t = np.where(overturn_step[1:] >= 0, overturn_step[1:] * dt, np.nan)
+    info = {
+        "engine": "dem",
+        "stability_limit_s": limit,
+        "steps": int(step),
+        "ground_motion": ground_motion,
+        "excitation": excitation.name,
+        "compile_time_s": compile_time,
+        "run_time_s": run_time,
+        "kn": scene.contact.kn,
+    }
+    result = Result(out_t[:written], out_pos[:written, 1:, 0], out_pos[:written, 1:, 1], out_pos[:written, 1:, 2],
+                    out_pos[:written, 0, 0] - arrays["pos0"][0, 0], out_pos[:written, 0, 1] - arrays["pos0"][0, 1],
+                    names, peak[1:], over_t, interface_slip, dt, info)
+    if status != _kernels.STATUS_OK:
+        when = step * dt
+        if status == _kernels.STATUS_NONFINITE:
+            what = f"the state of block '{bodies[i].name}' became non-finite"
+        elif status == _kernels.STATUS_RUNAWAY:
+            what = (f"block '{bodies[i].name}' moved faster than {speed_limit:.3g} m/s relative to the ground, "
+                    f"{SPEED_LIMIT_FACTOR:g} times the fastest speed its fall and the ground motion can give")
+        elif status == _kernels.STATUS_ENERGY:
+            what = (f"the blocks gained energy that neither gravity nor the ground supplied "
+                    f"(more than {ENERGY_TOLERANCE:.0%} of the energy scale)")
+        else:
+            what = (f"blocks '{bodies[i].name}' and '{bodies[j].name}' overlap by more than "
+                    f"{MAX_OVERLAP_FRACTION:.0%} of the smaller block's area")
+        raise SimulationUnstable(
+            f"simulation unstable at t = {when:.6g} s (step {step}, dt = {dt:.4g} s): {what}; "
+            f"reduce dt or increase the contact stiffness (kn = {scene.contact.kn:.3g}). "
+            f"The result up to t = {out_t[max(written - 1, 0)]:.6g} s is in this error's .partial", result)
+    return result
+
+
+def _speed_limit(scene, excitation, t_steps) -> float:
+    """Bound on any block's speed relative to the ground (m/s) that no stable run reaches.
+
+    ``SPEED_LIMIT_FACTOR`` times the free-fall speed from the top of the scene
+    plus the largest ground velocity change over the run.
+    """
+    top = max(b.vertices[:, 1].max() for b in scene.blocks) - scene.base.vertices[:, 1].max()
+    fall = np.sqrt(2.0 * scene.gravity * max(top, 0.0))
+    vx, vy = excitation.velocity(t_steps)
+    ground = np.ptp(vx) + np.ptp(vy)
+    return SPEED_LIMIT_FACTOR * (fall + ground + 1e-3)
+
+
+def _ensure_compiled(run, pos, vel, nb):
+    """Trigger compilation (or loading from numba's cache) with a zero-step call."""
+    saved = pos.copy(), vel.copy()
+    run(0, np.empty((1, nb, 3)))
+    pos[:], vel[:] = saved
+
+
+def _scene_arrays(scene) -> dict:
+    """Structure-of-arrays view of the scene for the kernel (base at index 0)."""
+    bodies = scene.bodies
+    centroids = np.array([b.centroid for b in bodies])
+    local = [b.vertices - c for b, c in zip(bodies, centroids)]
+    vstart = np.zeros(len(bodies) + 1, np.int64)
+    vstart[1:] = np.cumsum([len(v) for v in local])
+    mass = np.array([b.mass for b in bodies])
+    inertia = np.array([b.inertia for b in bodies])
+    inv_mass = 1.0 / mass
+    inv_inertia = 1.0 / inertia
+    inv_mass[0] = inv_inertia[0] = 0.0
+    # theta starts at each block's initial angle, so the local outline is the start outline rotated back
+    angle0 = np.array([b.angle for b in bodies])
+    pos0 = np.column_stack([centroids, angle0])
+    c, s = np.cos(-angle0), np.sin(-angle0)
+    rotated = [np.column_stack([ci * v[:, 0] - si * v[:, 1], si * v[:, 0] + ci * v[:, 1]])
+               for v, ci, si in zip(local, c, s)]
+    allv = np.concatenate(rotated)
+    radius = np.array([b.circumradius for b in bodies])
+    sizes = np.array([min(b.width, b.height) for b in bodies])
+    return {
+        "pos0": pos0,
+        "local_x": np.ascontiguousarray(allv[:, 0]),
+        "local_y": np.ascontiguousarray(allv[:, 1]),
+        "vstart": vstart,
+        "inv_mass": inv_mass,
+        "inv_inertia": inv_inertia,
+        "radius": radius,
+        "area": np.array([b.area for b in bodies]),
+        "crit_angle": np.array([b.critical_angle for b in bodies]),
+        "y_start": centroids[:, 1].copy(),
+        "drop_limit": 0.5 * sizes,
+        "skin": 0.1 * float(sizes[1:].min()),
+    }
