@@ -23,56 +23,69 @@ MAX_OVERLAP_VERTICES = 64
 
 
 @nb.njit(cache=True)
-def clip_convex(px, py, n_p, qx, qy, n_q, outx, outy, bufx, bufy):
+def clip_convex(px, py, p0, n_p, qx, qy, q0, n_q, outx, outy, scratch):
     """Clip convex polygon P by convex polygon Q (both counter-clockwise).
 
-    Writes the intersection polygon into ``outx``, ``outy`` and returns its
-    vertex count (0 when they do not overlap).  ``bufx``, ``bufy`` are scratch
-    arrays of the same capacity, at least ``n_p + n_q``.
+    P is ``px[p0:p0 + n_p]``, ``py[...]``; Q likewise from ``q0``.  Writes the
+    intersection polygon into ``outx``, ``outy`` and returns its vertex count
+    (0 when they do not overlap).  ``scratch`` is a ``(2, 2, cap)`` work array;
+    ``cap`` and the length of ``outx``, ``outy`` must be at least ``n_p + n_q``.
+    Passes alternate between ``scratch[0]`` and ``scratch[1]`` by index (no
+    array variables are reassigned, which would cost reference counting), and
+    an edge of Q that leaves every vertex inside is skipped.
     """
-    n_out = n_p
     for k in range(n_p):
-        outx[k] = px[k]
-        outy[k] = py[k]
+        scratch[0, 0, k] = px[p0 + k]
+        scratch[0, 1, k] = py[p0 + k]
+    cur = 0
+    n_in = n_p
     for e in range(n_q):
-        if n_out == 0:
-            return 0
-        ax = qx[e]
-        ay = qy[e]
-        bx = qx[(e + 1) % n_q]
-        by = qy[(e + 1) % n_q]
-        ex = bx - ax
-        ey = by - ay
-        n_in = n_out
+        ax = qx[q0 + e]
+        ay = qy[q0 + e]
+        e1 = q0 + e + 1 if e + 1 < n_q else q0  # no modulo: integer division is slow
+        ex = qx[e1] - ax
+        ey = qy[e1] - ay
+        all_inside = True
         for k in range(n_in):
-            bufx[k] = outx[k]
-            bufy[k] = outy[k]
+            if ex * (scratch[cur, 1, k] - ay) - ey * (scratch[cur, 0, k] - ax) < 0.0:
+                all_inside = False
+                break
+        if all_inside:
+            continue
+        nxt = 1 - cur
         n_out = 0
-        sx = bufx[n_in - 1]
-        sy = bufy[n_in - 1]
+        sx = scratch[cur, 0, n_in - 1]
+        sy = scratch[cur, 1, n_in - 1]
         s_side = ex * (sy - ay) - ey * (sx - ax)
         for k in range(n_in):
-            cx = bufx[k]
-            cy = bufy[k]
+            cx = scratch[cur, 0, k]
+            cy = scratch[cur, 1, k]
             c_side = ex * (cy - ay) - ey * (cx - ax)
             if c_side >= 0.0:
                 if s_side < 0.0:
                     f = s_side / (s_side - c_side)
-                    outx[n_out] = sx + f * (cx - sx)
-                    outy[n_out] = sy + f * (cy - sy)
+                    scratch[nxt, 0, n_out] = sx + f * (cx - sx)
+                    scratch[nxt, 1, n_out] = sy + f * (cy - sy)
                     n_out += 1
-                outx[n_out] = cx
-                outy[n_out] = cy
+                scratch[nxt, 0, n_out] = cx
+                scratch[nxt, 1, n_out] = cy
                 n_out += 1
             elif s_side >= 0.0:
                 f = s_side / (s_side - c_side)
-                outx[n_out] = sx + f * (cx - sx)
-                outy[n_out] = sy + f * (cy - sy)
+                scratch[nxt, 0, n_out] = sx + f * (cx - sx)
+                scratch[nxt, 1, n_out] = sy + f * (cy - sy)
                 n_out += 1
             sx = cx
             sy = cy
             s_side = c_side
-    return n_out
+        if n_out == 0:
+            return 0
+        cur = nxt
+        n_in = n_out
+    for k in range(n_in):
+        outx[k] = scratch[cur, 0, k]
+        outy[k] = scratch[cur, 1, k]
+    return n_in
 
 
 @nb.njit(cache=True)
@@ -95,10 +108,11 @@ def polygon_moments(x, y, n):
     iyy = 0.0
     ixy = 0.0
     for k in range(n):
+        k1 = k + 1 if k + 1 < n else 0
         xi = x[k] - x0
         yi = y[k] - y0
-        xj = x[(k + 1) % n] - x0
-        yj = y[(k + 1) % n] - y0
+        xj = x[k1] - x0
+        yj = y[k1] - y0
         cr = xi * yj - xj * yi
         a2 += cr
         mx += (xi + xj) * cr
@@ -126,9 +140,15 @@ def contact_frame(sxx, syy, sxy, cx, cy, ax_c, ay_c):
     overlap centroid and ``c_A`` body A's centre of mass.  Returns
     ``(tx, ty, nx, ny)``.
     """
-    phi = 0.5 * math.atan2(2.0 * sxy, sxx - syy)
-    tx = math.cos(phi)
-    ty = math.sin(phi)
+    # major eigenvector of [[sxx, sxy], [sxy, syy]] from the half-angle formulas
+    d = sxx - syy
+    r = math.sqrt(d * d + 4.0 * sxy * sxy)
+    if r == 0.0:
+        tx, ty = 1.0, 0.0
+    else:
+        c2 = d / r
+        tx = math.sqrt(max(0.5 * (1.0 + c2), 0.0))
+        ty = math.copysign(math.sqrt(max(0.5 * (1.0 - c2), 0.0)), sxy)
     nx = -ty
     ny = tx
     if nx * (cx - ax_c) + ny * (cy - ay_c) < 0.0:
@@ -148,9 +168,10 @@ def overlap(px, py, n_p, qx, qy, n_q):
     cap = n_p + n_q + 2
     outx = np.empty(cap)
     outy = np.empty(cap)
-    bufx = np.empty(cap)
-    bufy = np.empty(cap)
-    m = clip_convex(px, py, n_p, qx, qy, n_q, outx, outy, bufx, bufy)
+    m = clip_convex(px, py, 0, n_p, qx, qy, 0, n_q, outx, outy, np.empty((2, 2, cap)))
     if m < 3:
         return 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
-    return polygon_moments(outx, outy, m)
+    a, cx, cy, sxx, syy, sxy = polygon_moments(outx, outy, m)
+    if a <= 0.0:  # edges that only touch leave a round-off sliver of either sign
+        return 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
+    return a, cx, cy, sxx, syy, sxy

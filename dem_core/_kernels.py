@@ -24,6 +24,9 @@ STATUS_NONFINITE = 1
 STATUS_DEEP_OVERLAP = 2
 STATUS_RUNAWAY = 3
 STATUS_ENERGY = 4
+STATUS_OVERTURNED = 5
+STATUS_FELL_OFF = 6
+ENERGY_CHECK_INTERVAL = 16  # steps between energy balance checks
 
 
 @nb.njit(cache=True)
@@ -56,17 +59,17 @@ def _build_pairs(pos, radius, skin, active, pairs):
 
 @nb.njit(cache=True)
 def integrate(pos, vel, local_x, local_y, vstart, inv_mass, inv_inertia, radius, area,
-              pair_kn, pair_cn, pair_kt, pair_ct, pair_mu, active,
+              pair_kn, pair_cn, pair_cr, pair_kt, pair_ct, pair_mu, active,
               ft_el, slip, gravity, load_x, load_y, base_x, base_y, base_vx, base_vy,
               dt, n_steps, stride, out_pos, crit_angle, y_start, drop_limit,
               peak_theta, overturn_step, max_overlap_fraction, skin, speed_limit,
-              energy_tolerance):
+              energy_tolerance, stop_at_overturn, floor):
     """Advance the scene ``n_steps`` steps of ``dt`` from the state in ``pos``, ``vel``.
 
     Shapes (nb bodies including the base at index 0, nv vertices in all):
     pos, vel (nb, 3); local_x, local_y (nv,) vertices about each centre of
     mass; vstart (nb + 1,) vertex offsets; inv_mass, inv_inertia, radius,
-    area (nb,); pair_* (nb, nb); ft_el, slip (nb, nb) tangential elastic
+    area (nb,); pair_* (nb, nb) contact parameters (see ``dem_core.contact``); ft_el, slip (nb, nb) tangential elastic
     force (N, along the contact tangent) and accumulated slip (m) per pair,
     updated in place; load_x, load_y (n_steps,) inertial loads per unit mass
     (m/s^2) at each step; base_x, base_y (n_steps + 1,) base position at step
@@ -85,7 +88,11 @@ def integrate(pos, vel, local_x, local_y, vstart, inv_mass, inv_inertia, radius,
     gravitational) exceeded its start value plus the work of the ground by
     more than ``energy_tolerance`` times the potential energy scale
     ``sum m g R`` plus the gross ground work: contacts only dissipate, so
-    energy that appears from nowhere is the signature of an unstable step.
+    energy that appears from nowhere is the signature of an unstable step;
+    5 (i = body) if ``stop_at_overturn`` and a block overturned, after
+    writing the state at that step as the last output; 6 (i = body) if a
+    block's centre of mass fell more than its circumradius below ``floor``
+    (the top of the base, relative to the base's position): it left the base.
     """
     nb_ = pos.shape[0]
     nv = local_x.shape[0]
@@ -95,8 +102,7 @@ def integrate(pos, vel, local_x, local_y, vstart, inv_mass, inv_inertia, radius,
     cap = MAX_OVERLAP_VERTICES
     ox = np.empty(cap)
     oy = np.empty(cap)
-    bx = np.empty(cap)
-    by = np.empty(cap)
+    scratch = np.empty((2, 2, cap))
     lo_x = np.empty(nb_)
     hi_x = np.empty(nb_)
     lo_y = np.empty(nb_)
@@ -160,10 +166,8 @@ def integrate(pos, vel, local_x, local_y, vstart, inv_mass, inv_inertia, radius,
             if hi_x[i] < lo_x[j] or hi_x[j] < lo_x[i] or hi_y[i] < lo_y[j] or hi_y[j] < lo_y[i]:
                 ft_el[i, j] = 0.0
                 continue
-            ni = vstart[i + 1] - vstart[i]
-            nj = vstart[j + 1] - vstart[j]
-            m = clip_convex(wx[vstart[i]:vstart[i + 1]], wy[vstart[i]:vstart[i + 1]], ni,
-                            wx[vstart[j]:vstart[j + 1]], wy[vstart[j]:vstart[j + 1]], nj, ox, oy, bx, by)
+            m = clip_convex(wx, wy, vstart[i], vstart[i + 1] - vstart[i], wx, wy, vstart[j], vstart[j + 1] - vstart[j],
+                            ox, oy, scratch)
             if m < 3:
                 ft_el[i, j] = 0.0
                 continue
@@ -210,7 +214,7 @@ def integrate(pos, vel, local_x, local_y, vstart, inv_mass, inv_inertia, radius,
                     s_min = min(s_min, s)
                     s_max = max(s_max, s)
                 length = s_max - s_min
-                couple = -pair_cn[i, j] * length * length / 12.0 * (vel[j, 2] - vel[i, 2])
+                couple = -pair_cr[i, j] * length * length / 12.0 * (vel[j, 2] - vel[i, 2])
             force[j, 0] += fx
             force[j, 1] += fy
             force[j, 2] += rjx * fy - rjy * fx + couple
@@ -220,6 +224,7 @@ def integrate(pos, vel, local_x, local_y, vstart, inv_mass, inv_inertia, radius,
 
         gx = load_x[step]
         gy = load_y[step] - gravity
+        toppled = -1
         power = -(force[0, 0] * vel[0, 0] + force[0, 1] * vel[0, 1])
         for b in range(1, nb_):
             power += (load_x[step] * vel[b, 0] + load_y[step] * vel[b, 1]) / inv_mass[b]
@@ -234,6 +239,8 @@ def integrate(pos, vel, local_x, local_y, vstart, inv_mass, inv_inertia, radius,
             pos[b, 2] += dt * vel[b, 2]
             if not (math.isfinite(pos[b, 0]) and math.isfinite(pos[b, 1]) and math.isfinite(pos[b, 2])):
                 return STATUS_NONFINITE, step, b, b, n_out
+            if pos[b, 1] - pos[0, 1] < floor - radius[b]:
+                return STATUS_FELL_OFF, step, b, b, n_out
             rel_x = vel[b, 0] - vel[0, 0]
             rel_y = vel[b, 1] - vel[0, 1]
             spin = vel[b, 2] * radius[b]
@@ -244,9 +251,19 @@ def integrate(pos, vel, local_x, local_y, vstart, inv_mass, inv_inertia, radius,
                 peak_theta[b] = rot
             if overturn_step[b] < 0 and (abs(pos[b, 2]) > crit_angle[b] or y_start[b] - pos[b, 1] > drop_limit[b]):
                 overturn_step[b] = step + 1
-        energy = _mechanical_energy(pos, vel, inv_mass, inv_inertia, gravity)
-        if energy - energy0 - work_in > energy_tolerance * (energy_scale + work_gross):
-            return STATUS_ENERGY, step, 0, 0, n_out
+                if stop_at_overturn:
+                    toppled = b
+        if toppled >= 0:
+            if n_out < out_pos.shape[0]:
+                for b in range(nb_):
+                    for d in range(3):
+                        out_pos[n_out, b, d] = pos[b, d]
+                n_out += 1
+            return STATUS_OVERTURNED, step + 1, toppled, toppled, n_out
+        if step % ENERGY_CHECK_INTERVAL == 0:
+            energy = _mechanical_energy(pos, vel, inv_mass, inv_inertia, gravity)
+            if energy - energy0 - work_in > energy_tolerance * (energy_scale + work_gross):
+                return STATUS_ENERGY, step, 0, 0, n_out
     return STATUS_OK, n_steps, 0, 0, n_out
 
 

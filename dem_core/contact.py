@@ -15,9 +15,19 @@ and from the pair of blocks so that no hand tuning is needed:
   flat contact of length ``L`` = the smaller of the two blocks' widths;
 * ``C_n = 2 * zeta_n * sqrt(k * m_eff)`` with ``m_eff`` the pair's reduced
   mass (the block's own mass against the base): a dashpot with damping ratio
-  ``zeta_n``.  The default ``zeta_n`` is calibrated so that a rocking block
-  loses the energy Housner's impact rule predicts (FORMULATION 4.2), see
-  ``comparisons/calibrate_damping.py``;
+  ``zeta_n`` acting at the overlap centroid;
+* a dashpot spread evenly along the contact length ``l`` (a Kelvin-Voigt
+  foundation under the uniform pressure ``K_n``) also resists the relative
+  rotation of the pair: the couple ``-C_r l^2 / 12 (omega_B - omega_A)`` with
+  ``C_r = 2 * zeta_r * sqrt(k * m_eff)``.  Without it a soft contact rolls
+  from one corner to the other with almost no loss, whatever ``C_n``: a
+  dashpot at the centroid sees almost no velocity there.  By default
+  ``zeta_r`` follows :func:`housner_damping_ratio` of the scene's rocking
+  slenderness, calibrated so that a rocking block of that slenderness loses
+  the energy Housner's impact rule predicts (FORMULATION 4.2).  It is kept
+  apart from ``zeta_n`` because stiffness-proportional dashpots are what
+  limit an explicit time step: a small ``zeta_n`` and ``zeta_t`` keep the
+  step large;
 * ``K_t = tangential_stiffness_ratio * k`` and
   ``C_t = 2 * zeta_t * sqrt(K_t * m_eff)``.
 
@@ -32,9 +42,28 @@ import numpy as np
 
 from .geometry import contact_geometry
 
-# Calibrated against Housner's impact loss, see the module docstring.
-DEFAULT_DAMPING_RATIO = 0.6
-DEFAULT_NORMAL_STIFFNESS = 1.0e10  # N/m^2 per metre of depth
+DEFAULT_NORMAL_STIFFNESS = 2.0e10  # N/m^2 per metre of depth
+DEFAULT_NORMAL_DAMPING_RATIO = 0.3  # restitution 0.37 for a block dropped flat
+DEFAULT_TANGENTIAL_DAMPING_RATIO = 0.2
+
+#: (slenderness alpha in rad, rocking damping ratio) that reproduces
+#: Housner's peak decay over the first five impacts of free rocking from
+#: 0.2 alpha, with the other contact parameters at their defaults; the worst
+#: peak error is under 1% up to alpha = 0.3, 1.5% at 0.35, 3.5% at 0.4.
+#: Output of ``python -m comparisons.calibrate_damping``.
+HOUSNER_DAMPING = (
+    (0.06, 0.188), (0.08, 0.347), (0.10, 0.489), (0.125, 0.633), (0.15, 0.736), (0.175, 0.820),
+    (0.2, 0.888), (0.25, 0.976), (0.3, 1.012), (0.35, 1.076), (0.4, 1.088),
+)
+
+
+def housner_damping_ratio(alpha: float) -> float:
+    """Contact damping ratio whose rocking impacts lose Housner's energy for slenderness ``alpha`` (rad).
+
+    Linear interpolation in :data:`HOUSNER_DAMPING`, clamped at its ends.
+    """
+    table = np.array(HOUSNER_DAMPING)
+    return float(np.interp(alpha, table[:, 0], table[:, 1]))
 
 
 @dataclass(frozen=True)
@@ -42,18 +71,25 @@ class ContactParameters:
     """Soft-contact parameters of a scene.
 
     kn : N/m^2 per m depth, penalty stiffness on the overlap area.
-    damping_ratio : zeta_n of every interface's normal dashpot (ignored if ``cn`` is given).
+    damping_ratio : zeta_n of every interface's normal dashpot (ignored if
+        ``cn`` is given).
+    rocking_damping_ratio : zeta_r of the dashpot couple that resists relative
+        rotation (ignored if ``cr`` is given); None:
+        :func:`housner_damping_ratio` of the scene's rocking slenderness.
     tangential_stiffness_ratio : K_t / (K_n d L) (ignored if ``kt`` is given).
-    tangential_damping_ratio : zeta_t of the tangential dashpot (ignored if ``ct`` is given).
-    cn, kt, ct : explicit N s/m, N/m, N s/m applied to every interface, or None
-        for the per-interface defaults.
+    tangential_damping_ratio : zeta_t of the tangential dashpot (ignored if
+        ``ct`` is given).
+    cn, cr, kt, ct : explicit N s/m, N s/m, N/m, N s/m applied to every
+        interface, or None for the per-interface defaults.
     """
 
     kn: float = DEFAULT_NORMAL_STIFFNESS
-    damping_ratio: float = DEFAULT_DAMPING_RATIO
+    damping_ratio: float = DEFAULT_NORMAL_DAMPING_RATIO
+    rocking_damping_ratio: float | None = None
     tangential_stiffness_ratio: float = 0.5
-    tangential_damping_ratio: float = DEFAULT_DAMPING_RATIO
+    tangential_damping_ratio: float = DEFAULT_TANGENTIAL_DAMPING_RATIO
     cn: float | None = None
+    cr: float | None = None
     kt: float | None = None
     ct: float | None = None
 
@@ -62,11 +98,7 @@ class ContactParameters:
             v = getattr(self, name)
             if not (np.isfinite(v) and v > 0):
                 raise ValueError(f"contact parameter {name} must be positive, got {v}")
-        for name in ("damping_ratio", "tangential_damping_ratio"):
-            v = getattr(self, name)
-            if not (np.isfinite(v) and v >= 0):
-                raise ValueError(f"contact parameter {name} must be >= 0, got {v}")
-        for name in ("cn", "kt", "ct"):
+        for name in ("damping_ratio", "rocking_damping_ratio", "tangential_damping_ratio", "cn", "cr", "kt", "ct"):
             v = getattr(self, name)
             if v is not None and not (np.isfinite(v) and v >= 0):
                 raise ValueError(f"contact parameter {name} must be >= 0 or None, got {v}")
@@ -106,7 +138,8 @@ class InterfaceArrays:
     """Dense per-pair parameters, indexed ``[i, j]`` by body index (0 = base).
 
     kn : (nb, nb) N/m^2 times depth, so that ``F = kn * A``.
-    cn, kt, ct : (nb, nb) N s/m, N/m, N s/m.
+    cn, cr, kt, ct : (nb, nb) N s/m, N s/m, N/m, N s/m (the couple is ``cr l^2 / 12`` times
+        the relative angular velocity).
     mu : (nb, nb) Coulomb coefficient.
     k_linear : (nb, nb) N/m, ``K_n d L`` (used for the stable time step).
     m_eff : (nb, nb) kg, reduced mass of the pair (the block's mass against the base).
@@ -115,12 +148,21 @@ class InterfaceArrays:
 
     kn: np.ndarray
     cn: np.ndarray
+    cr: np.ndarray
     kt: np.ndarray
     ct: np.ndarray
     mu: np.ndarray
     k_linear: np.ndarray
     m_eff: np.ndarray
     active: np.ndarray
+
+
+def rocking_damping_ratio(scene) -> float:
+    """The damping ratio of the rotational dashpot couple in force for ``scene``."""
+    p = scene.contact
+    if p.rocking_damping_ratio is None:
+        return housner_damping_ratio(scene.rocking_slenderness)
+    return p.rocking_damping_ratio
 
 
 def interface_arrays(scene) -> InterfaceArrays:
@@ -141,6 +183,8 @@ def interface_arrays(scene) -> InterfaceArrays:
     kn = p.kn * d
     k_lin = kn * length
     cn = np.full((nb, nb), p.cn) if p.cn is not None else 2.0 * p.damping_ratio * np.sqrt(k_lin * m_eff)
+    cr = (np.full((nb, nb), p.cr) if p.cr is not None
+          else 2.0 * rocking_damping_ratio(scene) * np.sqrt(k_lin * m_eff))
     kt = np.full((nb, nb), p.kt) if p.kt is not None else p.tangential_stiffness_ratio * k_lin
     ct = np.full((nb, nb), p.ct) if p.ct is not None else 2.0 * p.tangential_damping_ratio * np.sqrt(kt * m_eff)
     mu = np.empty((nb, nb))
@@ -150,47 +194,94 @@ def interface_arrays(scene) -> InterfaceArrays:
     active = np.ones((nb, nb), bool)
     np.fill_diagonal(active, False)
     active[0, 0] = False
-    for arr in (cn, kt, ct):
+    for arr in (cn, cr, kt, ct):
         arr[~active] = 0.0
-    return InterfaceArrays(kn, cn, kt, ct, mu, k_lin, m_eff, active)
+    return InterfaceArrays(kn, cn, cr, kt, ct, mu, k_lin, m_eff, active)
 
 
-def stability_limit(scene, interfaces: InterfaceArrays | None = None) -> float:
+def stability_limit(scene, interfaces: InterfaceArrays | None = None, toppled: bool = False) -> float:
     """Largest time step (s) at which the central-difference scheme stays stable.
 
     Linearises the contacts present at the start (pairs that touch within a
     hair's breadth) as flat faces of length ``L`` (the smaller of the two
-    blocks' extents along the contact): normal stiffness ``k = K_n d L`` and
-    tangential ``K_t`` at the contact point, rotational stiffness
-    ``k L^2 / 12``.  The contact point is taken at the centre and at either
-    end of each face (rocking), and the stiffest case counts:
-    ``omega_max^2`` is the largest eigenvalue of ``M^-1 K`` (a Gershgorin
-    bound above 300 blocks).  The limit of central differences with the
-    damping force taken at the previous half step,
-    ``dt = (2 / omega_max) (sqrt(1 + zeta^2) - zeta)``, then applies with the
-    largest damping ratio of the scene's interfaces.  Measured against runs
-    that blow up (``comparisons/stability_probe.py``) this estimate is within
-    a factor 1.1 to 2.5 of the true limit, hence the default safety factor of
-    :func:`dem_core.simulate`.
-    Contacts that form later (a toppled block lying on its side) can be
-    stiffer: the simulation's stability checks catch those.
+    blocks' extents along the contact): normal spring ``k = K_n d L`` and
+    dashpot ``C_n``, tangential ``K_t`` and ``C_t``, rotational stiffness
+    ``k L^2 / 12`` and the dashpot couple ``C_n L^2 / 12``.  The contacts act
+    at the centres of the faces or, as in rocking, off centre: the normal
+    spring a quarter of the face length aside (a triangular overlap of extent
+    ``l`` has normal stiffness ``K_n d l`` acting ``L/2 - l/3`` from the face
+    centre, and ``l (L/2 - l/3)^2 <= L^3 / 18``: the lever of the full
+    stiffness at ``L / sqrt(18) ~ 0.24 L``) and the tangential spring, whose
+    stiffness does not shrink with the overlap, at the corner.
+
+    For each case the one-step amplification matrix of the scheme,
+    ``v' = v + dt M^-1 (-K x - C v)``, ``x' = x + dt v'`` (damping on the
+    lagging half-step velocity), is formed and the largest dt with spectral
+    radius <= 1 found by bisection; the smallest over the cases is returned.
+    This catches the dashpots' own limit (explicit damping is stable only
+    while ``dt c / m`` stays below about 2), which a bound on the undamped
+    frequency misses: a tall block's tangential dashpot acts on its rocking
+    through a lever of its full height.  Above 60 blocks the per-mode bound
+    ``(2 / omega) (sqrt(1 + zeta^2) - zeta)`` with the modal damping ratios
+    replaces the bisection.
+
+    Contacts that form later can be stiffer: a toppled block lying on its
+    long side presses a longer face.  ``toppled=True`` allows for that by
+    scaling the limit with ``sqrt(width / longest edge)`` of the block where
+    that ratio is smallest (the stiffness grows with the face length).
     """
     ia = interface_arrays(scene) if interfaces is None else interfaces
     mass = np.array([[b.mass, b.mass, b.inertia] for b in scene.blocks]).ravel()
-    scale = 1.0 / np.sqrt(mass)
     faces = _touching_faces(scene, ia)
     if not faces:  # nothing touches yet: the stiffest contact that can form is a face on the base
         lam = max(ia.k_linear[0, i] * (1.0 / b.mass + b.circumradius**2 / b.inertia) for i, b in
                   enumerate(scene.blocks, start=1))
-        return _damped_limit(np.sqrt(lam), _largest_damping_ratio(scene, ia))
-    lam = 0.0
-    for shift in (-0.5, 0.0, 0.5):
-        k_mod = _linearised_stiffness(scene, ia, faces, shift) * scale[:, None] * scale[None, :]
-        if len(mass) <= 900:
-            lam = max(lam, float(np.linalg.eigvalsh(k_mod)[-1]))
-        else:
-            lam = max(lam, float(np.max(np.sum(np.abs(k_mod), axis=1))))
-    return _damped_limit(np.sqrt(lam), _largest_damping_ratio(scene, ia))
+        return float(_damped_limit(np.sqrt(lam), _largest_damping_ratio(scene, ia)))
+    lying = min(b.width / _longest_edge(b.vertices) for b in scene.blocks) if toppled else 1.0
+    dt = np.inf
+    for side in (-1.0, 0.0, 1.0):
+        stiffness, damping = _linearised_matrices(scene, ia, faces, 0.25 * side, 0.5 * side)
+        dt = min(dt, _scheme_limit(stiffness, damping, mass))
+    return float(np.sqrt(lying) * dt)
+
+
+def _scheme_limit(stiffness, damping, mass) -> float:
+    """Largest dt for which central differences with lagged damping are stable on (M, C, K)."""
+    scale = 1.0 / np.sqrt(mass)
+    k_mod = stiffness * scale[:, None] * scale[None, :]
+    c_mod = damping * scale[:, None] * scale[None, :]
+    lam, modes = np.linalg.eigh(k_mod)
+    keep = lam > 1e-12 * lam[-1]
+    omega = np.sqrt(lam[keep])
+    zeta = np.einsum("ik,ij,jk->k", modes[:, keep], c_mod, modes[:, keep]) / (2.0 * omega)
+    modal = float(np.min(_damped_limit(omega, zeta)))
+    n = len(mass)
+    if n > 180:
+        return modal
+    eye = np.eye(n)
+
+    def stable(dt):
+        a_k = dt * k_mod
+        a_c = eye - dt * c_mod
+        amp = np.block([[eye - dt * a_k, dt * a_c], [-a_k, a_c]])
+        return np.max(np.abs(np.linalg.eigvals(amp))) <= 1.0 + 1e-9
+
+    lo, hi = 0.25 * modal, 2.0 / omega[-1]
+    if stable(hi):
+        return hi
+    while not stable(lo):
+        lo *= 0.5
+    for _ in range(30):
+        mid = 0.5 * (lo + hi)
+        lo, hi = (mid, hi) if stable(mid) else (lo, mid)
+        if hi - lo < 1e-3 * lo:
+            break
+    return lo
+
+
+def _longest_edge(vertices) -> float:
+    edges = np.roll(vertices, -1, axis=0) - vertices
+    return float(np.max(np.hypot(edges[:, 0], edges[:, 1])))
 
 
 def _damped_limit(omega, zeta):
@@ -218,40 +309,43 @@ def _touching_faces(scene, ia: InterfaceArrays) -> list:
     return faces
 
 
-def _linearised_stiffness(scene, ia: InterfaceArrays, faces: list, shift: float) -> np.ndarray:
-    """(3 n, 3 n) stiffness of the touching faces, n = number of blocks.
+def _linearised_matrices(scene, ia: InterfaceArrays, faces: list, shift_n: float, shift_t: float):
+    """(3 n, 3 n) stiffness and damping of the touching faces, n = number of blocks.
 
-    ``shift`` moves every contact point along its tangent by that fraction
-    of the face length (-0.5 and 0.5: all contacts at a corner, as in rocking).
+    ``shift_n``, ``shift_t`` move the points of action of the normal and the
+    tangential spring along the tangent by that fraction of the face length.
     """
     bodies = scene.bodies
     n = len(scene.blocks)
     stiffness = np.zeros((3 * n, 3 * n))
+    damping = np.zeros((3 * n, 3 * n))
     for i, j, centroid, normal, t, extent in faces:
-        point = centroid + shift * extent * t
         k_n = ia.kn[i, j] * extent
         rows = []
-        for direction, k in ((normal, k_n), (t, ia.kt[i, j])):
+        for direction, k, c, shift in ((normal, k_n, ia.cn[i, j], shift_n), (t, ia.kt[i, j], ia.ct[i, j], shift_t)):
+            point = centroid + shift * extent * t
             row = np.zeros(3 * n)
             for body, sign in ((i, -1.0), (j, 1.0)):
                 if body:
                     r = point - bodies[body].centroid
                     row[3 * body - 3:3 * body] = sign * np.array(
                         [direction[0], direction[1], r[0] * direction[1] - r[1] * direction[0]])
-            rows.append((row, k))
+            rows.append((row, k, c))
         rot = np.zeros(3 * n)
         for body, sign in ((i, -1.0), (j, 1.0)):
             if body:
                 rot[3 * body - 1] = sign
-        rows.append((rot, k_n * extent**2 / 12.0))
-        for row, k in rows:
-            stiffness += k * np.outer(row, row)
-    return stiffness
+        rows.append((rot, k_n * extent**2 / 12.0, ia.cr[i, j] * extent**2 / 12.0))
+        for row, k, c in rows:
+            outer = np.outer(row, row)
+            stiffness += k * outer
+            damping += c * outer
+    return stiffness, damping
 
 
 def _largest_damping_ratio(scene, ia: InterfaceArrays) -> float:
     m_eff = ia.m_eff[ia.active]
-    zn = ia.cn[ia.active] / (2.0 * np.sqrt(ia.k_linear[ia.active] * m_eff))
+    zn = np.maximum(ia.cn[ia.active], ia.cr[ia.active]) / (2.0 * np.sqrt(ia.k_linear[ia.active] * m_eff))
     with np.errstate(invalid="ignore", divide="ignore"):
         zt = np.where(ia.kt[ia.active] > 0, ia.ct[ia.active] / (2.0 * np.sqrt(ia.kt[ia.active] * m_eff)), 0.0)
     return float(max(zn.max(), zt.max(), 0.0))

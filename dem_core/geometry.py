@@ -100,8 +100,9 @@ def contact_geometry(p, q) -> ContactGeometry | None:
     """
     px, py, n_p = _split(p)
     qx, qy, n_q = _split(q)
-    out = [np.empty(n_p + n_q + 2) for _ in range(4)]
-    m = _geometry.clip_convex(px, py, n_p, qx, qy, n_q, *out)
+    cap = n_p + n_q + 2
+    out = [np.empty(cap), np.empty(cap)]
+    m = _geometry.clip_convex(px, py, 0, n_p, qx, qy, 0, n_q, out[0], out[1], np.empty((2, 2, cap)))
     a, cx, cy, sxx, syy, sxy = _geometry.polygon_moments(out[0], out[1], m)
     if a <= 0.0:
         return None

@@ -132,6 +132,10 @@ class Scene:
     gravity : m/s^2.
     overlap_tolerance : allowed mean penetration between blocks at the start,
         as a fraction of the smaller block's smaller extent.
+    slenderness : rad, atan(b/h) of the body that rocks as a unit (a whole
+        column, not one drum); sets the default contact damping
+        (:func:`dem_core.contact.housner_damping_ratio`).  The builders set
+        it; None takes atan(width/height) of the blocks' bounding box.
     """
 
     blocks: tuple
@@ -140,6 +144,7 @@ class Scene:
     interface_friction: dict = field(default_factory=dict)
     gravity: float = STANDARD_GRAVITY
     overlap_tolerance: float = 1e-4
+    slenderness: float | None = None
 
     def __post_init__(self):
         blocks = tuple(self.blocks)
@@ -170,7 +175,18 @@ class Scene:
         object.__setattr__(self, "interface_friction", overrides)
         if not np.isfinite(self.gravity) or self.gravity < 0:
             raise SceneError(f"gravity must be >= 0, got {self.gravity}")
+        if self.slenderness is not None and not 0 < self.slenderness < np.pi / 2:
+            raise SceneError(f"slenderness must be an angle in (0, pi/2) rad, got {self.slenderness}")
         self._check_initial_overlaps()
+
+    @property
+    def rocking_slenderness(self) -> float:
+        """Slenderness angle (rad) used for the default contact damping."""
+        if self.slenderness is not None:
+            return float(self.slenderness)
+        v = np.concatenate([b.vertices for b in self.blocks])
+        width, height = np.ptp(v, axis=0)
+        return float(np.arctan2(width, height))
 
     @property
     def bodies(self) -> tuple:

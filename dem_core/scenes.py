@@ -4,7 +4,9 @@ Every builder returns an immutable :class:`~dem_core.scene.Scene` whose base
 top is the line y = 0 and whose blocks rest on it touching (zero overlap).
 Shared keyword arguments: ``density`` (kg/m^3), ``friction``, ``depth`` (m),
 ``contact`` (:class:`~dem_core.contact.ContactParameters`),
-``interface_friction`` ({(name_a, name_b): mu}), ``base_width`` (m).
+``interface_friction`` ({(name_a, name_b): mu}), ``base_width`` (m; by
+default the blocks' span plus 4 times their height, so that whatever
+topples lands on the base).
 
 Block names: ``block``; ``drum1`` (bottom) .. ``drumN``, ``capital``;
 in colonnades ``c1_drum1`` .. (column ``c1`` is the leftmost), ``epistyle``
@@ -21,18 +23,21 @@ from .scene import Block, Scene, SceneError
 BASE_HEIGHT = 1.0  # m; the base is kinematic, its thickness only places its centroid
 
 
-def _base(width: float, friction: float, depth: float, x_centre: float = 0.0) -> Block:
-    return Block("base", rectangle(width, BASE_HEIGHT, x_centre - width / 2.0, -BASE_HEIGHT),
+def _base(width: float, friction: float, depth: float) -> Block:
+    return Block("base", rectangle(width, BASE_HEIGHT, -width / 2.0, -BASE_HEIGHT),
                  density=1.0, depth=depth, friction=friction)
 
 
-def _scene(blocks, base_width, friction, depth, contact, interface_friction, x_centre=0.0):
+def _scene(blocks, base_width, friction, depth, contact, interface_friction, slenderness):
     span = max(b.vertices[:, 0].max() for b in blocks) - min(b.vertices[:, 0].min() for b in blocks)
-    base_width = max(3.0 * span, span + 4.0) if base_width is None else base_width
+    tall = max(b.vertices[:, 1].max() for b in blocks)
+    # wide enough that the tallest block toppling outwards still lands on it
+    base_width = span + 4.0 * tall if base_width is None else base_width
     if base_width <= 0:
         raise SceneError(f"base_width must be positive, got {base_width}")
-    return Scene(tuple(blocks), _base(base_width, friction, depth, x_centre),
-                 contact=contact or ContactParameters(), interface_friction=interface_friction or {})
+    return Scene(tuple(blocks), _base(base_width, friction, depth),
+                 contact=contact or ContactParameters(), interface_friction=interface_friction or {},
+                 slenderness=slenderness)
 
 
 def _positive(**values):
@@ -56,7 +61,7 @@ def block(width: float, height: float, tilt: float = 0.0, *, density: float = 27
         pivot = np.array([-width / 2.0 if tilt > 0 else width / 2.0, 0.0])
         v = transform(v - pivot, tilt, pivot)
     blk = Block(name, v, density=density, depth=depth, friction=friction, angle=tilt)
-    return _scene([blk], base_width, friction, depth, contact, interface_friction)
+    return _scene([blk], base_width, friction, depth, contact, interface_friction, np.arctan2(width, height))
 
 
 def _column_blocks(n_drums, width, height, taper, capital, x_centre, y0, density, friction, depth, prefix):
@@ -99,8 +104,8 @@ def column(n_drums: int = 8, width: float = 1.0, height: float = 6.0, *, taper: 
         ``width`` so a tapered column has the prismatic column's mass.
     capital : (width, height) in m of a block on top, or None.
     """
-    blocks, _ = _column_blocks(n_drums, width, height, taper, capital, 0.0, 0.0, density, friction, depth, "")
-    return _scene(blocks, base_width, friction, depth, contact, interface_friction)
+    blocks, top = _column_blocks(n_drums, width, height, taper, capital, 0.0, 0.0, density, friction, depth, "")
+    return _scene(blocks, base_width, friction, depth, contact, interface_friction, np.arctan2(width, top))
 
 
 def _epistyles(kind, centres, col_top_width, y, thickness, density, friction, depth, prefix):
@@ -154,7 +159,7 @@ def colonnade(n_columns: int = 3, n_drums: int = 3, spacing: float = 2.5, *, epi
                                   f"c{c + 1}_")
         blocks += col
     blocks += _epistyles(epistyle, centres, top_width, top, epistyle_height, epistyle_density, friction, depth, "")
-    return _scene(blocks, base_width, friction, depth, contact, interface_friction)
+    return _scene(blocks, base_width, friction, depth, contact, interface_friction, np.arctan2(width, top))
 
 
 def two_tier_colonnade(n_columns: int = 3, spacing: float = 2.5, *, lower_drums: int = 3,
@@ -186,4 +191,5 @@ def two_tier_colonnade(n_columns: int = 3, spacing: float = 2.5, *, lower_drums:
                                  depth, f"upper_c{c + 1}_")[0]
     blocks += _epistyles(epistyle, centres, upper_width, y_upper + upper_height, epistyle_height,
                          epistyle_density, friction, depth, "upper_")
-    return _scene(blocks, base_width, friction, depth, contact, interface_friction)
+    return _scene(blocks, base_width, friction, depth, contact, interface_friction,
+                  np.arctan2(lower_width, lower_height))

@@ -36,7 +36,8 @@ class SimulationUnstable(RuntimeError):
 
 def simulate(scene, excitation: GroundMotion | None = None, duration: float | None = None,
              dt: float | None = None, output_dt: float | None = None, *,
-             ground_motion: str = "inertial", safety: float = DEFAULT_SAFETY) -> Result:
+             ground_motion: str = "inertial", safety: float = DEFAULT_SAFETY,
+             stop_at_overturn: bool = True) -> Result:
     """Simulate ``scene`` under ``excitation`` with the native soft-contact DEM.
 
     scene : :class:`~dem_core.scene.Scene`.
@@ -49,6 +50,12 @@ def simulate(scene, excitation: GroundMotion | None = None, duration: float | No
         FORMULATION section 2) or ``"moving_base"`` (the base follows u_g, v_g).
         Either way positions are reported in the fixed frame, with
         ``base_x`` the ground displacement.
+
+    stop_at_overturn : end the run when a block first overturns (passes its
+        critical angle or falls half its size); the result then ends at that
+        time and ``info["stopped"]`` says why.  With False the run goes on
+        through the collapse at a time step small enough for blocks lying on
+        their long sides (see :func:`dem_core.contact.stability_limit`).
 
     Raises ``ValueError`` for a dt above the stability limit and
     :class:`SimulationUnstable` (with the partial result) when the run loses stability.
@@ -64,7 +71,7 @@ def simulate(scene, excitation: GroundMotion | None = None, duration: float | No
         raise ValueError(f"duration must be positive, got {duration}")
 
     interfaces = contact.interface_arrays(scene)
-    limit = contact.stability_limit(scene, interfaces)
+    limit = contact.stability_limit(scene, interfaces, toppled=not stop_at_overturn)
     if dt is None:
         dt = safety * limit
     elif not dt > 0:
@@ -107,11 +114,11 @@ def simulate(scene, excitation: GroundMotion | None = None, duration: float | No
     def run(steps, out):
         return _kernels.integrate(
             pos, vel, arrays["local_x"], arrays["local_y"], arrays["vstart"], arrays["inv_mass"],
-            arrays["inv_inertia"], arrays["radius"], arrays["area"], interfaces.kn, interfaces.cn, interfaces.kt,
-            interfaces.ct, interfaces.mu, interfaces.active, ft_el, slip, scene.gravity, load_x, load_y,
+            arrays["inv_inertia"], arrays["radius"], arrays["area"], interfaces.kn, interfaces.cn, interfaces.cr,
+            interfaces.kt, interfaces.ct, interfaces.mu, interfaces.active, ft_el, slip, scene.gravity, load_x, load_y,
             base_x, base_y, base_vx, base_vy, dt, steps, stride, out, arrays["crit_angle"], arrays["y_start"],
             arrays["drop_limit"], peak, overturn_step, MAX_OVERLAP_FRACTION, arrays["skin"], speed_limit,
-            ENERGY_TOLERANCE)
+            ENERGY_TOLERANCE, stop_at_overturn, arrays["floor"])
 
     t0 = time.perf_counter()
     _ensure_compiled(run, pos, vel, nb)
@@ -137,16 +144,30 @@ def simulate(scene, excitation: GroundMotion | None = None, duration: float | No
         "run_time_s": run_time,
         "kn": scene.contact.kn,
     }
-    result = Result(out_t[:written], out_pos[:written, 1:, 0], out_pos[:written, 1:, 1], out_pos[:written, 1:, 2],
-                    out_pos[:written, 0, 0] - arrays["pos0"][0, 0], out_pos[:written, 0, 1] - arrays["pos0"][0, 1],
-                    names, peak[1:], over_t, interface_slip, dt, info)
-    if status != _kernels.STATUS_OK:
+    out_t = out_t[:written]
+    if status == _kernels.STATUS_OVERTURNED:
+        out_t[-1] = step * dt  # the kernel wrote the state at the overturn as the last output
+    x, y, theta = out_pos[:written, 1:, 0], out_pos[:written, 1:, 1], out_pos[:written, 1:, 2]
+    if ground_motion == "inertial":  # the kernel moved the blocks relative to the ground: add the ground back
+        ground_x, ground_y = excitation.displacement(out_t)
+        x, y = x + ground_x[:, None], y + ground_y[:, None]
+    else:
+        ground_x = out_pos[:written, 0, 0] - arrays["pos0"][0, 0]
+        ground_y = out_pos[:written, 0, 1] - arrays["pos0"][0, 1]
+    if status == _kernels.STATUS_OVERTURNED:
+        info["stopped"] = f"block '{bodies[i].name}' overturned at t = {step * dt:.6g} s"
+    result = Result(out_t, x, y, theta, ground_x, ground_y, names, peak[1:], over_t, interface_slip, dt, info)
+    if status not in (_kernels.STATUS_OK, _kernels.STATUS_OVERTURNED):
         when = step * dt
+        advice = (f"reduce dt below {dt:.4g} s or check the contact parameters (kn = {scene.contact.kn:.3g})"
+                  if status != _kernels.STATUS_FELL_OFF else "nothing after this time is physical")
         if status == _kernels.STATUS_NONFINITE:
             what = f"the state of block '{bodies[i].name}' became non-finite"
         elif status == _kernels.STATUS_RUNAWAY:
             what = (f"block '{bodies[i].name}' moved faster than {speed_limit:.3g} m/s relative to the ground, "
                     f"{SPEED_LIMIT_FACTOR:g} times the fastest speed its fall and the ground motion can give")
+        elif status == _kernels.STATUS_FELL_OFF:
+            what = f"block '{bodies[i].name}' fell off the edge of the base; make the base wider (base_width)"
         elif status == _kernels.STATUS_ENERGY:
             what = (f"the blocks gained energy that neither gravity nor the ground supplied "
                     f"(more than {ENERGY_TOLERANCE:.0%} of the energy scale)")
@@ -154,9 +175,9 @@ def simulate(scene, excitation: GroundMotion | None = None, duration: float | No
             what = (f"blocks '{bodies[i].name}' and '{bodies[j].name}' overlap by more than "
                     f"{MAX_OVERLAP_FRACTION:.0%} of the smaller block's area")
         raise SimulationUnstable(
-            f"simulation unstable at t = {when:.6g} s (step {step}, dt = {dt:.4g} s): {what}; "
-            f"reduce dt or increase the contact stiffness (kn = {scene.contact.kn:.3g}). "
-            f"The result up to t = {out_t[max(written - 1, 0)]:.6g} s is in this error's .partial", result)
+            f"simulation stopped at t = {when:.6g} s (step {step}, dt = {dt:.4g} s): {what}; "
+            f"{advice}. "
+            f"The result up to t = {out_t[-1] if written else 0.0:.6g} s is in this error's .partial", result)
     return result
 
 
@@ -214,4 +235,5 @@ def _scene_arrays(scene) -> dict:
         "y_start": centroids[:, 1].copy(),
         "drop_limit": 0.5 * sizes,
         "skin": 0.1 * float(sizes[1:].min()),
+        "floor": float(scene.base.vertices[:, 1].max() - centroids[0, 1]),
     }
