@@ -75,7 +75,7 @@ def integrate(pos, vel, local_x, local_y, vstart, inv_mass, inv_inertia, radius,
     (m/s^2) at each step; base_x, base_y (n_steps + 1,) base position at step
     times; base_vx, base_vy (n_steps + 1,) base velocity at half steps
     (index k is t_k - dt/2); out_pos (n_out, nb, 3) filled every ``stride``
-    steps starting with the initial state.  Tracking per body: peak |theta|
+    steps starting with the initial state, and with the final state.  Tracking per body: peak |theta|
     into ``peak_theta``, the first step where |theta| exceeds
     ``crit_angle`` or the centre of mass falls ``drop_limit`` below
     ``y_start`` into ``overturn_step`` (-1 if never).
@@ -124,7 +124,7 @@ def integrate(pos, vel, local_x, local_y, vstart, inv_mass, inv_inertia, radius,
         pos[0, 1] = base_y[step]
         vel[0, 0] = base_vx[step]
         vel[0, 1] = base_vy[step]
-        if step % stride == 0 and n_out < out_pos.shape[0]:
+        if (step % stride == 0 or step == n_steps) and n_out < out_pos.shape[0]:
             for b in range(nb_):
                 for d in range(3):
                     out_pos[n_out, b, d] = pos[b, d]

@@ -39,11 +39,12 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
+from scipy.optimize import brentq
 
 from .geometry import contact_geometry
 
 DEFAULT_NORMAL_STIFFNESS = 2.0e10  # N/m^2 per metre of depth
-DEFAULT_NORMAL_DAMPING_RATIO = 0.3  # restitution 0.37 for a block dropped flat
+DEFAULT_NORMAL_DAMPING_RATIO = 0.3  # restitution 0.45 for a block dropped flat
 DEFAULT_TANGENTIAL_DAMPING_RATIO = 0.2
 
 #: (slenderness alpha in rad, rocking damping ratio) that reproduces
@@ -104,17 +105,34 @@ class ContactParameters:
                 raise ValueError(f"contact parameter {name} must be >= 0 or None, got {v}")
 
 
-def damping_ratio_for_restitution(restitution: float) -> float:
-    """Damping ratio of a linear spring-dashpot whose impact rebounds with ``restitution``.
+def restitution_for_damping_ratio(damping_ratio: float) -> float:
+    """Coefficient of restitution of a flat impact on a linear spring-dashpot that cannot pull.
 
-    For ``m x'' + c x' + k x = 0`` over one contact half-cycle,
-    ``e = exp(-zeta pi / sqrt(1 - zeta^2))``, so
-    ``zeta = -ln e / sqrt(pi^2 + ln^2 e)``.  ``restitution`` in (0, 1].
+    The contact force ``k x + c x'`` is clamped at zero, so the bodies part
+    when that force vanishes, before the spring is back at rest (Schwager and
+    Poschel 2007, Phys. Rev. E 75, 051304).  With ``beta = zeta omega_0`` and
+    ``omega = omega_0 sqrt(1 - zeta^2)`` the force vanishes at
+    ``omega t* = pi - atan2(2 beta omega, omega_0^2 - 2 beta^2)`` and
+    ``e = exp(-beta t*) |cos(omega t*) - (beta / omega) sin(omega t*)|``.
+    Valid for 0 <= zeta < 1.
     """
-    if not 0.0 < restitution <= 1.0:
-        raise ValueError(f"restitution must be in (0, 1], got {restitution}")
-    log_e = math.log(restitution)
-    return -log_e / math.sqrt(math.pi**2 + log_e**2)
+    zeta = float(damping_ratio)
+    if not 0.0 <= zeta < 1.0:
+        raise ValueError(f"damping ratio must be in [0, 1), got {zeta}")
+    omega = math.sqrt(1.0 - zeta * zeta)  # in units of omega_0
+    t_star = (math.pi - math.atan2(2.0 * zeta * omega, 1.0 - 2.0 * zeta * zeta)) / omega
+    return math.exp(-zeta * t_star) * abs(math.cos(omega * t_star) - zeta / omega * math.sin(omega * t_star))
+
+
+def damping_ratio_for_restitution(restitution: float) -> float:
+    """Damping ratio whose flat impact rebounds with ``restitution`` (inverse of
+    :func:`restitution_for_damping_ratio`); ``e`` from 0.136 (zeta -> 1) to 1."""
+    low = restitution_for_damping_ratio(0.999)
+    if not low <= restitution <= 1.0:
+        raise ValueError(f"restitution must be in [{low:.3f}, 1], got {restitution}")
+    if restitution == 1.0:
+        return 0.0
+    return float(brentq(lambda z: restitution_for_damping_ratio(z) - restitution, 0.0, 0.999, xtol=1e-14))
 
 
 def normal_damping(stiffness: float, mass: float, *, restitution: float | None = None,

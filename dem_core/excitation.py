@@ -243,22 +243,22 @@ def _integrate_piecewise_linear(a, dt):
     return v, u
 
 
-def baseline_correct(a, dt, degree: int = 2):
-    """Remove the low-order drift of a record's velocity.
+def baseline_correct(a, dt):
+    """Subtract the linear baseline ``c0 + c1 t`` that brings the ground back to rest where it started.
 
-    Fits ``p(t) = sum_{k=1..degree} b_k t^k`` (no constant: the ground starts
-    at rest) to the velocity of the piecewise-linear acceleration by least
-    squares and subtracts ``p'(t)`` from the acceleration, so the corrected
-    record's velocity has no polynomial trend and the displacement does not
-    run away.  Returns the corrected accelerations (m/s^2).
+    ``c0``, ``c1`` are chosen so that the exact integrals of the corrected
+    (piecewise-linear) record give zero velocity and zero displacement at its
+    end: a record's small offsets otherwise integrate into a velocity that
+    never returns to zero and a displacement that runs away.  Returns the
+    corrected accelerations (m/s^2); the change is a small fraction of the
+    peak for any usable record.
     """
     a = np.asarray(a, dtype=float)
-    t = np.arange(len(a)) * dt
-    v, _ = _integrate_piecewise_linear(a, dt)
-    basis = np.column_stack([t**k for k in range(1, degree + 1)])
-    coef, *_ = np.linalg.lstsq(basis, v, rcond=None)
-    drift = sum(k * coef[k - 1] * t ** (k - 1) for k in range(1, degree + 1))
-    return a - drift
+    t_end = (len(a) - 1) * dt
+    v, u = _integrate_piecewise_linear(a, dt)
+    system = np.array([[t_end, t_end**2 / 2.0], [t_end**2 / 2.0, t_end**3 / 6.0]])
+    c0, c1 = np.linalg.solve(system, [v[-1], u[-1]])
+    return a - (c0 + c1 * np.arange(len(a)) * dt)
 
 
 @dataclass(frozen=True, eq=False)
@@ -343,7 +343,8 @@ def record(source, dt: float | None = None, scale: float = 1.0, pga: float | Non
     units : of a text file (``"m/s^2"``, ``"g"``, ``"cm/s^2"``); AT2 files state theirs.
     component : 1-based component of a multi-column file (default: the first,
         or the bundled record's documented one).
-    baseline : remove the polynomial velocity drift (see :func:`baseline_correct`).
+    baseline : subtract the linear baseline that brings the ground back to rest at the end
+        (see :func:`baseline_correct`).
     """
     horizontal, dt, name, bundled = _load(source, dt, units, component)
     if vertical is True:
@@ -400,6 +401,6 @@ def _read_file(path, dt, units, component):
         return a, step
     a, step, t0 = records.read_text_record(path, dt=dt, units=units, component=component)
     lead = int(round(t0 / step))
-    if lead > 0 and abs(lead * step - t0) < 1e-6 * step:
+    if lead > 0 and abs(lead * step - t0) < records.TIME_STEP_TOLERANCE * step:
         a = np.concatenate([np.zeros(lead), a])  # first sample at t0 > 0: the ground is still before it
     return a, step

@@ -14,6 +14,8 @@ from pathlib import Path
 import numpy as np
 
 G_STANDARD = 9.80665  # m/s^2, the g that record files in units of g refer to
+#: time columns are printed rounded (the Mexico City file steps 0.01999 and 0.02001): steps may differ this much
+TIME_STEP_TOLERANCE = 1e-3
 
 
 class RecordError(ValueError):
@@ -136,11 +138,11 @@ def read_text_record(path, *, dt=None, units="m/s^2", component=1, time_column=N
             bad = int(np.argmax(steps <= 0)) + 2 if len(t) >= 2 else 1
             raise RecordError(f"{path}:{bad}: time column is not increasing")
         step = float(np.median(steps))
-        off = np.abs(steps - step) > 1e-6 * step + 1e-9
+        off = np.abs(steps - step) > TIME_STEP_TOLERANCE * step
         if np.any(off):
             raise RecordError(f"{path}:{int(np.argmax(off)) + 2}: time step {steps[np.argmax(off)]:.6g} s differs "
                               f"from the record's step {step:.6g} s (uneven sampling is not supported)")
-        if dt is not None and abs(dt - step) > 1e-6 * step:
+        if dt is not None and abs(dt - step) > TIME_STEP_TOLERANCE * step:
             raise RecordError(f"{path}: dt={dt} was given but the time column steps by {step}")
         dt, t0 = step, float(t[0])
         columns = data[:, 1:]
@@ -161,9 +163,9 @@ def _first_column_is_time(data, dt) -> bool:
         return False
     steps = np.diff(data[:, 0])
     step = np.median(steps)
-    if step <= 0 or np.any(np.abs(steps - step) > 1e-6 * step + 1e-9):
+    if step <= 0 or np.any(np.abs(steps - step) > TIME_STEP_TOLERANCE * step):
         return False
-    return dt is None or abs(step - dt) <= 1e-6 * dt
+    return dt is None or abs(step - dt) <= TIME_STEP_TOLERANCE * dt
 
 
 def _read_lines(path: Path) -> list:

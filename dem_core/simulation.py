@@ -82,7 +82,10 @@ def simulate(scene, excitation: GroundMotion | None = None, duration: float | No
     n_steps = int(math.ceil(duration / dt - 1e-9))
     output_dt = 0.01 if output_dt is None else output_dt
     stride = max(1, int(round(output_dt / dt)))
-    n_out = n_steps // stride + 1
+    out_steps = np.arange(0, n_steps + 1, stride)
+    if out_steps[-1] != n_steps:  # the final state is always an output
+        out_steps = np.append(out_steps, n_steps)
+    n_out = len(out_steps)
 
     arrays = _scene_arrays(scene)
     t_steps = np.arange(n_steps + 1) * dt
@@ -128,7 +131,7 @@ def simulate(scene, excitation: GroundMotion | None = None, duration: float | No
     run_time = time.perf_counter() - t0
 
     names = tuple(scene.block_names)
-    out_t = np.arange(n_out) * stride * dt
+    out_t = out_steps * dt
     interface_slip = {}
     bodies = scene.bodies
     for a, b in zip(*np.nonzero(np.triu(slip) > 0)):

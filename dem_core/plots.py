@@ -1,0 +1,75 @@
+"""Figures of a run: block rotations and displacements over time, with the ground motion."""
+
+from pathlib import Path
+
+import matplotlib
+
+matplotlib.use("Agg")  # files only: the command line and CI have no screen
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+
+
+def _ground_panel(ax, result, excitation):
+    if excitation is not None:
+        a_x, _ = excitation.acceleration(result.t)
+        ax.plot(result.t, a_x, color="0.3", lw=0.8)
+        ax.set_ylabel("ground acc.\n(m/s$^2$)")
+    else:
+        ax.plot(result.t, result.base_x, color="0.3", lw=0.8)
+        ax.set_ylabel("ground disp.\n(m)")
+    ax.grid(alpha=0.3)
+
+
+def _finish(fig, axes, result, title):
+    axes[-1].set_xlabel("time (s)")
+    if result.overturned:
+        for ax in axes:
+            ax.axvline(result.time_of_overturn, color="crimson", ls="--", lw=1)
+        axes[0].annotate(f"overturn at {result.time_of_overturn:.2f} s", (result.time_of_overturn, 1.0),
+                         xycoords=("data", "axes fraction"), color="crimson", ha="right", va="top", fontsize=8)
+    fig.suptitle(title, fontsize=10)
+    fig.tight_layout()
+    return fig
+
+
+def rotations(result, excitation=None, title="Block rotations"):
+    """Figure: rotation theta(t) of every block (rad), and the ground motion below."""
+    fig, axes = plt.subplots(2, 1, sharex=True, figsize=(9, 6), gridspec_kw={"height_ratios": [3, 1]})
+    colours = plt.cm.viridis(np.linspace(0, 0.9, result.n_blocks))
+    for k, name in enumerate(result.names):
+        axes[0].plot(result.t, result.theta[:, k], lw=0.9, color=colours[k], label=name)
+    axes[0].set_ylabel("rotation (rad)")
+    axes[0].grid(alpha=0.3)
+    if result.n_blocks <= 12:
+        axes[0].legend(fontsize=7, ncol=min(4, result.n_blocks), loc="upper left")
+    _ground_panel(axes[1], result, excitation)
+    return _finish(fig, axes, result, title)
+
+
+def displacements(result, excitation=None, title="Block displacements relative to the base"):
+    """Figure: horizontal displacement of every block relative to the base (m), and the ground motion."""
+    fig, axes = plt.subplots(2, 1, sharex=True, figsize=(9, 6), gridspec_kw={"height_ratios": [3, 1]})
+    colours = plt.cm.plasma(np.linspace(0, 0.9, result.n_blocks))
+    rel = result.relative_x - result.relative_x[0]
+    for k, name in enumerate(result.names):
+        axes[0].plot(result.t, rel[:, k], lw=0.9, color=colours[k], label=name)
+    axes[0].set_ylabel("displacement (m)")
+    axes[0].grid(alpha=0.3)
+    if result.n_blocks <= 12:
+        axes[0].legend(fontsize=7, ncol=min(4, result.n_blocks), loc="upper left")
+    _ground_panel(axes[1], result, excitation)
+    return _finish(fig, axes, result, title)
+
+
+def save_run_figures(result, out_dir, excitation=None, title=""):
+    """Write rotations.png and displacements.png into ``out_dir``; returns their paths."""
+    out_dir = Path(out_dir)
+    paths = []
+    for name, make, what in (("rotations.png", rotations, "block rotations"),
+                             ("displacements.png", displacements, "displacements relative to the base")):
+        fig = make(result, excitation, title=f"{title}: {what}" if title else what.capitalize())
+        path = out_dir / name
+        fig.savefig(path, dpi=130)
+        plt.close(fig)
+        paths.append(path)
+    return paths

@@ -1,0 +1,47 @@
+"""The references themselves: consistent with each other and with their closed forms."""
+
+import numpy as np
+import pytest
+
+from comparisons import analytical
+from comparisons.measures import peaks_between_crossings
+
+
+def test_rocking_equation_reproduces_housner_peaks(housner_block):
+    """Housner's peak formula counts energy with the small-angle potential, 1 - (1 - theta/alpha)^2, so the
+    exact rocking equation agrees with it to the size of that approximation (0.12% here)."""
+    theta0 = 0.05236
+    ode = analytical.rocking_response(housner_block, lambda t: 0.0, 3.0, theta0=theta0, max_step=1e-4)
+    peaks = peaks_between_crossings(ode.theta, 6)
+    np.testing.assert_allclose(peaks, analytical.housner_peaks(housner_block, theta0, 5), rtol=2e-3)
+
+
+def test_housner_period_is_the_small_angle_limit_of_the_rocking_equation():
+    block = analytical.RockingBlock.from_size(0.2, 2.0)
+    for ratio, band in ((0.05, 2e-3), (0.2, 1e-2)):
+        theta0 = ratio * block.alpha
+        ode = analytical.rocking_response(block, lambda t: 0.0, 3.0, theta0=theta0, max_step=1e-4)
+        assert ode.impacts[0] == pytest.approx(analytical.housner_period(block, theta0) / 4, rel=band)
+
+
+def test_rigid_plastic_integration_matches_newmark():
+    mu, t_p, dt = 0.25, 0.4, 1e-4
+    for ratio in (1.5, 3.0):
+        a_p = ratio * mu * analytical.G
+        n = int(round(t_p / dt))
+        pulse = np.concatenate([np.full(n, a_p), [a_p], np.zeros(4 * n)])  # the step lands on a sample
+        pulse[n] = 0.0
+        slip = analytical.rigid_plastic_sliding(pulse, dt, mu)
+        # the record is linear between samples, so the pulse end is a one-sample ramp: O(dt / T_p)
+        assert slip.max_slip == pytest.approx(analytical.newmark_max_slip(a_p, t_p, mu), rel=2 * dt / t_p)
+
+
+def test_rigid_plastic_block_sticks_below_the_friction_limit():
+    a = 0.9 * 0.3 * analytical.G * np.sin(np.linspace(0, 20, 2001))
+    assert analytical.rigid_plastic_sliding(a, 0.01, 0.3).total_slip == 0.0
+
+
+def test_block_at_rest_lifts_off_exactly_at_g_tan_alpha():
+    block = analytical.RockingBlock.from_size(1.0, 6.0)
+    ode = analytical.rocking_response(block, lambda t: 0.5 * t, 4.0)
+    assert 0.5 * ode.uplift_time == pytest.approx(9.81 / 6.0, rel=1e-9)

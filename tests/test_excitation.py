@@ -1,0 +1,86 @@
+"""Ground motion: exact integrals, scaling, baseline correction, horizontal and vertical together."""
+
+import numpy as np
+import pytest
+
+from dem_core import excitation
+
+
+def _derivative(f, t, h=1e-6):
+    return (f(t + h) - f(t - h)) / (2 * h)
+
+
+MOTIONS = [
+    excitation.harmonic(0.05, 1.5),
+    excitation.rectangular_pulse(2.0, 0.4),
+    excitation.sine_pulse(3.0, 0.5),
+    excitation.cosine_pulse(3.0, 0.5),
+    excitation.ramp(0.5),
+    excitation.ramp(2.0, peak=3.0),
+    excitation.record(np.sin(np.linspace(0, 20, 501)) * 2.0, dt=0.01, baseline=False),
+]
+
+
+@pytest.mark.parametrize("motion", MOTIONS, ids=lambda m: m.name)
+def test_velocity_and_displacement_are_the_integrals_of_acceleration(motion):
+    c = motion.horizontal
+    t = np.linspace(0.013, 4.9, 97)
+    t = t[np.all(np.abs(t[:, None] - np.array([0.4, 0.5, 1.5, 5.0])[None, :]) > 1e-3, axis=1)]  # skip pulse edges
+    np.testing.assert_allclose(_derivative(c.displacement, t), c.velocity(t), rtol=1e-6, atol=1e-8)
+    np.testing.assert_allclose(_derivative(c.velocity, t), c.acceleration(t), rtol=1e-5, atol=1e-6)
+
+
+def test_pulses_start_and_end_where_they_should():
+    p = excitation.sine_pulse(3.0, 0.5).horizontal
+    assert p.acceleration(np.array([-0.1, 0.6]))[0] == 0.0
+    assert p.acceleration(0.125) == pytest.approx(3.0)
+    assert p.velocity(0.7) == pytest.approx(0.0, abs=1e-12)  # one full sine: the ground is back at rest
+    assert p.displacement(0.7) == pytest.approx(3.0 * 0.5**2 / (2 * np.pi), rel=1e-12)
+    r = excitation.rectangular_pulse(2.0, 0.4).horizontal
+    assert r.velocity(1.0) == pytest.approx(0.8)
+    assert r.displacement(1.0) == pytest.approx(2.0 * 0.16 / 2 + 0.8 * 0.6)
+
+
+def test_harmonic_from_peak_acceleration():
+    m = excitation.harmonic(pga=3.0, frequency=2.0)
+    t = np.linspace(0, 1, 2001)
+    assert np.max(np.abs(m.horizontal.acceleration(t))) == pytest.approx(3.0, rel=1e-5)
+    with pytest.raises(ValueError, match="exactly one"):
+        excitation.harmonic(0.1, 1.0, pga=2.0)
+
+
+def test_record_scaled_to_a_target_pga():
+    m = excitation.record("el_centro_1940", pga=4.0, baseline=False)
+    assert m.horizontal.peak_acceleration == pytest.approx(4.0, rel=1e-12)
+    doubled = excitation.record("el_centro_1940", scale=2.0, baseline=False)
+    base = excitation.record("el_centro_1940", baseline=False)
+    np.testing.assert_allclose(doubled.horizontal.samples, 2.0 * base.horizontal.samples)
+
+
+@pytest.mark.parametrize("name", ["el_centro_1940", "northridge_1994", "kalamata_1986", "mexico_city_1985"])
+def test_baseline_correction_brings_the_ground_back_to_rest(name):
+    raw = excitation.record(name, baseline=False).horizontal
+    corrected = excitation.record(name).horizontal
+    end = raw.end_time
+    peak_v = np.max(np.abs(corrected.velocity(np.linspace(0, end, 2001))))
+    assert abs(corrected.velocity(end)) < 1e-9 * max(peak_v, 1.0)
+    assert abs(corrected.displacement(end)) < 1e-9
+    # the correction is a small change of the accelerations
+    assert np.max(np.abs(corrected.samples - raw.samples)) < 0.02 * raw.peak_acceleration
+
+
+def test_horizontal_and_vertical_components_together():
+    m = excitation.record("mexico_city_1985", vertical=True, baseline=False)
+    # SOURCES.md: EW 0.1712 g, vertical 0.0373 g
+    assert m.horizontal.peak_acceleration == pytest.approx(0.1712 * 9.80665, rel=2e-3)
+    assert m.vertical.peak_acceleration == pytest.approx(0.0373 * 9.80665, rel=3e-3)
+    ax, ay = m.acceleration(np.array([10.0, 20.0]))
+    assert ax.shape == ay.shape == (2,)
+    scaled = excitation.record("mexico_city_1985", vertical=True, pga=1.0, baseline=False)
+    ratio = scaled.vertical.peak_acceleration / scaled.horizontal.peak_acceleration
+    assert ratio == pytest.approx(0.0373 / 0.1712, rel=5e-3)
+
+
+def test_array_record_needs_dt():
+    with pytest.raises(ValueError, match="dt"):
+        excitation.record(np.zeros(10))
