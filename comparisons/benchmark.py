@@ -1,0 +1,117 @@
+"""Wall time and error of the native core against pymunk, measured in the same run.
+
+Cases (issue 2):
+* the Housner block (0.25 x 1.0 m from 0.05236 rad), free rocking: wall time
+  per simulated second, error of the peaks after impacts 1-5 against
+  Housner's decay and of the first impact time against his quarter period;
+* an 8-drum column (6 x 1 m) under 20 s of the 1940 El Centro record: wall
+  time, and the error of the top drum's rotation against the native core
+  converged in dt (a quarter of the automatic step gives the same answer to
+  within the noise of the comparison: it is printed too).
+
+Each timing is the best of ``--repeats`` runs, the engines interleaved, so
+that both see the same machine; the kernel's compile (or cache load) time
+is printed apart.
+
+    python -m comparisons.benchmark [--repeats 5]
+"""
+
+import argparse
+import time
+
+import numpy as np
+
+import dem_core
+from adapters import pymunk_adapter
+from comparisons import analytical, cases
+from comparisons.measures import first_zero_crossing, peaks_between_crossings
+from dem_core import excitation, scenes
+
+BLOCK_DURATION = 10.0  # s of free rocking
+COLUMN_DURATION = 20.0  # s of El Centro
+PYMUNK_DT = 1e-3
+
+
+def housner_errors(result):
+    """(worst relative peak error over impacts 1-5, relative error of the first impact time)."""
+    block = analytical.RockingBlock.from_size(cases.HOUSNER_WIDTH, cases.HOUSNER_HEIGHT)
+    reference = analytical.housner_peaks(block, cases.HOUSNER_THETA0, 5)
+    peaks = peaks_between_crossings(result.theta[:, 0], 6)
+    if len(peaks) < 6:
+        return np.inf, np.inf
+    quarter = analytical.housner_period(block, cases.HOUSNER_THETA0) / 4.0
+    return (float(np.max(np.abs(peaks[1:] / reference[1:] - 1.0))),
+            first_zero_crossing(result.t, result.theta[:, 0]) / quarter - 1.0)
+
+
+def column_error(result, reference):
+    """(relative error of the top drum's peak |theta|, RMS of its theta error over the peak)."""
+    top = np.interp(reference.t, result.t, result.theta[:, -1])
+    ref = reference.theta[:, -1]
+    peak = np.max(np.abs(ref))
+    return float(np.max(np.abs(top)) / peak - 1.0), float(np.sqrt(np.mean((top - ref) ** 2)) / peak)
+
+
+def best_of(repeats, run):
+    """Run ``run`` ``repeats`` times; the result with the smallest wall time, and that time."""
+    best, best_time = None, np.inf
+    for _ in range(repeats):
+        start = time.perf_counter()
+        result = run()
+        wall = result.info.get("run_time_s", time.perf_counter() - start)
+        if wall < best_time:
+            best, best_time = result, wall
+    return best, best_time
+
+
+def main(argv=None):
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--repeats", type=int, default=5)
+    args = parser.parse_args(argv)
+
+    block = cases.housner_scene()
+    first = dem_core.simulate(block, duration=0.01)
+    print(f"native kernel compile / cache load: {first.info['compile_time_s']:.3f} s (first call in this process)")
+
+    print(f"\nHousner block, {BLOCK_DURATION:g} s of free rocking")
+    rows = []
+    for _ in range(args.repeats):  # interleave the engines
+        rows.append(("dem", best_of(1, lambda: dem_core.simulate(block, duration=BLOCK_DURATION, output_dt=1e-9))))
+        rows.append(("pymunk", best_of(1, lambda: pymunk_adapter.simulate(block, duration=BLOCK_DURATION,
+                                                                          dt=PYMUNK_DT, output_dt=PYMUNK_DT))))
+    timings = {}
+    for engine in ("dem", "pymunk"):
+        result, wall = min((r for e, r in rows if e == engine), key=lambda r: r[1])
+        decay, quarter = housner_errors(result)
+        timings[engine] = wall
+        print(f"  {engine:7s} dt {result.dt:.3e} s  {1e3 * wall / BLOCK_DURATION:7.3f} ms per simulated s  "
+              f"decay error {decay:6.2%}  quarter-period error {quarter:+6.2%}")
+    print(f"  speed ratio pymunk / dem: {timings['pymunk'] / timings['dem']:.2f} (above 1: the native core is faster)")
+
+    print(f"\n8-drum column, {COLUMN_DURATION:g} s of El Centro 1940")
+    column = scenes.column(8)
+    motion = excitation.record("el_centro_1940")
+    reference = dem_core.simulate(column, motion, duration=COLUMN_DURATION, output_dt=0.005,
+                                  safety=dem_core.simulation.DEFAULT_SAFETY / 8)
+    check = dem_core.simulate(column, motion, duration=COLUMN_DURATION, output_dt=0.005,
+                              safety=dem_core.simulation.DEFAULT_SAFETY / 4)
+    peak_err, rms_err = column_error(check, reference)
+    print(f"  reference: native core at dt/8 = {reference.dt:.2e} s; at dt/4 it differs by "
+          f"{peak_err:+.2%} in peak, {rms_err:.2%} RMS")
+    rows = []
+    for _ in range(args.repeats):
+        rows.append(("dem", best_of(1, lambda: dem_core.simulate(column, motion, duration=COLUMN_DURATION,
+                                                                 output_dt=0.005))))
+        rows.append(("pymunk", best_of(1, lambda: pymunk_adapter.simulate(column, motion, duration=COLUMN_DURATION,
+                                                                          dt=PYMUNK_DT, output_dt=0.005))))
+    for engine in ("dem", "pymunk"):
+        result, wall = min((r for e, r in rows if e == engine), key=lambda r: r[1])
+        peak_err, rms_err = column_error(result, reference)
+        timings[engine] = wall
+        print(f"  {engine:7s} dt {result.dt:.3e} s  {wall:6.3f} s for {COLUMN_DURATION:g} s  "
+              f"top-drum peak error {peak_err:+7.2%}  RMS error {rms_err:6.2%}")
+    print(f"  speed ratio pymunk / dem: {timings['pymunk'] / timings['dem']:.2f} (above 1: the native core is faster)")
+
+
+if __name__ == "__main__":
+    main()
