@@ -298,6 +298,22 @@ def _scheme_limit(stiffness, damping, mass) -> float:
     return lo
 
 
+def impact_duration(scene, interfaces: InterfaceArrays | None = None) -> float:
+    """Shortest impact duration ``pi sqrt(m_eff / k)`` (s) of the face contacts touching at the start.
+
+    Half a period of the face's spring: ``k = K_n d L`` of the face and
+    ``m_eff`` the pair's reduced mass.  Without touching faces, the blocks'
+    contacts with the base count.
+    """
+    ia = interface_arrays(scene) if interfaces is None else interfaces
+    faces = _touching_faces(scene, ia)
+    if faces:
+        stiffness = [(ia.kn[i, j] * extent, ia.m_eff[i, j]) for i, j, _, _, _, extent in faces]
+    else:
+        stiffness = [(ia.k_linear[0, i], ia.m_eff[0, i]) for i in range(1, len(scene.bodies))]
+    return float(min(np.pi * np.sqrt(m / k) for k, m in stiffness))
+
+
 def _longest_edge(vertices) -> float:
     edges = np.roll(vertices, -1, axis=0) - vertices
     return float(np.max(np.hypot(edges[:, 0], edges[:, 1])))

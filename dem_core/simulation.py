@@ -15,11 +15,13 @@ from . import _kernels, contact
 from .excitation import GroundMotion, still
 from .result import Result
 
-#: fraction of the stability limit used when dt is not given.  The scheme is stable up to the limit
-#: (mirror-image runs stay mirror images to round-off there), but the impact of a rocking block lasts
-#: only a few steps at it: at 0.8 of the limit the peaks after five impacts are 5.7% too high, at 0.4
-#: within 1.8% (``python -m comparisons.calibrate_damping``), so 0.4 is the default.
-DEFAULT_SAFETY = 0.4
+#: largest fraction of the stability limit used when dt is not given (the scheme is stable up to the
+#: limit: mirror-image runs stay mirror images to round-off there)
+DEFAULT_SAFETY = 0.8
+#: time steps per shortest impact when dt is not given: resolving impacts matters for the energy they
+#: take.  The Housner block's peaks after five impacts are 5.7% too high at 5 steps per impact, within
+#: 1.8% at 10 (``python -m comparisons.calibrate_damping``)
+DEFAULT_STEPS_PER_IMPACT = 10
 #: a pair overlapping by more than this fraction of the smaller block's area stops the run
 MAX_OVERLAP_FRACTION = 0.05
 #: a block moving faster than this multiple of the fastest physical speed stops the run
@@ -40,14 +42,17 @@ class SimulationUnstable(RuntimeError):
 def simulate(scene, excitation: GroundMotion | None = None, duration: float | None = None,
              dt: float | None = None, output_dt: float | None = None, *,
              ground_motion: str = "inertial", safety: float = DEFAULT_SAFETY,
+             steps_per_impact: float = DEFAULT_STEPS_PER_IMPACT,
              stop_at_overturn: bool = True) -> Result:
     """Simulate ``scene`` under ``excitation`` with the native soft-contact DEM.
 
     scene : :class:`~dem_core.scene.Scene`.
     excitation : :class:`~dem_core.excitation.GroundMotion` (None: no ground motion).
     duration : s; default the excitation's natural end (records, pulses).
-    dt : s; None picks ``safety`` x the stability limit
-        (:func:`dem_core.contact.stability_limit`).  A dt above the limit is refused.
+    dt : s; None picks the smaller of ``safety`` x the stability limit
+        (:func:`dem_core.contact.stability_limit`) and the shortest impact
+        over ``steps_per_impact`` (:func:`dem_core.contact.impact_duration`).
+        A dt above the limit is refused.
     output_dt : s between outputs (rounded to a whole number of steps); default 0.01 s.
     ground_motion : ``"inertial"`` (base fixed, load ``-m a_g`` on every block,
         FORMULATION section 2) or ``"moving_base"`` (the base follows u_g, v_g).
@@ -78,8 +83,11 @@ def simulate(scene, excitation: GroundMotion | None = None, duration: float | No
                          f"got {safety}")
     interfaces = contact.interface_arrays(scene)
     limit = contact.stability_limit(scene, interfaces, toppled=not stop_at_overturn)
+    impact = contact.impact_duration(scene, interfaces)
     if dt is None:
-        dt = safety * limit
+        if not steps_per_impact > 0:
+            raise ValueError(f"steps_per_impact must be positive, got {steps_per_impact}")
+        dt = min(safety * limit, impact / steps_per_impact)
     elif not dt > 0:
         raise ValueError(f"dt must be positive, got {dt}")
     elif dt > limit:
@@ -146,6 +154,7 @@ def simulate(scene, excitation: GroundMotion | None = None, duration: float | No
     info = {
         "engine": "dem",
         "stability_limit_s": limit,
+        "impact_duration_s": impact,
         "steps": int(step),
         "ground_motion": ground_motion,
         "excitation": excitation.name,

@@ -48,10 +48,18 @@ def test_explicit_dt_above_the_stability_limit_is_refused():
     assert dem_core.simulate(scene, duration=0.01, dt=0.5 * limit).dt == 0.5 * limit
 
 
-def test_auto_dt_is_reported_and_below_the_limit():
-    r = dem_core.simulate(scenes.column(4), duration=0.01)
-    assert r.dt < r.info["stability_limit_s"]
-    assert r.dt == pytest.approx(dem_core.simulation.DEFAULT_SAFETY * r.info["stability_limit_s"])
+@pytest.mark.parametrize("scene", [scenes.column(8), scenes.block(1.0, 6.0)], ids=["drums", "monolith"])
+def test_auto_dt_is_reported_below_the_limit_and_resolves_impacts(scene):
+    r = dem_core.simulate(scene, duration=0.01)
+    limit, impact = r.info["stability_limit_s"], r.info["impact_duration_s"]
+    assert r.dt == pytest.approx(min(dem_core.simulation.DEFAULT_SAFETY * limit,
+                                     impact / dem_core.simulation.DEFAULT_STEPS_PER_IMPACT))
+    assert r.dt < limit
+    # impact duration of the stiffest face: pi sqrt(m_eff / (K_n d L))
+    masses = [b.mass for b in scene.blocks]
+    m_eff = masses[0] / 2 if len(masses) > 1 else masses[0]
+    width = min(b.width for b in scene.blocks)
+    assert impact == pytest.approx(np.pi * np.sqrt(m_eff / (scene.contact.kn * width)), rel=1e-9)
 
 
 def test_estimated_limit_is_where_mirror_symmetry_breaks():

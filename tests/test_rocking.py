@@ -15,8 +15,8 @@ from comparisons.cases import HOUSNER_HEIGHT, HOUSNER_THETA0, HOUSNER_WIDTH
 # reaches theta = 0 0.34% later for this release.  The soft contact adds its own delay: the pivot sits
 # inside the corner, at the centroid of the triangular overlap.
 QUARTER_PERIOD_BAND = 0.01  # measured +0.91% against the formula, +0.56% against the exact equation
-PEAK_DECAY_BAND = 0.03  # measured +0.8%, +1.3%, +1.4%, +1.7%, +1.7% after impacts 1 to 5
-PULSE_PEAK_BAND = 0.05  # measured +1.4% (6 m/s^2, 0.25 s) and +1.5% (10 m/s^2, 0.15 s)
+PEAK_DECAY_BAND = 0.03  # measured +0.7%, +1.3%, +1.5%, +1.8%, +2.0% after impacts 1 to 5
+PULSE_PEAK_BAND = 0.05  # measured +1.3% (6 m/s^2, 0.25 s) and +1.6% (10 m/s^2, 0.15 s)
 
 
 @pytest.fixture(scope="module")
