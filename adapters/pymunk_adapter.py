@@ -87,7 +87,7 @@ def simulate(scene, excitation: GroundMotion | None = None, duration: float | No
             raise ValueError(f"pymunk: give a duration: the excitation '{excitation.name}' has no natural end")
     dt = DEFAULT_DT if dt is None else float(dt)
     n_steps = int(np.ceil(duration / dt - 1e-9))
-    stride = max(1, int(round((0.01 if output_dt is None else output_dt) / dt)))
+    stride = max(1, round((0.01 if output_dt is None else output_dt) / dt))
     t0 = time.perf_counter()
     space, bodies = build_space(scene, iterations, slop)
     build_time = time.perf_counter() - t0

@@ -22,7 +22,6 @@ from comparisons import analytical
 from comparisons.measures import peaks_between_crossings
 from dem_core import scenes
 
-
 #: the calibration runs at a time step converged for the impacts (a tenth of the stability limit):
 #: the model's own energy loss, not the discretisation's, is matched to Housner's
 CALIBRATION_SAFETY = 0.1

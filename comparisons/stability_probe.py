@@ -13,7 +13,7 @@ import argparse
 import numpy as np
 
 import dem_core
-from dem_core import contact, excitation, scenes
+from dem_core import excitation, scenes, stability
 
 
 def probe_cases():
@@ -42,7 +42,7 @@ def main(argv=None):
     factors = [float(f) for f in args.factors.split(",")]
     print(f"{'case':48s} {'limit (s)':>10s} {'first unstable factor':>22s}")
     for name, scene, motion, duration in probe_cases():
-        limit = contact.stability_limit(scene)
+        limit = stability.stability_limit(scene)
         fail = first_failure(scene, motion, duration, factors)
         print(f"{name:48s} {limit:10.3e} {fail:22.2f}")
     print(f"default safety factor: {dem_core.simulation.DEFAULT_SAFETY}")

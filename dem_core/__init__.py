@@ -7,7 +7,7 @@
 Method, scenes and benchmarks: FORMULATION.md (shared with the project).
 """
 
-from . import contact, excitation, geometry, records, scenes
+from . import contact, excitation, geometry, records, scenes, stability
 from .contact import ContactParameters
 from .result import Result
 from .scene import Block, Scene, SceneError
@@ -15,5 +15,5 @@ from .simulation import SimulationUnstable, simulate
 
 __all__ = [
     "Block", "ContactParameters", "Result", "Scene", "SceneError", "SimulationUnstable",
-    "contact", "excitation", "geometry", "records", "scenes", "simulate",
+    "contact", "excitation", "geometry", "records", "scenes", "simulate", "stability",
 ]

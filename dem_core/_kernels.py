@@ -192,8 +192,7 @@ def integrate(pos, vel, local_x, local_y, vstart, inv_mass, inv_inertia, radius,
             v_n = -(rvx * nx + rvy * ny)  # approach positive
             v_t = rvx * tx + rvy * ty  # slip of j relative to i
             fn = pair_kn[i, j] * a + pair_cn[i, j] * v_n
-            if fn < 0.0:
-                fn = 0.0
+            fn = max(fn, 0.0)
             fe = ft_el[i, j] - pair_kt[i, j] * v_t * dt
             f_t = fe - pair_ct[i, j] * v_t
             cap_t = pair_mu[i, j] * fn
@@ -247,8 +246,7 @@ def integrate(pos, vel, local_x, local_y, vstart, inv_mass, inv_inertia, radius,
             if rel_x * rel_x + rel_y * rel_y + spin * spin > speed_limit * speed_limit:
                 return STATUS_RUNAWAY, step, b, b, n_out
             rot = abs(pos[b, 2])
-            if rot > peak_theta[b]:
-                peak_theta[b] = rot
+            peak_theta[b] = max(peak_theta[b], rot)
             if overturn_step[b] < 0 and (abs(pos[b, 2]) > crit_angle[b] or y_start[b] - pos[b, 1] > drop_limit[b]):
                 overturn_step[b] = step + 1
                 if stop_at_overturn:

@@ -78,14 +78,14 @@ def _run(args) -> int:
     wall = time.perf_counter() - started
     _write(result, out, fmt)
     if not args.no_plots and spec.output.get("plots", True) and len(result.t) > 1:
-        from .plots import save_run_figures  # noqa: PLC0415 - matplotlib only when figures are wanted
+        from .plots import save_run_figures
 
         save_run_figures(result, out, spec.excitation, title=path.stem)
     info = result.info
     print(f"dt = {result.dt:.3g} s (stability limit {info.get('stability_limit_s', float('nan')):.3g} s), "
           f"{info.get('steps')} steps, run {info.get('run_time_s', 0):.2f} s, total {wall:.2f} s")
     print(f"peak |theta| {np.max(result.peak_theta):.4g} rad, total sliding {result.total_sliding:.4g} m, "
-          f"overturned: {'yes at t = %.3f s' % result.time_of_overturn if result.overturned else 'no'}")
+          f"overturned: {f'yes at t = {result.time_of_overturn:.3f} s' if result.overturned else 'no'}")
     print(f"results written to {out}/")
     return status
 

@@ -216,7 +216,7 @@ class Sampled(Component):
         return t, k, tau, a0, slope, inside
 
     def acceleration(self, t):
-        t, k, tau, a0, slope, inside = self._locate(t)
+        _, _, tau, a0, slope, inside = self._locate(t)
         return np.where(inside, a0 + slope * tau, 0.0)
 
     def velocity(self, t):
@@ -400,7 +400,7 @@ def _read_file(path, dt, units, component):
             raise records.RecordError(f"{path}: an AT2 file holds one component, asked for component {component}")
         return a, step
     a, step, t0 = records.read_text_record(path, dt=dt, units=units, component=component)
-    lead = int(round(t0 / step))
+    lead = round(t0 / step)
     if lead > 0 and abs(lead * step - t0) < records.TIME_STEP_TOLERANCE * step:
         a = np.concatenate([np.zeros(lead), a])  # first sample at t0 > 0: the ground is still before it
     return a, step

@@ -5,8 +5,8 @@ from pathlib import Path
 import matplotlib
 
 matplotlib.use("Agg")  # files only: the command line and CI have no screen
-import matplotlib.pyplot as plt  # noqa: E402
-import numpy as np  # noqa: E402
+import matplotlib.pyplot as plt
+import numpy as np
 
 
 def _ground_panel(ax, result, excitation):
@@ -32,33 +32,29 @@ def _finish(fig, axes, result, title):
     return fig
 
 
-def rotations(result, excitation=None, title="Block rotations"):
-    """Figure: rotation theta(t) of every block (rad), and the ground motion below."""
+def _history_figure(result, values, ylabel, colour_map, excitation, title):
+    """Figure: one line per block of ``values`` (n, n_blocks) over time, the ground motion below."""
     fig, axes = plt.subplots(2, 1, sharex=True, figsize=(9, 6), gridspec_kw={"height_ratios": [3, 1]})
-    colours = plt.cm.viridis(np.linspace(0, 0.9, result.n_blocks))
+    colours = colour_map(np.linspace(0, 0.9, result.n_blocks))
     for k, name in enumerate(result.names):
-        axes[0].plot(result.t, result.theta[:, k], lw=0.9, color=colours[k], label=name)
-    axes[0].set_ylabel("rotation (rad)")
+        axes[0].plot(result.t, values[:, k], lw=0.9, color=colours[k], label=name)
+    axes[0].set_ylabel(ylabel)
     axes[0].grid(alpha=0.3)
     if result.n_blocks <= 12:
         axes[0].legend(fontsize=7, ncol=min(4, result.n_blocks), loc="upper left")
     _ground_panel(axes[1], result, excitation)
     return _finish(fig, axes, result, title)
+
+
+def rotations(result, excitation=None, title="Block rotations"):
+    """Figure: rotation theta(t) of every block (rad), and the ground motion below."""
+    return _history_figure(result, result.theta, "rotation (rad)", plt.cm.viridis, excitation, title)
 
 
 def displacements(result, excitation=None, title="Block displacements relative to the base"):
     """Figure: horizontal displacement of every block relative to the base (m), and the ground motion."""
-    fig, axes = plt.subplots(2, 1, sharex=True, figsize=(9, 6), gridspec_kw={"height_ratios": [3, 1]})
-    colours = plt.cm.plasma(np.linspace(0, 0.9, result.n_blocks))
-    rel = result.relative_x - result.relative_x[0]
-    for k, name in enumerate(result.names):
-        axes[0].plot(result.t, rel[:, k], lw=0.9, color=colours[k], label=name)
-    axes[0].set_ylabel("displacement (m)")
-    axes[0].grid(alpha=0.3)
-    if result.n_blocks <= 12:
-        axes[0].legend(fontsize=7, ncol=min(4, result.n_blocks), loc="upper left")
-    _ground_panel(axes[1], result, excitation)
-    return _finish(fig, axes, result, title)
+    return _history_figure(result, result.relative_x - result.relative_x[0], "displacement (m)", plt.cm.plasma,
+                           excitation, title)
 
 
 def save_run_figures(result, out_dir, excitation=None, title=""):

@@ -11,8 +11,9 @@ import time
 
 import numpy as np
 
-from . import _kernels, contact
+from . import _kernels, contact, stability
 from .excitation import GroundMotion, still
+from .geometry import transform
 from .result import Result
 
 #: largest fraction of the stability limit used when dt is not given (the scheme is stable up to the
@@ -50,23 +51,24 @@ def simulate(scene, excitation: GroundMotion | None = None, duration: float | No
     excitation : :class:`~dem_core.excitation.GroundMotion` (None: no ground motion).
     duration : s; default the excitation's natural end (records, pulses).
     dt : s; None picks the smaller of ``safety`` x the stability limit
-        (:func:`dem_core.contact.stability_limit`) and the shortest impact
-        over ``steps_per_impact`` (:func:`dem_core.contact.impact_duration`).
+        (:func:`dem_core.stability.stability_limit`) and the shortest impact
+        over ``steps_per_impact`` (:func:`dem_core.stability.impact_duration`).
         A dt above the limit is refused.
-    output_dt : s between outputs (rounded to a whole number of steps); default 0.01 s.
+    output_dt : s between outputs (rounded to a whole number of steps; the
+        final state is always an output); default 0.01 s.
     ground_motion : ``"inertial"`` (base fixed, load ``-m a_g`` on every block,
         FORMULATION section 2) or ``"moving_base"`` (the base follows u_g, v_g).
         Either way positions are reported in the fixed frame, with
         ``base_x`` the ground displacement.
-
     stop_at_overturn : end the run when a block first overturns (passes its
         critical angle or falls half its size); the result then ends at that
         time and ``info["stopped"]`` says why.  With False the run goes on
         through the collapse at a time step small enough for blocks lying on
-        their long sides (see :func:`dem_core.contact.stability_limit`).
+        their long sides (see :func:`dem_core.stability.stability_limit`).
 
-    Raises ``ValueError`` for a dt above the stability limit and
-    :class:`SimulationUnstable` (with the partial result) when the run loses stability.
+    Raises ``ValueError`` for bad arguments (a dt above the stability limit
+    among them) and :class:`SimulationUnstable`, carrying the result up to
+    that point, when the run loses stability or a block leaves the base.
     """
     excitation = still() if excitation is None else excitation
     if ground_motion not in GROUND_MOTION_MODES:
@@ -77,63 +79,37 @@ def simulate(scene, excitation: GroundMotion | None = None, duration: float | No
             raise ValueError(f"give a duration: the excitation '{excitation.name}' has no natural end")
     if not duration > 0:
         raise ValueError(f"duration must be positive, got {duration}")
-
-    if not 0.0 < safety <= 1.0:
-        raise ValueError(f"safety is the fraction of the stability limit used as dt; it must be in (0, 1], "
-                         f"got {safety}")
     interfaces = contact.interface_arrays(scene)
-    limit = contact.stability_limit(scene, interfaces, toppled=not stop_at_overturn)
-    impact = contact.impact_duration(scene, interfaces)
-    if dt is None:
-        if not steps_per_impact > 0:
-            raise ValueError(f"steps_per_impact must be positive, got {steps_per_impact}")
-        dt = min(safety * limit, impact / steps_per_impact)
-    elif not dt > 0:
-        raise ValueError(f"dt must be positive, got {dt}")
-    elif dt > limit:
-        raise ValueError(f"dt = {dt:.4g} s is above the stability limit {limit:.4g} s of this scene "
-                         f"(contact stiffness kn = {scene.contact.kn:.3g}); use dt <= {limit:.4g} or dt=None")
-    n_steps = int(math.ceil(duration / dt - 1e-9))
-    output_dt = 0.01 if output_dt is None else output_dt
-    stride = max(1, int(round(output_dt / dt)))
+    limit = stability.stability_limit(scene, interfaces, toppled=not stop_at_overturn)
+    impact = stability.impact_duration(scene, interfaces)
+    dt = _time_step(scene, dt, limit, impact, safety, steps_per_impact)
+    n_steps = math.ceil(duration / dt - 1e-9)
+    stride = max(1, round((0.01 if output_dt is None else output_dt) / dt))
     out_steps = np.arange(0, n_steps + 1, stride)
-    if out_steps[-1] != n_steps:  # the final state is always an output
+    if out_steps[-1] != n_steps:
         out_steps = np.append(out_steps, n_steps)
-    n_out = len(out_steps)
 
     arrays = _scene_arrays(scene)
-    t_steps = np.arange(n_steps + 1) * dt
-    t_half = t_steps - 0.5 * dt
     pos = arrays["pos0"].copy()
     vel = np.zeros_like(pos)
-    if ground_motion == "inertial":
-        ax, ay = excitation.acceleration(t_steps[:-1])
-        load_x, load_y = -ax, -ay
-        base_x = np.full(n_steps + 1, pos[0, 0])
-        base_y = np.full(n_steps + 1, pos[0, 1])
-        base_vx = np.zeros(n_steps + 1)
-        base_vy = np.zeros(n_steps + 1)
-    else:
-        load_x = np.zeros(n_steps)
-        load_y = np.zeros(n_steps)
-        ux, uy = excitation.displacement(t_steps)
-        base_x, base_y = pos[0, 0] + ux, pos[0, 1] + uy
-        base_vx, base_vy = excitation.velocity(t_half)
-        vel[1:, 0], vel[1:, 1] = base_vx[0], base_vy[0]  # blocks start at rest relative to the ground
-    speed_limit = _speed_limit(scene, excitation, t_steps)
+    ground = _ground_arrays(excitation, ground_motion, pos[0], n_steps, dt)
+    if ground_motion == "moving_base":
+        vel[1:, :2] = ground["base_v"][:, 0]  # the blocks start at rest relative to the ground
+    speed_limit = _speed_limit(scene, excitation, np.arange(n_steps + 1) * dt)
     nb = pos.shape[0]
     ft_el = np.zeros((nb, nb))
     slip = np.zeros((nb, nb))
-    out_pos = np.full((n_out, nb, 3), np.nan)
-    peak = np.abs(pos[:, 2]).copy()
+    out_pos = np.full((len(out_steps), nb, 3), np.nan)
+    peak = np.abs(pos[:, 2])
     overturn_step = np.full(nb, -1, np.int64)
 
     def run(steps, out):
         return _kernels.integrate(
             pos, vel, arrays["local_x"], arrays["local_y"], arrays["vstart"], arrays["inv_mass"],
             arrays["inv_inertia"], arrays["radius"], arrays["area"], interfaces.kn, interfaces.cn, interfaces.cr,
-            interfaces.kt, interfaces.ct, interfaces.mu, interfaces.active, ft_el, slip, scene.gravity, load_x, load_y,
-            base_x, base_y, base_vx, base_vy, dt, steps, stride, out, arrays["crit_angle"], arrays["y_start"],
+            interfaces.kt, interfaces.ct, interfaces.mu, interfaces.active, ft_el, slip, scene.gravity,
+            ground["load"][0], ground["load"][1], ground["base"][0], ground["base"][1], ground["base_v"][0],
+            ground["base_v"][1], dt, steps, stride, out, arrays["crit_angle"], arrays["y_start"],
             arrays["drop_limit"], peak, overturn_step, MAX_OVERLAP_FRACTION, arrays["skin"], speed_limit,
             ENERGY_TOLERANCE, stop_at_overturn, arrays["floor"])
 
@@ -144,13 +120,19 @@ def simulate(scene, excitation: GroundMotion | None = None, duration: float | No
     status, step, i, j, written = run(n_steps, out_pos)
     run_time = time.perf_counter() - t0
 
-    names = tuple(scene.block_names)
-    out_t = out_steps * dt
-    interface_slip = {}
     bodies = scene.bodies
-    for a, b in zip(*np.nonzero(np.triu(slip) > 0)):
-        interface_slip[(bodies[a].name, bodies[b].name)] = float(slip[a, b])
-    over_t = np.where(overturn_step[1:] >= 0, overturn_step[1:] * dt, np.nan)
+    out_t = out_steps[:written] * dt
+    if status == _kernels.STATUS_OVERTURNED:
+        out_t[-1] = step * dt  # the kernel wrote the state at the overturn as the last output
+    x, y, theta = out_pos[:written, 1:, 0], out_pos[:written, 1:, 1], out_pos[:written, 1:, 2]
+    if ground_motion == "inertial":  # the kernel moved the blocks relative to the ground: add the ground back
+        ground_x, ground_y = excitation.displacement(out_t)
+        x, y = x + ground_x[:, None], y + ground_y[:, None]
+    else:
+        ground_x = out_pos[:written, 0, 0] - arrays["pos0"][0, 0]
+        ground_y = out_pos[:written, 0, 1] - arrays["pos0"][0, 1]
+    interface_slip = {(bodies[a].name, bodies[b].name): float(slip[a, b])
+                      for a, b in zip(*np.nonzero(np.triu(slip) > 0))}
     info = {
         "engine": "dem",
         "stability_limit_s": limit,
@@ -162,41 +144,69 @@ def simulate(scene, excitation: GroundMotion | None = None, duration: float | No
         "run_time_s": run_time,
         "kn": scene.contact.kn,
     }
-    out_t = out_t[:written]
-    if status == _kernels.STATUS_OVERTURNED:
-        out_t[-1] = step * dt  # the kernel wrote the state at the overturn as the last output
-    x, y, theta = out_pos[:written, 1:, 0], out_pos[:written, 1:, 1], out_pos[:written, 1:, 2]
-    if ground_motion == "inertial":  # the kernel moved the blocks relative to the ground: add the ground back
-        ground_x, ground_y = excitation.displacement(out_t)
-        x, y = x + ground_x[:, None], y + ground_y[:, None]
-    else:
-        ground_x = out_pos[:written, 0, 0] - arrays["pos0"][0, 0]
-        ground_y = out_pos[:written, 0, 1] - arrays["pos0"][0, 1]
     if status == _kernels.STATUS_OVERTURNED:
         info["stopped"] = f"block '{bodies[i].name}' overturned at t = {step * dt:.6g} s"
-    result = Result(out_t, x, y, theta, ground_x, ground_y, names, peak[1:], over_t, interface_slip, dt, info)
+    over_t = np.where(overturn_step[1:] >= 0, overturn_step[1:] * dt, np.nan)
+    result = Result(out_t, x, y, theta, ground_x, ground_y, tuple(scene.block_names), peak[1:], over_t,
+                    interface_slip, dt, info)
     if status not in (_kernels.STATUS_OK, _kernels.STATUS_OVERTURNED):
-        when = step * dt
-        advice = (f"reduce dt below {dt:.4g} s or check the contact parameters (kn = {scene.contact.kn:.3g})"
-                  if status != _kernels.STATUS_FELL_OFF else "nothing after this time is physical")
-        if status == _kernels.STATUS_NONFINITE:
-            what = f"the state of block '{bodies[i].name}' became non-finite"
-        elif status == _kernels.STATUS_RUNAWAY:
-            what = (f"block '{bodies[i].name}' moved faster than {speed_limit:.3g} m/s relative to the ground, "
-                    f"{SPEED_LIMIT_FACTOR:g} times the fastest speed its fall and the ground motion can give")
-        elif status == _kernels.STATUS_FELL_OFF:
-            what = f"block '{bodies[i].name}' fell off the edge of the base; make the base wider (base_width)"
-        elif status == _kernels.STATUS_ENERGY:
-            what = (f"the blocks gained energy that neither gravity nor the ground supplied "
-                    f"(more than {ENERGY_TOLERANCE:.0%} of the energy scale)")
-        else:
-            what = (f"blocks '{bodies[i].name}' and '{bodies[j].name}' overlap by more than "
-                    f"{MAX_OVERLAP_FRACTION:.0%} of the smaller block's area")
-        raise SimulationUnstable(
-            f"simulation stopped at t = {when:.6g} s (step {step}, dt = {dt:.4g} s): {what}; "
-            f"{advice}. "
-            f"The result up to t = {out_t[-1] if written else 0.0:.6g} s is in this error's .partial", result)
+        raise SimulationUnstable(_stop_message(scene, status, step, dt, i, j, speed_limit, out_t), result)
     return result
+
+
+def _time_step(scene, dt, limit, impact, safety, steps_per_impact) -> float:
+    if not 0.0 < safety <= 1.0:
+        raise ValueError(f"safety is the fraction of the stability limit used as dt; it must be in (0, 1], "
+                         f"got {safety}")
+    if not steps_per_impact > 0:
+        raise ValueError(f"steps_per_impact must be positive, got {steps_per_impact}")
+    if dt is None:
+        return min(safety * limit, impact / steps_per_impact)
+    if not dt > 0:
+        raise ValueError(f"dt must be positive, got {dt}")
+    if dt > limit:
+        raise ValueError(f"dt = {dt:.4g} s is above the stability limit {limit:.4g} s of this scene "
+                         f"(contact stiffness kn = {scene.contact.kn:.3g}); use dt <= {limit:.4g} or dt=None")
+    return float(dt)
+
+
+def _ground_arrays(excitation, mode, base_start, n_steps, dt) -> dict:
+    """Per-step ground input of the kernel: inertial load (2, n_steps) m/s^2, base position
+    (2, n_steps + 1) m at step times, base velocity (2, n_steps + 1) m/s at the half steps before."""
+    t = np.arange(n_steps + 1) * dt
+    if mode == "inertial":
+        return {
+            "load": -np.array(excitation.acceleration(t[:-1])),
+            "base": np.repeat(base_start[:2, None], n_steps + 1, axis=1),
+            "base_v": np.zeros((2, n_steps + 1)),
+        }
+    return {
+        "load": np.zeros((2, n_steps)),
+        "base": base_start[:2, None] + np.array(excitation.displacement(t)),
+        "base_v": np.array(excitation.velocity(t - 0.5 * dt)),
+    }
+
+
+def _stop_message(scene, status, step, dt, i, j, speed_limit, out_t) -> str:
+    bodies = scene.bodies
+    if status == _kernels.STATUS_NONFINITE:
+        what = f"the state of block '{bodies[i].name}' became non-finite"
+    elif status == _kernels.STATUS_RUNAWAY:
+        what = (f"block '{bodies[i].name}' moved faster than {speed_limit:.3g} m/s relative to the ground, "
+                f"{SPEED_LIMIT_FACTOR:g} times the fastest speed its fall and the ground motion can give")
+    elif status == _kernels.STATUS_FELL_OFF:
+        what = f"block '{bodies[i].name}' fell off the edge of the base; make the base wider (base_width)"
+    elif status == _kernels.STATUS_ENERGY:
+        what = (f"the blocks gained energy that neither gravity nor the ground supplied "
+                f"(more than {ENERGY_TOLERANCE:.0%} of the energy scale)")
+    else:
+        what = (f"blocks '{bodies[i].name}' and '{bodies[j].name}' overlap by more than "
+                f"{MAX_OVERLAP_FRACTION:.0%} of the smaller block's area")
+    advice = ("nothing after this time is physical" if status == _kernels.STATUS_FELL_OFF else
+              f"reduce dt below {dt:.4g} s or check the contact parameters (kn = {scene.contact.kn:.3g})")
+    last = out_t[-1] if len(out_t) else 0.0
+    return (f"simulation stopped at t = {step * dt:.6g} s (step {step}, dt = {dt:.4g} s): {what}; {advice}. "
+            f"The result up to t = {last:.6g} s is in this error's .partial")
 
 
 def _speed_limit(scene, excitation, t_steps) -> float:
@@ -234,10 +244,7 @@ def _scene_arrays(scene) -> dict:
     # theta starts at each block's initial angle, so the local outline is the start outline rotated back
     angle0 = np.array([b.angle for b in bodies])
     pos0 = np.column_stack([centroids, angle0])
-    c, s = np.cos(-angle0), np.sin(-angle0)
-    rotated = [np.column_stack([ci * v[:, 0] - si * v[:, 1], si * v[:, 0] + ci * v[:, 1]])
-               for v, ci, si in zip(local, c, s)]
-    allv = np.concatenate(rotated)
+    allv = np.concatenate([transform(v, -a) for v, a in zip(local, angle0)])
     radius = np.array([b.circumradius for b in bodies])
     sizes = np.array([min(b.width, b.height) for b in bodies])
     return {

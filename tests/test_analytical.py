@@ -28,7 +28,7 @@ def test_rigid_plastic_integration_matches_newmark():
     mu, t_p, dt = 0.25, 0.4, 1e-4
     for ratio in (1.5, 3.0):
         a_p = ratio * mu * analytical.G
-        n = int(round(t_p / dt))
+        n = round(t_p / dt)
         pulse = np.concatenate([np.full(n, a_p), [a_p], np.zeros(4 * n)])  # the step lands on a sample
         pulse[n] = 0.0
         slip = analytical.rigid_plastic_sliding(pulse, dt, mu)

@@ -5,10 +5,9 @@ import pytest
 
 import dem_core
 from comparisons import analytical, cases
+from comparisons.cases import HOUSNER_HEIGHT, HOUSNER_THETA0, HOUSNER_WIDTH
 from comparisons.measures import first_exceedance, first_zero_crossing, peaks_between_crossings
 from dem_core import excitation, scenes
-
-from comparisons.cases import HOUSNER_HEIGHT, HOUSNER_THETA0, HOUSNER_WIDTH
 
 # Bands (relative errors) from the issue; the comments give what the default contact gives today.
 # Housner's period formula linearises sin(alpha - theta); the exact solution of his equation of motion

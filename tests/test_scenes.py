@@ -96,7 +96,7 @@ def test_overlapping_blocks_are_refused_by_name():
 
 def test_scene_is_immutable():
     s = scenes.column(2)
-    with pytest.raises(Exception):
+    with pytest.raises(ValueError, match="read-only"):
         s.blocks[0].vertices[0, 0] = 5.0
-    with pytest.raises(Exception):
+    with pytest.raises(AttributeError):
         s.gravity = 1.0

@@ -73,7 +73,7 @@ def test_sliding_converges_as_dt_shrinks():
     mu, t_p = 0.3, 0.3
     a_p = 1.5 * mu * G
     scene = squat_block(mu)
-    limit = dem_core.contact.stability_limit(scene)
+    limit = dem_core.stability.stability_limit(scene)
 
     def max_slip(dt):
         result = dem_core.simulate(scene, excitation.rectangular_pulse(a_p, t_p), duration=0.8, dt=dt, output_dt=dt)
