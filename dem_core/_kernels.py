@@ -80,7 +80,9 @@ def integrate(pos, vel, local_x, local_y, vstart, inv_mass, inv_inertia, radius,
     ``crit_angle`` or the centre of mass falls ``drop_limit`` below
     ``y_start`` into ``overturn_step`` (-1 if never).
 
-    Returns ``(status, step, i, j, n_out_written)``: status 0 on success,
+    Returns ``(status, step, i, j, n_out_written, n_narrow)``, ``n_narrow``
+    the number of exact polygon overlaps computed (pairs that passed the
+    broad phase), and status 0 on success,
     1 if the state became non-finite (i = body), 2 if pair (i, j)
     overlapped by more than ``max_overlap_fraction`` of the smaller block's
     area, 3 if a point of body i moved faster than ``speed_limit`` (m/s)
@@ -112,6 +114,7 @@ def integrate(pos, vel, local_x, local_y, vstart, inv_mass, inv_inertia, radius,
     n_pairs = _build_pairs(pos, radius, skin, active, pairs)
     half_skin2 = 0.25 * skin * skin
     n_out = 0
+    n_narrow = 0
     energy0 = _mechanical_energy(pos, vel, inv_mass, inv_inertia, gravity)
     energy_scale = 0.0
     for b in range(1, nb_):
@@ -166,6 +169,7 @@ def integrate(pos, vel, local_x, local_y, vstart, inv_mass, inv_inertia, radius,
             if hi_x[i] < lo_x[j] or hi_x[j] < lo_x[i] or hi_y[i] < lo_y[j] or hi_y[j] < lo_y[i]:
                 ft_el[i, j] = 0.0
                 continue
+            n_narrow += 1
             m = clip_convex(wx, wy, vstart[i], vstart[i + 1] - vstart[i], wx, wy, vstart[j], vstart[j + 1] - vstart[j],
                             ox, oy, scratch)
             if m < 3:
@@ -176,7 +180,7 @@ def integrate(pos, vel, local_x, local_y, vstart, inv_mass, inv_inertia, radius,
                 ft_el[i, j] = 0.0
                 continue
             if a > max_overlap_fraction * min(area[i], area[j]):
-                return STATUS_DEEP_OVERLAP, step, i, j, n_out
+                return STATUS_DEEP_OVERLAP, step, i, j, n_out, n_narrow
             tx, ty, nx, ny = contact_frame(sxx, syy, sxy, cx, cy, pos[i, 0], pos[i, 1])
             # velocities of the material points of i and j at C
             rix = cx - pos[i, 0]
@@ -237,14 +241,14 @@ def integrate(pos, vel, local_x, local_y, vstart, inv_mass, inv_inertia, radius,
             pos[b, 1] += dt * vel[b, 1]
             pos[b, 2] += dt * vel[b, 2]
             if not (math.isfinite(pos[b, 0]) and math.isfinite(pos[b, 1]) and math.isfinite(pos[b, 2])):
-                return STATUS_NONFINITE, step, b, b, n_out
+                return STATUS_NONFINITE, step, b, b, n_out, n_narrow
             if pos[b, 1] - pos[0, 1] < floor - radius[b]:
-                return STATUS_FELL_OFF, step, b, b, n_out
+                return STATUS_FELL_OFF, step, b, b, n_out, n_narrow
             rel_x = vel[b, 0] - vel[0, 0]
             rel_y = vel[b, 1] - vel[0, 1]
             spin = vel[b, 2] * radius[b]
             if rel_x * rel_x + rel_y * rel_y + spin * spin > speed_limit * speed_limit:
-                return STATUS_RUNAWAY, step, b, b, n_out
+                return STATUS_RUNAWAY, step, b, b, n_out, n_narrow
             rot = abs(pos[b, 2])
             peak_theta[b] = max(peak_theta[b], rot)
             if overturn_step[b] < 0 and (abs(pos[b, 2]) > crit_angle[b] or y_start[b] - pos[b, 1] > drop_limit[b]):
@@ -257,12 +261,12 @@ def integrate(pos, vel, local_x, local_y, vstart, inv_mass, inv_inertia, radius,
                     for d in range(3):
                         out_pos[n_out, b, d] = pos[b, d]
                 n_out += 1
-            return STATUS_OVERTURNED, step + 1, toppled, toppled, n_out
+            return STATUS_OVERTURNED, step + 1, toppled, toppled, n_out, n_narrow
         if step % ENERGY_CHECK_INTERVAL == 0:
             energy = _mechanical_energy(pos, vel, inv_mass, inv_inertia, gravity)
             if energy - energy0 - work_in > energy_tolerance * (energy_scale + work_gross):
-                return STATUS_ENERGY, step, 0, 0, n_out
-    return STATUS_OK, n_steps, 0, 0, n_out
+                return STATUS_ENERGY, step, 0, 0, n_out, n_narrow
+    return STATUS_OK, n_steps, 0, 0, n_out, n_narrow
 
 
 @nb.njit(cache=True)

@@ -117,7 +117,7 @@ def simulate(scene, excitation: GroundMotion | None = None, duration: float | No
     _ensure_compiled(run, pos, vel, nb)
     compile_time = time.perf_counter() - t0
     t0 = time.perf_counter()
-    status, step, i, j, written = run(n_steps, out_pos)
+    status, step, i, j, written, n_narrow = run(n_steps, out_pos)
     run_time = time.perf_counter() - t0
 
     bodies = scene.bodies
@@ -138,6 +138,7 @@ def simulate(scene, excitation: GroundMotion | None = None, duration: float | No
         "stability_limit_s": limit,
         "impact_duration_s": impact,
         "steps": int(step),
+        "narrow_phase_per_step": n_narrow / max(int(step), 1),
         "ground_motion": ground_motion,
         "excitation": excitation.name,
         "compile_time_s": compile_time,
