@@ -244,14 +244,15 @@ def rigid_plastic_sliding(acceleration, dt: float, mu: float, *, vertical=None, 
     when ``u'`` reaches zero and ``|a_g| <= mu (g + a_v)``.  Within each
     linear piece the motion is a polynomial, so phase changes are found as
     roots of linear and quadratic equations: exact to round-off.
-    t_end : s, continue past the record (ground still) until then.
+    t_end : s, end of the integration: before the record's end, or past it with the ground still.
     Returns the history at the record's sample times.
     """
     a = np.asarray(acceleration, dtype=float)
     av = np.zeros_like(a) if vertical is None else np.asarray(vertical, dtype=float)
-    n_extra = 0 if t_end is None else max(0, int(np.ceil(t_end / dt)) + 1 - len(a))
-    a = np.concatenate([a, np.zeros(n_extra)])
-    av = np.concatenate([av, np.zeros(n_extra)])
+    if t_end is not None:  # cut the record short, or let the ground stand still after it
+        n = int(np.ceil(t_end / dt - 1e-9)) + 1
+        a = np.concatenate([a, np.zeros(max(0, n - len(a)))])[:n]
+        av = np.concatenate([av, np.zeros(max(0, n - len(av)))])[:n]
     n = len(a)
     u = np.zeros(n)
     v = np.zeros(n)

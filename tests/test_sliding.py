@@ -67,6 +67,21 @@ def test_sliding_under_the_bundled_record_matches_the_rigid_plastic_reference(re
     assert np.sqrt(np.mean((on_reference_grid - reference.u) ** 2)) < RECORD_BAND * reference.max_slip
 
 
+@pytest.mark.parametrize("vertical", [False, True], ids=["horizontal", "with vertical"])
+def test_sliding_under_horizontal_and_vertical_motion(vertical):
+    """The vertical component changes the friction capacity, mu (g + a_v): the slip follows it."""
+    mu, duration = 0.1, 60.0
+    motion = excitation.record("mexico_city_1985", vertical=vertical or None, pga=2.5)
+    reference = analytical.rigid_plastic_sliding(
+        motion.horizontal.samples, motion.horizontal.dt, mu, t_end=duration,
+        vertical=motion.vertical.samples if vertical else None)
+    result = dem_core.simulate(squat_block(mu), motion, duration=duration, output_dt=0.01)
+    slip = slip_history(result)
+    assert np.max(np.abs(slip)) == pytest.approx(reference.max_slip, rel=RECORD_BAND)
+    assert result.total_sliding == pytest.approx(reference.total_slip, rel=RECORD_BAND)
+    assert abs(slip[-1] - reference.residual) < RECORD_BAND * reference.max_slip
+
+
 def test_sliding_converges_as_dt_shrinks():
     """The slip under a pulse converges as dt is refined below the automatic step (the converged
     value differs from Newmark's rigid-plastic one by the contact's own stick-slip, 6e-4 relative)."""
