@@ -44,7 +44,7 @@ def simulate(scene, excitation: GroundMotion | None = None, duration: float | No
              dt: float | None = None, output_dt: float | None = None, *,
              ground_motion: str = "inertial", safety: float = DEFAULT_SAFETY,
              steps_per_impact: float = DEFAULT_STEPS_PER_IMPACT,
-             stop_at_overturn: bool = True) -> Result:
+             stop_at_overturn: bool = True, enforce_stability_limit: bool = True) -> Result:
     """Simulate ``scene`` under ``excitation`` with the native soft-contact DEM.
 
     scene : :class:`~dem_core.scene.Scene`.
@@ -65,6 +65,9 @@ def simulate(scene, excitation: GroundMotion | None = None, duration: float | No
         time and ``info["stopped"]`` says why.  With False the run goes on
         through the collapse at a time step small enough for blocks lying on
         their long sides (see :func:`dem_core.stability.stability_limit`).
+    enforce_stability_limit : refuse an explicit dt above the stability limit.
+        Only for stress tests that study what happens past it
+        (``comparisons/stability_probe.py``).
 
     Raises ``ValueError`` for bad arguments (a dt above the stability limit
     among them) and :class:`SimulationUnstable`, carrying the result up to
@@ -82,7 +85,7 @@ def simulate(scene, excitation: GroundMotion | None = None, duration: float | No
     interfaces = contact.interface_arrays(scene)
     limit = stability.stability_limit(scene, interfaces, toppled=not stop_at_overturn)
     impact = stability.impact_duration(scene, interfaces)
-    dt = _time_step(scene, dt, limit, impact, safety, steps_per_impact)
+    dt = _time_step(scene, dt, limit, impact, safety, steps_per_impact, enforce_stability_limit)
     n_steps = math.ceil(duration / dt - 1e-9)
     stride = max(1, round((0.01 if output_dt is None else output_dt) / dt))
     out_steps = np.arange(0, n_steps + 1, stride)
@@ -155,7 +158,7 @@ def simulate(scene, excitation: GroundMotion | None = None, duration: float | No
     return result
 
 
-def _time_step(scene, dt, limit, impact, safety, steps_per_impact) -> float:
+def _time_step(scene, dt, limit, impact, safety, steps_per_impact, enforce) -> float:
     if not 0.0 < safety <= 1.0:
         raise ValueError(f"safety is the fraction of the stability limit used as dt; it must be in (0, 1], "
                          f"got {safety}")
@@ -165,7 +168,7 @@ def _time_step(scene, dt, limit, impact, safety, steps_per_impact) -> float:
         return min(safety * limit, impact / steps_per_impact)
     if not dt > 0:
         raise ValueError(f"dt must be positive, got {dt}")
-    if dt > limit:
+    if dt > limit and enforce:
         raise ValueError(f"dt = {dt:.4g} s is above the stability limit {limit:.4g} s of this scene "
                          f"(contact stiffness kn = {scene.contact.kn:.3g}); use dt <= {limit:.4g} or dt=None")
     return float(dt)
