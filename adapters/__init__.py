@@ -1,4 +1,30 @@
-"""The scenes of :mod:`dem_core` built in other physics engines, returning the same result type.
+"""The scenes of :mod:`dem_core` built in other physics engines, with the same result type.
 
-``pymunk_adapter`` is the first; PyBullet and MuJoCo follow (issue 3).
+``adapters.simulate(scene, excitation, duration, engine="pymunk" | "pybullet" | "mujoco" | "dem", dt=None,
+output_dt=None, **engine_options)`` returns a :class:`dem_core.Result` like :func:`dem_core.simulate`
+(the engines do not measure interface slip: sliding measures are NaN).  How each engine maps the
+scene (geometry, mass, friction, restitution, contact softness, ground motion) is in its module's
+docstring and in the README's engine table.
 """
+
+import dem_core
+
+from . import mujoco_adapter, pybullet_adapter, pymunk_adapter
+from ._driver import EngineUnstable
+
+ENGINES = {
+    "dem": dem_core.simulate,
+    "pymunk": pymunk_adapter.simulate,
+    "pybullet": pybullet_adapter.simulate,
+    "mujoco": mujoco_adapter.simulate,
+}
+
+__all__ = ["ENGINES", "EngineUnstable", "simulate"]
+
+
+def simulate(scene, excitation=None, duration=None, engine: str = "pymunk", dt=None, output_dt=None,
+             **engine_options):
+    """Run ``scene`` under ``excitation`` in ``engine``; see the module docstring."""
+    if engine not in ENGINES:
+        raise ValueError(f"unknown engine {engine!r}; choose one of {', '.join(ENGINES)}")
+    return ENGINES[engine](scene, excitation, duration, dt, output_dt, **engine_options)

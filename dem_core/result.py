@@ -25,7 +25,8 @@ class Result:
     peak_theta : (n_blocks,) peak |theta| over every time step (not only outputs), rad.
     overturn_time : (n_blocks,) s, first time the block passed its critical
         angle or fell half its size; NaN if it never did.
-    interface_slip : {(name_a, name_b): m} accumulated slip per interface that slid.
+    interface_slip : {(name_a, name_b): m} accumulated slip per interface that slid,
+        or None when the engine does not measure it (sliding measures are then NaN).
     dt : s, the time step used; info : run facts (engine, stability limit,
         steps, compile and run wall times, ...).
     """
@@ -68,6 +69,8 @@ class Result:
     @property
     def block_sliding(self) -> np.ndarray:
         """(n_blocks,) accumulated slip summed over each block's interfaces, m."""
+        if self.interface_slip is None:
+            return np.full(self.n_blocks, np.nan)
         total = np.zeros(self.n_blocks)
         for (a, b), s in self.interface_slip.items():
             for n in (a, b):
@@ -78,6 +81,8 @@ class Result:
     @property
     def total_sliding(self) -> float:
         """Accumulated relative slip summed over all interfaces, m."""
+        if self.interface_slip is None:
+            return float("nan")
         return float(sum(self.interface_slip.values()))
 
     @property

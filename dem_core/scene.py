@@ -213,6 +213,28 @@ class Scene:
         """A copy whose interface between ``a`` and ``b`` has friction ``mu``."""
         return self.replace(interface_friction={**self.interface_friction, (a, b): mu})
 
+    def touching_pairs(self, gap: float = 1e-6) -> list:
+        """``(i, j, contact)`` for every pair of bodies (0 = base) touching at the start.
+
+        Two blocks touch when moving one towards the other by ``gap`` times
+        the smaller block size makes them overlap; ``contact`` is the
+        :class:`~dem_core.geometry.ContactGeometry` of that thin overlap.
+        """
+        bodies = self.bodies
+        pairs = []
+        for i in range(len(bodies)):
+            for j in range(i + 1, len(bodies)):
+                p, q = bodies[i], bodies[j]
+                offset = q.centroid - p.centroid
+                dist = np.hypot(*offset)
+                if dist > p.circumradius + q.circumradius:
+                    continue
+                nudge = gap * min(p.width, p.height, q.width, q.height)
+                touch = geometry.contact_geometry(p.vertices, q.vertices - nudge * offset / dist)
+                if touch is not None:
+                    pairs.append((i, j, touch))
+        return pairs
+
     def _check_initial_overlaps(self):
         bodies = self.bodies
         for i in range(len(bodies)):

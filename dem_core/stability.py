@@ -8,7 +8,6 @@ must moreover last several steps for the energy they take to converge.
 import numpy as np
 
 from .contact import InterfaceArrays, interface_arrays
-from .geometry import contact_geometry
 
 
 def stability_limit(scene, interfaces: InterfaceArrays | None = None, toppled: bool = False) -> float:
@@ -117,20 +116,11 @@ def _damped_limit(omega, zeta):
 
 
 def _touching_faces(scene, ia: InterfaceArrays) -> list:
-    """``(i, j, centroid, normal, tangent, L)`` of every pair touching at the start."""
-    bodies = scene.bodies
+    """``(i, j, centroid, normal, tangent, L)`` of every interacting pair touching at the start."""
     faces = []
-    for i in range(len(bodies)):
-        for j in range(i + 1, len(bodies)):
-            p, q = bodies[i], bodies[j]
-            gap = q.centroid - p.centroid
-            dist = np.hypot(*gap)
-            if not ia.active[i, j] or dist > p.circumradius + q.circumradius:
-                continue
-            nudge = 1e-6 * min(p.width, p.height, q.width, q.height)
-            touch = contact_geometry(p.vertices, q.vertices - nudge * gap / dist)
-            if touch is None:
-                continue
+    for i, j, touch in scene.touching_pairs():
+        if ia.active[i, j]:
+            p, q = scene.bodies[i], scene.bodies[j]
             t = touch.tangent
             extent = min(np.ptp(p.vertices @ t), np.ptp(q.vertices @ t))
             faces.append((i, j, touch.centroid, touch.normal, t, extent))

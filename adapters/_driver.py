@@ -1,0 +1,159 @@
+"""What every adapter shares: the time loop with the ground motion as an inertial load,
+outputs at output_dt, instability checks, friction mapping, and the common result type."""
+
+import time
+import warnings
+from dataclasses import dataclass
+
+import numpy as np
+
+from dem_core.excitation import still
+from dem_core.result import Result
+
+#: a block further than this many scene heights from where it started has left the scene
+RUNAWAY_HEIGHTS = 5.0
+
+
+class EngineUnstable(RuntimeError):
+    """An engine's run went unstable; ``partial`` holds the result up to the last good output."""
+
+    def __init__(self, message: str, partial: Result | None):
+        super().__init__(message)
+        self.partial = partial
+
+
+@dataclass
+class EngineRun:
+    """An engine built for one scene.
+
+    set_gravity(gx, gy) : the inertial load plus gravity for the next step (m/s^2, in the scene's plane).
+    step() : advance one time step.
+    state() : (n_blocks, 3) array of x, y, theta of each block's centre of mass, in scene order.
+    info : the engine's settings, reported with the result.
+    close() : release the engine (called after the run, whatever happened).
+    """
+
+    set_gravity: object
+    step: object
+    state: object
+    info: dict
+    close: object = lambda: None
+
+
+def engine_settings(engine: str, options: dict, defaults: dict) -> dict:
+    """The engine's defaults updated with ``options``; an unknown option raises ``TypeError`` naming it."""
+    unknown = set(options) - set(defaults)
+    if unknown:
+        raise TypeError(f"{engine}: unknown option(s) {sorted(unknown)}; known: {sorted(defaults)}")
+    return {**defaults, **options}
+
+
+def run(engine: str, scene, excitation, duration, dt, output_dt, build) -> Result:
+    """Build with ``build()`` (an :class:`EngineRun`) and run it like :func:`dem_core.simulate`."""
+    excitation = still() if excitation is None else excitation
+    if duration is None:
+        duration = excitation.end_time
+        if not np.isfinite(duration) or duration <= 0:
+            raise ValueError(f"{engine}: give a duration: the excitation '{excitation.name}' has no natural end")
+    if not duration > 0 or not dt > 0:
+        raise ValueError(f"{engine}: duration and dt must be positive, got {duration} and {dt}")
+    n_steps = int(np.ceil(duration / dt - 1e-9))
+    stride = max(1, round((0.01 if output_dt is None else output_dt) / dt))
+    out_steps = np.arange(0, n_steps + 1, stride)
+    if out_steps[-1] != n_steps:
+        out_steps = np.append(out_steps, n_steps)
+    t0 = time.perf_counter()
+    engine_run = build()
+    build_time = time.perf_counter() - t0
+    ax, ay = excitation.acceleration(np.arange(n_steps) * dt)
+    gx, gy = -ax, -scene.gravity - ay
+    out = np.full((len(out_steps), len(scene.blocks), 3), np.nan)
+    start = np.array([[*b.centroid, b.angle] for b in scene.blocks])
+    reach = RUNAWAY_HEIGHTS * max(max(b.vertices[:, 1].max() for b in scene.blocks), 1.0)
+    written, failure = 0, None
+    t0 = time.perf_counter()
+    try:
+        for step in range(n_steps + 1):
+            if step == out_steps[written]:
+                state = engine_run.state()
+                bad = ~np.all(np.isfinite(state), axis=1) | (np.hypot(*(state[:, :2] - start[:, :2]).T) > reach)
+                if np.any(bad):
+                    failure = (step, int(np.argmax(bad)))
+                    break
+                out[written] = state
+                written += 1
+            if step == n_steps:
+                break
+            engine_run.set_gravity(gx[step], gy[step])
+            engine_run.step()
+    finally:
+        engine_run.close()
+    run_time = time.perf_counter() - t0
+    result = _result(engine, scene, excitation, out[:written], out_steps[:written] * dt, dt,
+                     {**engine_run.info, "engine": engine, "steps": int(step), "compile_time_s": build_time,
+                      "run_time_s": run_time, "excitation": excitation.name, "ground_motion": "inertial"})
+    if failure is not None:
+        step, k = failure
+        raise EngineUnstable(
+            f"{engine}: unstable at t = {step * dt:.6g} s (dt = {dt:.4g} s): block '{scene.blocks[k].name}' "
+            f"has a non-finite state or flew more than {reach:.3g} m from where it started; reduce dt. "
+            f"The result up to t = {result.t[-1] if len(result.t) else 0.0:.6g} s is in this error's .partial",
+            result)
+    return result
+
+
+def _result(engine, scene, excitation, out, t, dt, info) -> Result:
+    ground_x, ground_y = excitation.displacement(t)
+    theta = out[:, :, 2]
+    crit = np.array([b.critical_angle for b in scene.blocks])
+    start_y = np.array([b.centroid[1] for b in scene.blocks])
+    drop = 0.5 * np.array([min(b.width, b.height) for b in scene.blocks])
+    over = (np.abs(theta) > crit) | (start_y - out[:, :, 1] > drop)
+    overturn_time = np.where(over.any(axis=0), t[np.argmax(over, axis=0)], np.nan) if len(t) else np.full(
+        len(scene.blocks), np.nan)
+    peak = np.max(np.abs(theta), axis=0) if len(t) else np.abs([b.angle for b in scene.blocks])
+    return Result(t, out[:, :, 0] + ground_x[:, None], out[:, :, 1] + ground_y[:, None], theta, ground_x, ground_y,
+                  tuple(scene.block_names), peak, overturn_time, None, dt, info)
+
+
+def product_friction(engine: str, scene, pairs) -> np.ndarray:
+    """Per-body friction values whose products give the scene's coefficient at every interface in ``pairs``.
+
+    For engines that multiply the two bodies' coefficients.  ``pairs`` are
+    (i, j) body indices (0 = base) of the interfaces that must be exact (those
+    touching at the start).  Solved in logarithms by least squares, those
+    interfaces weighted a million times more than the other pairs of blocks,
+    which should come as close to the scene's values as the products allow
+    (they matter only if the blocks meet later; the base's other pairs are
+    left out: a block far above it meets it only after a collapse).  An interface in ``pairs`` that
+    cannot be matched (inconsistent overrides around a loop of contacts)
+    raises ``ValueError`` naming it; other pairs that differ are announced by
+    a warning.
+    """
+    bodies = scene.bodies
+    n = len(bodies)
+    must = set(pairs)
+    every = [(i, j) for i in range(n) for j in range(i + 1, n) if i > 0 or (i, j) in must]
+    mu = {(i, j): scene.friction(bodies[i].name, bodies[j].name) for i, j in every}
+    zero = [f"{bodies[i].name}-{bodies[j].name}" for (i, j), m in mu.items() if m <= 0 and (i, j) in must]
+    if zero:
+        raise ValueError(f"{engine}: zero friction at {', '.join(zero)} cannot be written as a product")
+    rows = np.zeros((len(every), n))
+    rhs = np.zeros(len(every))
+    for k, (i, j) in enumerate(every):
+        weight = 1e6 if (i, j) in must else 1.0
+        rows[k, i] = rows[k, j] = weight
+        rhs[k] = weight * np.log(max(mu[(i, j)], 1e-12))
+    values = np.exp(np.linalg.lstsq(rows, rhs, rcond=None)[0])
+    for i, j in must:
+        if abs(values[i] * values[j] / mu[(i, j)] - 1.0) > 1e-6:
+            raise ValueError(f"{engine} multiplies the two bodies' friction coefficients: the scene's interface "
+                             f"friction cannot all be reproduced (interface {bodies[i].name}-{bodies[j].name} "
+                             f"would get {values[i] * values[j]:.4g} instead of {mu[(i, j)]:.4g})")
+    off = [(bodies[i].name, bodies[j].name) for i, j in every
+           if (i, j) not in must and abs(values[i] * values[j] / mu[(i, j)] - 1.0) > 1e-6]
+    if off:
+        warnings.warn(f"{engine}: {len(off)} pairs of bodies not in contact at the start (e.g. "
+                      f"{off[0][0]}-{off[0][1]}) would meet with the product of their coefficients, not the "
+                      f"scene's value", stacklevel=3)
+    return values
