@@ -66,15 +66,16 @@ def run(engine: str, scene, excitation, duration, dt, output_dt, build) -> Resul
     engine_run = build()
     build_time = time.perf_counter() - t0
     ax, ay = excitation.acceleration(np.arange(n_steps) * dt)
-    gx, gy = -ax, -scene.gravity - ay
+    gx, gy = (-ax).tolist(), (-scene.gravity - ay).tolist()  # plain floats: the loop below is Python
     out = np.full((len(out_steps), len(scene.blocks), 3), np.nan)
     start = np.array([[*b.centroid, b.angle] for b in scene.blocks])
     reach = RUNAWAY_HEIGHTS * max(max(b.vertices[:, 1].max() for b in scene.blocks), 1.0)
     written, failure = 0, None
     t0 = time.perf_counter()
+    set_gravity, advance, next_out = engine_run.set_gravity, engine_run.step, 0
     try:
         for step in range(n_steps + 1):
-            if step == out_steps[written]:
+            if step == next_out:
                 state = engine_run.state()
                 bad = ~np.all(np.isfinite(state), axis=1) | (np.hypot(*(state[:, :2] - start[:, :2]).T) > reach)
                 if np.any(bad):
@@ -82,10 +83,11 @@ def run(engine: str, scene, excitation, duration, dt, output_dt, build) -> Resul
                     break
                 out[written] = state
                 written += 1
+                next_out = int(out_steps[written]) if written < len(out_steps) else -1
             if step == n_steps:
                 break
-            engine_run.set_gravity(gx[step], gy[step])
-            engine_run.step()
+            set_gravity(gx[step], gy[step])
+            advance()
     finally:
         engine_run.close()
     run_time = time.perf_counter() - t0

@@ -26,6 +26,8 @@ Mapping (FORMULATION sections 1 and 2):
 * dt: 1e-3 s by default.
 """
 
+from functools import partial
+
 import numpy as np
 import pymunk
 import pymunk.batch
@@ -98,6 +100,6 @@ def _build(scene, dt, iterations, slop) -> EngineRun:
     def set_gravity(gx, gy):
         space.gravity = (gx, gy)
 
-    return EngineRun(set_gravity, lambda: space.step(dt), state,
+    return EngineRun(set_gravity, partial(space.step, dt), state,
                      {"iterations": int(iterations), "slop": float(slop), "friction": "per contact" if per_contact
                       else "product of shape values"})
