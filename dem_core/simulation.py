@@ -21,7 +21,7 @@ from .result import Result
 DEFAULT_SAFETY = 0.8
 #: time steps per shortest impact when dt is not given: resolving impacts matters for the energy they
 #: take.  The Housner block's peaks after five impacts are 5.7% too high at 5 steps per impact, within
-#: 1.8% at 10 (``python -m comparisons.calibrate_damping``)
+#: 2.2% at 10 (``python -m comparisons.calibrate_damping``)
 DEFAULT_STEPS_PER_IMPACT = 10
 #: a pair overlapping by more than this fraction of the smaller block's area stops the run
 MAX_OVERLAP_FRACTION = 0.05
