@@ -1,6 +1,20 @@
-"""The benchmark cases of FORMULATION section 4, defined once for tests, scripts and the harness."""
+"""The benchmark cases of FORMULATION section 4, defined once for tests, scripts and the harness.
 
-from dem_core import scenes
+A :class:`Case` is a scene, a ground motion, a duration and a way of judging a
+run: ``errors(result, reference)`` returns named errors (relative, or in the
+unit the name gives), where ``reference`` is what :meth:`Case.reference`
+computed once (an analytical solution, or the converged native core for the
+scenes without a closed form).
+"""
+
+from collections.abc import Callable
+from dataclasses import dataclass
+
+import numpy as np
+
+from comparisons import analytical
+from comparisons.measures import first_exceedance, first_zero_crossing, peaks_between_crossings
+from dem_core import excitation, scenes
 
 #: FORMULATION 4.1-4.2: the 0.25 x 1.0 m granite block released from 0.05236 rad (3 degrees)
 HOUSNER_WIDTH = 0.25
@@ -16,3 +30,203 @@ ONSET_RAMP_RATE = 0.5  # m/s^2 per s
 def housner_scene(**kwargs):
     """The free-rocking block, tilted onto its left corner."""
     return scenes.block(HOUSNER_WIDTH, HOUSNER_HEIGHT, tilt=HOUSNER_THETA0, **kwargs)
+
+
+@dataclass(frozen=True)
+class Case:
+    """One benchmark: what to run and how to judge it.
+
+    name : identifier used in tables and file names.
+    title : one line for the report.
+    scene, motion : builders (called when the case runs).
+    duration : s.
+    reference : computes what the errors are measured against (called once).
+    errors : ``(result, reference) -> {metric: error}``.
+    output_dt : s between recorded states.
+    quick : part of the reduced set run by ``--quick`` and CI.
+    primary : the metric the report ranks engines by (default: the first one).
+    """
+
+    name: str
+    title: str
+    scene: Callable
+    motion: Callable
+    duration: float
+    reference: Callable
+    errors: Callable
+    output_dt: float = 1e-3
+    quick: bool = True
+    primary: str | None = None
+
+
+def _relative(value, reference):
+    return float(value / reference - 1.0) if reference else float("nan")
+
+
+# --- free rocking (4.1, 4.2) -------------------------------------------------------------------
+
+def _free_rocking(width, height, theta0):
+    block = analytical.RockingBlock.from_size(width, height)
+
+    def reference():
+        return {"quarter": analytical.housner_period(block, theta0) / 4.0,
+                "peaks": analytical.housner_peaks(block, theta0, 5)[1:]}
+
+    def errors(result, ref):
+        peaks = peaks_between_crossings(result.theta[:, 0], 6)[1:]
+        decay = (float(np.max(np.abs(peaks / ref["peaks"] - 1.0))) if len(peaks) == 5 else float("inf"))
+        return {"quarter_period": _relative(first_zero_crossing(result.t, result.theta[:, 0]), ref["quarter"]),
+                "peak_decay": decay}
+
+    return reference, errors
+
+
+# --- rocking under a ground motion (4.3) --------------------------------------------------------
+
+def _forced_rocking(width, height, make_motion, duration):
+    block = analytical.RockingBlock.from_size(width, height)
+
+    def reference():
+        motion = make_motion()
+        step = getattr(motion.horizontal, "dt", 1e-3)
+        return analytical.rocking_response(block, lambda t: float(motion.horizontal.acceleration(t)), duration,
+                                           max_step=min(step, 2e-3))
+
+    def errors(result, ref):
+        theta = np.interp(ref.t, result.t, result.theta[:, 0])
+        valid = np.isfinite(ref.theta)
+        return {"peak_rotation": _relative(np.max(np.abs(result.theta[:, 0])), ref.peak),
+                "rms_rotation": float(np.sqrt(np.mean((theta[valid] - ref.theta[valid]) ** 2)) / ref.peak),
+                "overturn_mismatch": float(bool(result.overturned) != bool(ref.overturned))}
+
+    return reference, errors
+
+
+# --- sliding (4.4, 4.5) ---------------------------------------------------------------------------
+
+def _newmark(ratio, mu, t_p):
+    a_p = ratio * mu * analytical.G
+
+    def reference():
+        return analytical.newmark_max_slip(a_p, t_p, mu)
+
+    def errors(result, ref):
+        slip = result.relative_x[:, 0] - result.relative_x[0, 0]
+        return {"max_slip": _relative(np.max(np.abs(slip)), ref)}
+
+    return a_p, reference, errors
+
+
+def _record_sliding(mu, make_motion, duration):
+    def reference():
+        motion = make_motion()
+        return analytical.rigid_plastic_sliding(motion.horizontal.samples, motion.horizontal.dt, mu, t_end=duration)
+
+    def errors(result, ref):
+        slip = result.relative_x[:, 0] - result.relative_x[0, 0]
+        on_grid = np.interp(ref.t, result.t, slip)
+        return {"max_slip": _relative(np.max(np.abs(slip)), ref.max_slip),
+                "residual_slip": float((slip[-1] - ref.residual) / ref.max_slip),
+                "rms_slip": float(np.sqrt(np.mean((on_grid - ref.u) ** 2)) / ref.max_slip)}
+
+    return reference, errors
+
+
+# --- onset (4.6) ------------------------------------------------------------------------------------
+
+def _ramp_onset():
+    block = analytical.RockingBlock.from_size(ONSET_WIDTH, ONSET_HEIGHT)
+    threshold = block.alpha / 30.0
+
+    def reference():
+        ode = analytical.rocking_response(block, lambda t: ONSET_RAMP_RATE * t, 6.0, max_step=1e-3)
+        return ONSET_RAMP_RATE * first_exceedance(ode.t, ode.theta, threshold)
+
+    def errors(result, ref):
+        return {"onset_acceleration": _relative(ONSET_RAMP_RATE * first_exceedance(result.t, result.theta[:, 0],
+                                                                                   threshold), ref)}
+
+    return reference, errors
+
+
+# --- statics (4.8) ------------------------------------------------------------------------------------
+
+def _statics_errors(result, _ref):
+    """Drift of a resting stack: absolute, in m and rad."""
+    settled = result.t >= 1.0
+    return {"drift_m": float(np.max(np.abs(result.x - result.x[0]))),
+            "settled_drift_m": float(np.max(np.abs(result.y[settled] - result.y[settled][0]))),
+            "rotation_rad": float(np.max(np.abs(result.theta)))}
+
+
+# --- scenes without a closed form: judged against the converged native core -----------------------
+
+def _against_converged(make_scene, make_motion, duration, refine=8):
+    def reference():
+        import dem_core
+
+        scene, motion = make_scene(), make_motion()
+        dt = dem_core.simulate(scene, motion, duration=1e-3).dt / refine
+        return dem_core.simulate(scene, motion, duration=duration, dt=dt, output_dt=0.005, stop_at_overturn=False)
+
+    def errors(result, ref):
+        top = np.interp(ref.t, result.t, result.theta[:, -1])
+        peak = np.max(np.abs(ref.theta[:, -1]))
+        return {"peak_rotation": _relative(np.max(np.abs(result.theta[:, -1])), peak),
+                "rms_rotation": float(np.sqrt(np.mean((top - ref.theta[:, -1]) ** 2)) / peak),
+                "overturn_mismatch": float(result.overturned != ref.overturned)}
+
+    return reference, errors
+
+
+def _el_centro(pga=None):
+    return lambda: excitation.record("el_centro_1940", pga=pga)
+
+
+def all_cases() -> list:
+    """Every benchmark case, quick ones first."""
+    rocking_ref, rocking_err = _free_rocking(HOUSNER_WIDTH, HOUSNER_HEIGHT, HOUSNER_THETA0)
+    slender_theta0 = 0.2 * np.arctan(1.0 / 6.0)
+    slender_ref, slender_err = _free_rocking(1.0, 6.0, slender_theta0)
+    a_p, newmark_ref, newmark_err = _newmark(2.0, 0.3, 0.3)
+    sine = lambda: excitation.sine_pulse(6.0, 0.25)
+    cosine = lambda: excitation.cosine_pulse(2.5, 1.0)
+    sine_ref, sine_err = _forced_rocking(HOUSNER_WIDTH, HOUSNER_HEIGHT, sine, 2.5)
+    cosine_ref, cosine_err = _forced_rocking(1.0, 6.0, cosine, 6.0)
+    record_rock_ref, record_rock_err = _forced_rocking(1.0, 6.0, _el_centro(2.75), 15.0)
+    slide_ref, slide_err = _record_sliding(0.1, _el_centro(), 35.0)
+    onset_ref, onset_err = _ramp_onset()
+    column_ref, column_err = _against_converged(lambda: scenes.column(8), _el_centro(), 20.0)
+    colonnade = lambda: scenes.colonnade(3, 3, spacing=2.5, epistyle="b", epistyle_density=8000.0)
+    mexico = lambda: excitation.record("mexico_city_1985", pga=2.5)
+    colonnade_ref, colonnade_err = _against_converged(colonnade, mexico, 40.0)
+    return [
+        Case("free_rocking", "Free rocking of the 0.25 x 1.0 m block from 0.05236 rad (Housner 4.1, 4.2)",
+             housner_scene, excitation.still, 4.0, rocking_ref, rocking_err, primary="peak_decay"),
+        Case("newmark", "Sliding block under a rectangular pulse, a_p/(mu g) = 2 (Newmark 4.4)",
+             lambda: scenes.block(1.0, 0.5, friction=0.3, base_width=40.0),
+             lambda: excitation.rectangular_pulse(a_p, 0.3), 1.2, newmark_ref, newmark_err),
+        Case("sine_pulse", "0.25 x 1.0 m block under a one-sine pulse, 6 m/s^2 for 0.25 s (rocking equation 4.3)",
+             lambda: scenes.block(HOUSNER_WIDTH, HOUSNER_HEIGHT), sine, 2.5, sine_ref, sine_err),
+        Case("record_sliding", "Block sliding under El Centro 1940, mu = 0.1 (rigid-plastic 4.5)",
+             lambda: scenes.block(1.0, 0.5, friction=0.1, base_width=40.0), _el_centro(), 35.0, slide_ref,
+             slide_err, output_dt=0.005),
+        Case("statics", "8-drum column at rest for 10 s (statics 4.8)", lambda: scenes.column(8), excitation.still,
+             10.0, lambda: None, _statics_errors, output_dt=0.01, primary="drift_m"),
+        Case("free_rocking_slender", "Free rocking of a 1 x 6 m monolith from 0.2 alpha (Housner 4.1, 4.2)",
+             lambda: scenes.block(1.0, 6.0, tilt=slender_theta0), excitation.still, 12.0, slender_ref, slender_err,
+             quick=False, primary="peak_decay"),
+        Case("cosine_pulse", "1 x 6 m monolith under a one-cosine pulse, 2.5 m/s^2 for 1 s (rocking equation 4.3)",
+             lambda: scenes.block(1.0, 6.0), cosine, 6.0, cosine_ref, cosine_err, quick=False),
+        Case("record_rocking", "1 x 6 m monolith under El Centro 1940 at 2.75 m/s^2 (rocking equation 4.3)",
+             lambda: scenes.block(1.0, 6.0), _el_centro(2.75), 15.0, record_rock_ref, record_rock_err,
+             output_dt=0.005, quick=False),
+        Case("onset_ramp", "Rocking onset of the 1 x 6 m monolith under a 0.5 m/s^2/s ramp (4.6; criterion theta_cr/30)",
+             lambda: scenes.block(ONSET_WIDTH, ONSET_HEIGHT), lambda: excitation.ramp(ONSET_RAMP_RATE), 4.5,
+             onset_ref, onset_err, quick=False),
+        Case("column_record", "8-drum column under 20 s of El Centro 1940 (against the converged native core)",
+             lambda: scenes.column(8), _el_centro(), 20.0, column_ref, column_err, output_dt=0.005, quick=False),
+        Case("colonnade_mexico", "3-column colonnade, epistyles (b) of 8000 kg/m^3, under Mexico City 1985 at "
+             "2.5 m/s^2 (against the converged native core)", colonnade, mexico, 40.0, colonnade_ref,
+             colonnade_err, output_dt=0.005, quick=False),
+    ]

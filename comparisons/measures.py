@@ -1,5 +1,7 @@
 """Measurements taken from time histories the same way for every engine and reference."""
 
+from itertools import pairwise
+
 import numpy as np
 
 
@@ -21,7 +23,7 @@ def peaks_between_crossings(theta, count: int) -> np.ndarray:
     theta = np.asarray(theta)
     crossings = np.nonzero(np.diff(np.sign(theta)) != 0)[0] + 1
     bounds = np.concatenate([[0], crossings, [len(theta)]])
-    peaks = [np.max(np.abs(theta[a:b])) for a, b in zip(bounds[:-1], bounds[1:]) if b > a]
+    peaks = [np.max(np.abs(theta[a:b])) for a, b in pairwise(bounds) if b > a]
     return np.array(peaks[:count])
 
 

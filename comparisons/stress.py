@@ -1,0 +1,107 @@
+"""Stability stress tests: where each engine breaks and whether it says so.
+
+* time step past the usual: the 8-drum column under El Centro at growing dt
+  (for the native core, multiples of its stability limit with the check
+  off); each run is "ok", "stopped" (the engine's own stability error) or
+  "silently wrong" (finished, but its peak rotation is off by more than 50%
+  from the native core at a converged step);
+* contact stiffness: the native core's free-rocking block for K_n from 1e6
+  to 1e11 N/m^2: time step, wall time, errors;
+* a resting 8-drum column over a long run: drift in every engine;
+* a very large ground motion (El Centro scaled to 10 m/s^2) on the column:
+  what every engine does.
+
+All rows go into one table (test, engine, setting, status, metric, value, wall time).
+"""
+
+import time
+import warnings
+
+import numpy as np
+import pandas as pd
+from tqdm import tqdm
+
+import adapters
+import dem_core
+from comparisons import cases
+from dem_core import excitation, scenes, stability
+
+ENGINES = ("dem", "pymunk", "pybullet", "mujoco")
+
+
+def _run(engine, scene, motion, duration, **kwargs):
+    start = time.perf_counter()
+    try:
+        with warnings.catch_warnings():
+            warnings.filterwarnings("ignore", message=".*product of their coefficients")
+            result = adapters.simulate(scene, motion, duration, engine=engine, **kwargs)
+        return result, "ok", time.perf_counter() - start
+    except (dem_core.SimulationUnstable, adapters.EngineUnstable) as exc:
+        return exc.partial, "stopped: " + str(exc).split(":")[1].strip()[:80], time.perf_counter() - start
+
+
+def time_step_ladder(quick, progress):
+    column, motion, duration = scenes.column(8), excitation.record("el_centro_1940"), 5.0 if quick else 20.0
+    auto = dem_core.simulate(column, motion, duration=1e-3).dt
+    reference = dem_core.simulate(column, motion, duration=duration, dt=auto / 4, stop_at_overturn=False)
+    peak = np.max(reference.peak_theta)
+    limit = stability.stability_limit(column)
+    ladders = {"dem": [(f"{f:g} x limit", f * limit) for f in (1.0, 1.25, 2.0, 3.0)]}
+    for engine in ENGINES[1:]:
+        ladders[engine] = [(f"{dt:g} s", dt) for dt in ((2e-3, 5e-3, 1e-2) if quick else (2e-3, 5e-3, 1e-2, 2e-2))]
+    rows = []
+    for engine, ladder in tqdm(ladders.items(), desc="time-step ladder", disable=not progress):
+        for label, dt in ladder:
+            extra = {"enforce_stability_limit": False, "stop_at_overturn": False} if engine == "dem" else {}
+            result, status, wall = _run(engine, column, motion, duration, dt=dt, **extra)
+            error = np.max(result.peak_theta) / peak - 1.0 if status == "ok" else np.nan
+            if status == "ok" and abs(error) > 0.5:
+                status = "silently wrong"
+            rows.append({"test": "column under El Centro, growing dt", "engine": engine, "setting": label,
+                         "status": status, "metric": "peak_rotation_error", "value": error, "wall_time_s": wall})
+    return rows
+
+
+def stiffness_sweep(quick, progress):
+    rows = []
+    stiffnesses = (1e6, 1e8, 1e10, 1e11) if quick else (1e6, 1e7, 1e8, 1e9, 1e10, 1e11)
+    case = cases.all_cases()[0]  # free rocking of the Housner block
+    reference = case.reference()
+    for kn in tqdm(stiffnesses, desc="contact stiffness", disable=not progress):
+        scene = cases.housner_scene(contact=dem_core.ContactParameters(kn=kn))
+        result, status, wall = _run("dem", scene, None, case.duration, output_dt=case.output_dt)
+        errors = case.errors(result, reference) if status == "ok" else {"peak_decay": np.nan}
+        for metric, value in {**errors, "dt_s": result.dt if result is not None else np.nan}.items():
+            rows.append({"test": "free rocking, contact stiffness", "engine": "dem", "setting": f"kn = {kn:.0e}",
+                         "status": status, "metric": metric, "value": value, "wall_time_s": wall})
+    return rows
+
+
+def resting_stack(quick, progress):
+    rows = []
+    duration = 20.0 if quick else 60.0
+    for engine in tqdm(ENGINES, desc="resting stack", disable=not progress):
+        result, status, wall = _run(engine, scenes.column(8), None, duration)
+        drift = np.max(np.abs(result.x - result.x[0])) if result is not None else np.nan
+        rows.append({"test": f"8-drum column at rest for {duration:g} s", "engine": engine, "setting": "default dt",
+                     "status": status, "metric": "horizontal_drift_m", "value": drift, "wall_time_s": wall})
+    return rows
+
+
+def large_motion(quick, progress):
+    rows = []
+    motion = excitation.record("el_centro_1940", pga=10.0)
+    for engine in tqdm(ENGINES, desc="very large motion", disable=not progress):
+        extra = {"stop_at_overturn": False} if engine == "dem" else {}
+        result, status, wall = _run(engine, scenes.column(8), motion, 8.0 if quick else 20.0, **extra)
+        overturn = result.time_of_overturn if result is not None else np.nan
+        rows.append({"test": "8-drum column, El Centro at 10 m/s^2", "engine": engine, "setting": "default dt",
+                     "status": status, "metric": "overturn_time_s", "value": overturn, "wall_time_s": wall})
+    return rows
+
+
+def run_stress(quick: bool = True, progress: bool = True) -> pd.DataFrame:
+    rows = []
+    for test in (time_step_ladder, stiffness_sweep, resting_stack, large_motion):
+        rows += test(quick, progress)
+    return pd.DataFrame(rows)
