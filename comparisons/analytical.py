@@ -98,7 +98,7 @@ class RockingHistory:
 
     @property
     def peak(self) -> float:
-        return float(np.max(np.abs(self.theta)))
+        return float(np.nanmax(np.abs(self.theta)))
 
 
 def rocking_response(block: RockingBlock, ground_acceleration, t_end: float, *, theta0: float = 0.0,

@@ -149,6 +149,21 @@ def _ramp_onset():
     return reference, errors
 
 
+def _sliding_onset(mu, rate, duration, slip_threshold=1e-4):
+    """Ground acceleration (m/s^2) at which the slip passes ``slip_threshold`` under a ramp."""
+    def reference():
+        dt = 1e-3
+        t = np.arange(0.0, duration + dt, dt)
+        slip = analytical.rigid_plastic_sliding(rate * t, dt, mu)
+        return rate * first_exceedance(slip.t, slip.u, slip_threshold)
+
+    def errors(result, ref):
+        slip = result.relative_x[:, 0] - result.relative_x[0, 0]
+        return {"onset_acceleration": _relative(rate * first_exceedance(result.t, slip, slip_threshold), ref)}
+
+    return reference, errors
+
+
 # --- statics (4.8) ------------------------------------------------------------------------------------
 
 def _statics_errors(result, _ref):
@@ -196,6 +211,16 @@ def all_cases() -> list:
     record_rock_ref, record_rock_err = _forced_rocking(1.0, 6.0, _el_centro(2.75), 15.0)
     slide_ref, slide_err = _record_sliding(0.1, _el_centro(), 35.0)
     onset_ref, onset_err = _ramp_onset()
+    slide_onset_ref, slide_onset_err = _sliding_onset(0.3, 0.5, 8.0)
+    large_ref, large_err = _free_rocking(HOUSNER_WIDTH, HOUSNER_HEIGHT, 0.5 * np.arctan(HOUSNER_WIDTH / HOUSNER_HEIGHT))
+    newmark_low, newmark_low_ref, newmark_low_err = _newmark(1.25, 0.3, 0.3)
+    newmark_high, newmark_high_ref, newmark_high_err = _newmark(4.0, 0.3, 0.3)
+    northridge = lambda: excitation.record("northridge_1994")
+    kalamata = lambda: excitation.record("kalamata_1986")
+    northridge_ref, northridge_err = _record_sliding(0.2, northridge, 30.0)
+    kalamata_ref, kalamata_err = _record_sliding(0.1, kalamata, 30.0)
+    sine_slender = lambda: excitation.sine_pulse(4.0, 0.6)
+    sine_slender_ref, sine_slender_err = _forced_rocking(1.0, 6.0, sine_slender, 6.0)
     column_ref, column_err = _against_converged(lambda: scenes.column(8), _el_centro(), 20.0)
     colonnade = lambda: scenes.colonnade(3, 3, spacing=2.5, epistyle="b", epistyle_density=8000.0)
     mexico = lambda: excitation.record("mexico_city_1985", pga=2.5)
@@ -224,6 +249,28 @@ def all_cases() -> list:
         Case("onset_ramp", "Rocking onset of the 1 x 6 m monolith under a 0.5 m/s^2/s ramp (4.6; criterion theta_cr/30)",
              lambda: scenes.block(ONSET_WIDTH, ONSET_HEIGHT), lambda: excitation.ramp(ONSET_RAMP_RATE), 4.5,
              onset_ref, onset_err, quick=False),
+        Case("free_rocking_large", "Free rocking of the 0.25 x 1.0 m block from 0.5 alpha (Housner 4.1, 4.2)",
+             lambda: scenes.block(HOUSNER_WIDTH, HOUSNER_HEIGHT, tilt=0.5 * np.arctan(HOUSNER_WIDTH / HOUSNER_HEIGHT)),
+             excitation.still, 6.0, large_ref, large_err, quick=False, primary="peak_decay"),
+        Case("newmark_low", "Sliding block under a rectangular pulse, a_p/(mu g) = 1.25 (Newmark 4.4)",
+             lambda: scenes.block(1.0, 0.5, friction=0.3, base_width=40.0),
+             lambda: excitation.rectangular_pulse(newmark_low, 0.3), 0.8, newmark_low_ref, newmark_low_err,
+             quick=False),
+        Case("newmark_high", "Sliding block under a rectangular pulse, a_p/(mu g) = 4 (Newmark 4.4)",
+             lambda: scenes.block(1.0, 0.5, friction=0.3, base_width=40.0),
+             lambda: excitation.rectangular_pulse(newmark_high, 0.3), 1.6, newmark_high_ref, newmark_high_err,
+             quick=False),
+        Case("sine_pulse_slender", "1 x 6 m monolith under a one-sine pulse, 4 m/s^2 for 0.6 s (rocking equation 4.3)",
+             lambda: scenes.block(1.0, 6.0), sine_slender, 6.0, sine_slender_ref, sine_slender_err, quick=False),
+        Case("sliding_northridge", "Block sliding under Northridge 1994 (Sylmar), mu = 0.2 (rigid-plastic 4.5)",
+             lambda: scenes.block(1.0, 0.5, friction=0.2, base_width=40.0), northridge, 30.0, northridge_ref,
+             northridge_err, output_dt=0.005, quick=False),
+        Case("sliding_kalamata", "Block sliding under Kalamata 1986, mu = 0.1 (rigid-plastic 4.5)",
+             lambda: scenes.block(1.0, 0.5, friction=0.1, base_width=40.0), kalamata, 30.0, kalamata_ref,
+             kalamata_err, output_dt=0.005, quick=False),
+        Case("sliding_onset", "Onset of sliding of a squat block, mu = 0.3, under a 0.5 m/s^2/s ramp (4.6; slip 0.1 mm)",
+             lambda: scenes.block(1.0, 0.5, friction=0.3, base_width=40.0), lambda: excitation.ramp(0.5), 8.0,
+             slide_onset_ref, slide_onset_err, quick=False),
         Case("column_record", "8-drum column under 20 s of El Centro 1940 (against the converged native core)",
              lambda: scenes.column(8), _el_centro(), 20.0, column_ref, column_err, output_dt=0.005, quick=False),
         Case("colonnade_mexico", "3-column colonnade, epistyles (b) of 8000 kg/m^3, under Mexico City 1985 at "
