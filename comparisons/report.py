@@ -133,6 +133,34 @@ def convergence_figure(table, case, path):
     _finish_log_figure(fig, ax, "time step dt (s)", f"|{metric}|", f"{case.name}: convergence in dt", path)
 
 
+STATUS_COLOURS = {"ok": "#1b9e77", "silently wrong": "#e6ab02", "stopped": "#d95f02"}
+
+
+def stability_map_figure(stability: pd.DataFrame, path) -> bool:
+    """Engines and cases against time steps for the growing-dt tests, coloured by outcome; False if absent."""
+    ladder = stability[stability.test.str.contains("growing dt")]
+    if ladder.empty:
+        return False
+    lines = list(dict.fromkeys(zip(ladder.test, ladder.engine)))
+    fig, ax = plt.subplots(figsize=(7.5, 0.6 + 0.55 * len(lines)))
+    for row, (test, engine) in enumerate(lines):
+        runs = ladder[(ladder.test == test) & (ladder.engine == engine)]
+        for col, (_, r) in enumerate(runs.iterrows()):
+            outcome = "stopped" if r.status.startswith("stopped") else r.status
+            ax.add_patch(plt.Rectangle((col, row), 0.95, 0.9, color=STATUS_COLOURS.get(outcome, "0.6")))
+            ax.text(col + 0.47, row + 0.45, f"{r.setting}\n{outcome}", ha="center", va="center", fontsize=7)
+    ax.set_xlim(0, max(ladder.groupby(["test", "engine"]).size()))
+    ax.set_ylim(0, len(lines))
+    ax.set_yticks(np.arange(len(lines)) + 0.45, [f"{t.split(' at ')[0]}: {e}" for t, e in lines], fontsize=7)
+    ax.set_xticks([])
+    ax.set_title("Growing time steps: ok, silently wrong (error of 10% or more) or stopped by the engine",
+                 fontsize=9)
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+    return True
+
+
 def _table_html(frame: pd.DataFrame) -> str:
     return frame.to_html(index=False, float_format=lambda v: f"{v:.3g}", na_rep="-", border=0, classes="t")
 
@@ -159,6 +187,8 @@ def write_report(table: pd.DataFrame, stability: pd.DataFrame, out: Path, *, qui
             f'<img src="{convergence}" alt="convergence in dt for {case.name}">'
             f'{_table_html(summary)}'
             + (f"<h3>Runs that stopped</h3>{_table_html(failed)}" if len(failed) else "") + "</section>")
+    stability_image = ('<img src="stability_map.png" alt="stability map" style="max-width:100%">'
+                       if stability_map_figure(stability, out / "stability_map.png") else "")
     page = f"""<!DOCTYPE html>
 <html lang="en"><head><meta charset="utf-8"><title>Engine comparison: rocking and sliding of stone blocks</title>
 <style>body{{font-family:sans-serif;max-width:1100px;margin:2em auto;color:#222}}img{{max-width:49%}}
@@ -171,7 +201,7 @@ simulations over {table.case.nunique()} cases in {run_time_s:.0f} s of wall time
 (FORMULATION section 4) or to the native core converged in dt; wall times exclude compilation and model
 building. Tables: <a href="results.csv">results.csv</a>, <a href="stability.csv">stability.csv</a>.</p>
 {"".join(sections)}
-<section id="stability"><h2>Stability map</h2>{_table_html(stability)}</section>
+<section id="stability"><h2>Stability map</h2>{stability_image}{_table_html(stability)}</section>
 </body></html>"""
     index = out / "index.html"
     index.write_text(page, encoding="utf-8")

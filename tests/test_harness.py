@@ -91,13 +91,15 @@ class _Links(html.parser.HTMLParser):
 def test_report_page_and_its_figures_are_whole(tmp_path):
     some = [c for c in cases.all_cases() if c.name in ("free_rocking", "newmark")]
     table = run_harness(quick=True, cases=some, engines=("dem", "mujoco"), progress=False)
-    stress = pd.DataFrame(stiffness_sweep(quick=True, progress=False))
+    stress = pd.DataFrame(stiffness_sweep(quick=True, progress=False) + [
+        {"test": "column, growing dt", "engine": "dem", "setting": "1 x limit", "status": "ok", "metric": "e",
+         "value": 0.0, "wall_time_s": 0.1}])
     index = write_report(table, stress, tmp_path, quick=True, run_time_s=1.0)
     page = index.read_text()
     assert page.startswith("<!DOCTYPE html>") and page.rstrip().endswith("</html>")
     parser = _Links()
     parser.feed(page)
-    assert len(parser.images) == 4  # a Pareto and a convergence figure per case
+    assert len(parser.images) == 5  # a Pareto and a convergence figure per case, and the stability map
     for src in parser.images + parser.links:
         assert (tmp_path / src).is_file(), src
     for src in parser.images:
