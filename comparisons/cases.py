@@ -12,6 +12,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+import dem_core
 from comparisons import analytical
 from comparisons.measures import first_exceedance, first_zero_crossing, peaks_between_crossings
 from dem_core import excitation, scenes
@@ -178,8 +179,6 @@ def _statics_errors(result, _ref):
 
 def _against_converged(make_scene, make_motion, duration, refine=16):
     def reference():
-        import dem_core
-
         scene, motion = make_scene(), make_motion()
         dt = dem_core.simulate(scene, motion, duration=1e-3).dt / refine
         return dem_core.simulate(scene, motion, duration=duration, dt=dt, output_dt=0.005, stop_at_overturn=False)
