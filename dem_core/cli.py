@@ -78,7 +78,7 @@ def _run(args) -> int:
     wall = time.perf_counter() - started
     _write(result, out, fmt)
     if not args.no_plots and spec.output.get("plots", True) and len(result.t) > 1:
-        from .plots import save_run_figures
+        from .plots import save_run_figures  # matplotlib loads only when figures are written
 
         save_run_figures(result, out, spec.excitation, title=path.stem)
     info = result.info
