@@ -30,6 +30,10 @@ SPEED_LIMIT_FACTOR = 10.0
 #: energy gained beyond the ground's work, as a fraction of sum(m g R) plus the gross ground work, that stops the run
 ENERGY_TOLERANCE = 0.05
 GROUND_MOTION_MODES = ("inertial", "moving_base")
+#: with stop_at_overturn=False the automatic step shrinks by this factor: a pile of fallen blocks has more
+#: and stiffer contacts than the standing scene the stability limit is computed for (the 8-drum column
+#: under El Centro at 10 m/s^2 goes through its collapse at a quarter of the step, not at a half)
+COLLAPSE_STEP_FACTOR = 0.25
 
 
 class SimulationUnstable(RuntimeError):
@@ -63,8 +67,9 @@ def simulate(scene, excitation: GroundMotion | None = None, duration: float | No
     stop_at_overturn : end the run when a block first overturns (passes its
         critical angle or falls half its size); the result then ends at that
         time and ``info["stopped"]`` says why.  With False the run goes on
-        through the collapse at a time step small enough for blocks lying on
-        their long sides (see :func:`dem_core.stability.stability_limit`).
+        through the collapse, with an automatic step small enough for blocks
+        lying on their long sides (see :func:`dem_core.stability.stability_limit`)
+        and for piles of fallen blocks (``COLLAPSE_STEP_FACTOR``).
     enforce_stability_limit : refuse an explicit dt above the stability limit.
         Only for stress tests that study what happens past it
         (``comparisons/stability_probe.py``).
@@ -85,7 +90,10 @@ def simulate(scene, excitation: GroundMotion | None = None, duration: float | No
     interfaces = contact.interface_arrays(scene)
     limit = stability.stability_limit(scene, interfaces, toppled=not stop_at_overturn)
     impact = stability.impact_duration(scene, interfaces)
+    auto_dt = dt is None
     dt = _time_step(scene, dt, limit, impact, safety, steps_per_impact, enforce_stability_limit)
+    if auto_dt and not stop_at_overturn:
+        dt *= COLLAPSE_STEP_FACTOR
     n_steps = math.ceil(duration / dt - 1e-9)
     stride = max(1, round((0.01 if output_dt is None else output_dt) / dt))
     out_steps = np.arange(0, n_steps + 1, stride)

@@ -68,3 +68,13 @@ def test_duration_defaults_to_the_record_length():
     assert r.t[-1] == pytest.approx(motion.end_time, abs=0.1)
     with pytest.raises(ValueError, match="duration"):
         dem_core.simulate(scenes.block(1.0, 1.0), excitation.harmonic(0.01, 1.0))
+
+
+def test_a_column_collapses_through_to_rest_when_asked_to_go_on():
+    """Past the overturn the drums fall into a pile: the run must finish, with the energy balance intact."""
+    motion = excitation.record("el_centro_1940", pga=10.0)
+    r = dem_core.simulate(scenes.column(8), motion, duration=12.0, stop_at_overturn=False)
+    assert r.overturned and r.t[-1] == pytest.approx(12.0, abs=r.dt)
+    top_start = 6.0 - 0.375
+    assert r.y[-1, -1] < 0.5 * top_start  # the top drum has come down
+    assert np.all(np.isfinite(r.theta))
