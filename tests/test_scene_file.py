@@ -1,9 +1,11 @@
 """Scene files map one to one onto the builders; mistakes name the file and the key."""
 
 import textwrap
+from pathlib import Path
 
 import pytest
 
+import dem_core
 from dem_core import scenes
 from dem_core.cli import default_scene_path
 from dem_core.scene_file import SceneFileError, load
@@ -93,3 +95,11 @@ def test_mistakes_name_the_file_and_the_key(tmp_path, text, message):
     with pytest.raises(SceneFileError, match=message) as info:
         load(path)
     assert "broken.toml" in str(info.value)
+
+
+@pytest.mark.parametrize("example", sorted((Path(__file__).parent.parent / "examples").glob("*.toml")),
+                         ids=lambda p: p.stem)
+def test_examples_load_and_run_briefly(example):
+    spec = load(example)
+    result = dem_core.simulate(spec.scene, spec.excitation, duration=0.05, output_dt=0.01)
+    assert result.n_blocks == len(spec.scene.blocks)
