@@ -212,6 +212,9 @@ def all_cases() -> list:
     onset_ref, onset_err = _ramp_onset()
     slide_onset_ref, slide_onset_err = _sliding_onset(0.3, 0.5, 8.0)
     large_ref, large_err = _free_rocking(HOUSNER_WIDTH, HOUSNER_HEIGHT, 0.5 * np.arctan(HOUSNER_WIDTH / HOUSNER_HEIGHT))
+    slender_large_ref, slender_large_err = _free_rocking(1.0, 6.0, 2.5 * slender_theta0)
+    squat_theta0 = 0.3 * np.arctan(0.4)
+    squat_ref, squat_err = _free_rocking(0.4, 1.0, squat_theta0)
     newmark_low, newmark_low_ref, newmark_low_err = _newmark(1.25, 0.3, 0.3)
     newmark_high, newmark_high_ref, newmark_high_err = _newmark(4.0, 0.3, 0.3)
     northridge = lambda: excitation.record("northridge_1994")
@@ -251,6 +254,12 @@ def all_cases() -> list:
         Case("free_rocking_large", "Free rocking of the 0.25 x 1.0 m block from 0.5 alpha (Housner 4.1, 4.2)",
              lambda: scenes.block(HOUSNER_WIDTH, HOUSNER_HEIGHT, tilt=0.5 * np.arctan(HOUSNER_WIDTH / HOUSNER_HEIGHT)),
              excitation.still, 6.0, large_ref, large_err, quick=False, primary="peak_decay"),
+        Case("free_rocking_slender_large", "Free rocking of the 1 x 6 m monolith from 0.5 alpha (Housner 4.1, 4.2)",
+             lambda: scenes.block(1.0, 6.0, tilt=2.5 * slender_theta0), excitation.still, 14.0, slender_large_ref,
+             slender_large_err, quick=False, primary="peak_decay"),
+        Case("free_rocking_squat", "Free rocking of a 0.4 x 1.0 m block (alpha 0.38) from 0.3 alpha (Housner 4.1, 4.2)",
+             lambda: scenes.block(0.4, 1.0, tilt=squat_theta0), excitation.still, 4.0, squat_ref, squat_err,
+             quick=False, primary="peak_decay"),
         Case("newmark_low", "Sliding block under a rectangular pulse, a_p/(mu g) = 1.25 (Newmark 4.4)",
              lambda: scenes.block(1.0, 0.5, friction=0.3, base_width=40.0),
              lambda: excitation.rectangular_pulse(newmark_low, 0.3), 0.8, newmark_low_ref, newmark_low_err,
