@@ -202,8 +202,11 @@ class Scene:
         key = _friction_key(a, b)
         if key in self.interface_friction:
             return self.interface_friction[key]
-        by_name = {blk.name: blk for blk in self.bodies}
-        return min(by_name[a].friction, by_name[b].friction)
+        return min(self._by_name[a].friction, self._by_name[b].friction)
+
+    @cached_property
+    def _by_name(self) -> dict:
+        return {blk.name: blk for blk in self.bodies}
 
     def replace(self, **changes) -> "Scene":
         """A copy with fields changed (the scene itself is immutable)."""
