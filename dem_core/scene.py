@@ -223,37 +223,34 @@ class Scene:
         the smaller block size makes them overlap; ``contact`` is the
         :class:`~dem_core.geometry.ContactGeometry` of that thin overlap.
         """
-        bodies = self.bodies
         pairs = []
+        for i, j, p, q, offset in self._pairs_within_reach():
+            nudge = gap * min(p.width, p.height, q.width, q.height)
+            touch = geometry.contact_geometry(p.vertices, q.vertices - nudge * offset / np.hypot(*offset))
+            if touch is not None:
+                pairs.append((i, j, touch))
+        return pairs
+
+    def _pairs_within_reach(self):
+        """``(i, j, body_i, body_j, centroid offset)`` of the pairs whose bounding circles meet."""
+        bodies = self.bodies
         for i in range(len(bodies)):
             for j in range(i + 1, len(bodies)):
                 p, q = bodies[i], bodies[j]
                 offset = q.centroid - p.centroid
-                dist = np.hypot(*offset)
-                if dist > p.circumradius + q.circumradius:
-                    continue
-                nudge = gap * min(p.width, p.height, q.width, q.height)
-                touch = geometry.contact_geometry(p.vertices, q.vertices - nudge * offset / dist)
-                if touch is not None:
-                    pairs.append((i, j, touch))
-        return pairs
+                if np.hypot(*offset) <= p.circumradius + q.circumradius:
+                    yield i, j, p, q, offset
 
     def _check_initial_overlaps(self):
-        bodies = self.bodies
-        for i in range(len(bodies)):
-            for j in range(i + 1, len(bodies)):
-                p, q = bodies[i], bodies[j]
-                reach = p.circumradius + q.circumradius
-                if np.hypot(*(p.centroid - q.centroid)) > reach:
-                    continue
-                contact = geometry.contact_geometry(p.vertices, q.vertices)
-                if contact is None:
-                    continue
-                depth = contact.area / max(contact.length, 1e-300)
-                allowed = self.overlap_tolerance * min(p.width, p.height, q.width, q.height)
-                if depth > allowed:
-                    raise SceneError(
-                        f"blocks '{p.name}' and '{q.name}' overlap at the start "
-                        f"(area {contact.area:.3e} m^2, mean penetration {depth:.3e} m > tolerance {allowed:.3e} m)"
-                    )
+        for _, _, p, q, _ in self._pairs_within_reach():
+            contact = geometry.contact_geometry(p.vertices, q.vertices)
+            if contact is None:
+                continue
+            depth = contact.area / max(contact.length, 1e-300)
+            allowed = self.overlap_tolerance * min(p.width, p.height, q.width, q.height)
+            if depth > allowed:
+                raise SceneError(
+                    f"blocks '{p.name}' and '{q.name}' overlap at the start "
+                    f"(area {contact.area:.3e} m^2, mean penetration {depth:.3e} m > tolerance {allowed:.3e} m)"
+                )
 
