@@ -12,6 +12,10 @@ References:
       earthquakes.  BSSA 53(2): 403-417.            (sections 4.1 to 4.3)
   Newmark, N. M. (1965) Effects of earthquakes on dams and embankments.
       Geotechnique 15(2): 139-160.                  (section 4.4)
+  Zhang, J. and Makris, N. (2001) Rocking response of free-standing blocks
+      under cycloidal pulses.  J. Eng. Mech. 127(5): 473-483.
+      Shenton, H. W. (1996) Criteria for initiation of slide, rock, and
+      slide-rock rigid-body modes.  J. Eng. Mech. 122(7): 690-693.  (section 4.6)
 """
 
 from dataclasses import dataclass
@@ -346,3 +350,36 @@ def initial_mode(block: RockingBlock, mu: float) -> str:
 def slides_on_incline(slope: float, mu: float) -> bool:
     """Whether a block on an incline of ``slope`` rad slides: tan(slope) > mu (FORMULATION 4.8)."""
     return bool(np.tan(slope) > mu)
+
+
+def slide_rock_acceleration(block: RockingBlock, mu: float) -> float:
+    """Ground acceleration applied at once above which a block starts rocking *and* sliding (m/s^2).
+
+    At the start of rocking about a corner (angular acceleration
+    ``3 (a h - g b) / (4 R^2)``) the corner needs a friction force
+    ``m (a - h theta'')`` against a normal force ``m (g + b theta'')``; it slips when
+    the ratio exceeds ``mu``, that is when
+    ``a / g > (mu (b^2 + 4 h^2) - 3 b h) / (4 b^2 + h^2 - 3 mu b h)``
+    (Zhang and Makris 2001, Shenton 1996).  Infinite when the corner never slips;
+    equal to ``g b / h`` at ``mu = b / h``.  Meaningful for ``mu > b / h``.
+    """
+    b, h = block.b, block.h
+    denominator = 4.0 * b * b + h * h - 3.0 * mu * b * h
+    if denominator <= 0:
+        return float("inf")
+    return block.g * (mu * (b * b + 4.0 * h * h) - 3.0 * b * h) / denominator
+
+
+def initial_mode_under_pulse(block: RockingBlock, mu: float, acceleration: float) -> str:
+    """Motion a ground acceleration applied at once (a pulse with finite initial value, m/s^2) starts:
+    ``"rest"``, ``"rocking"``, ``"sliding"`` or ``"slide-rock"`` (FORMULATION 4.6).
+
+    A sliding block never tips while ``mu < b / h`` (its contact resultant stays at ``mu h`` from
+    the centre line, inside the base), so with ``mu < b / h`` the choice is rest or sliding.
+    """
+    a = abs(acceleration)
+    if mu < block.b / block.h:
+        return "sliding" if a > mu * block.g else "rest"
+    if a <= rocking_onset_acceleration(block):
+        return "rest"
+    return "slide-rock" if a > slide_rock_acceleration(block, mu) else "rocking"

@@ -14,7 +14,8 @@ import numpy as np
 
 import dem_core
 from comparisons import analytical
-from comparisons.measures import first_exceedance, first_zero_crossing, peaks_between_crossings
+from comparisons.measures import first_exceedance, first_zero_crossing, observed_mode, peaks_between_crossings
+from comparisons.stacked_rocking import TwoBlockStack, stack_response
 from dem_core import excitation, scenes
 
 #: FORMULATION 4.1-4.2: the 0.25 x 1.0 m granite block released from 0.05236 rad (3 degrees)
@@ -26,6 +27,14 @@ HOUSNER_THETA0 = 0.05236
 ONSET_WIDTH = 1.0
 ONSET_HEIGHT = 6.0
 ONSET_RAMP_RATE = 0.5  # m/s^2 per s
+
+#: FORMULATION 4.7: Psycharis' stack, lower block 2.5 x 2.5 m, upper 2.0 x 5.0 m, released from 0.1 rad
+STACK_SIZES = ((2.5, 2.5), (2.0, 5.0))
+STACK_THETA0 = 0.1
+
+#: FORMULATION 4.6 (Zhang-Makris): the 0.25 x 1.0 m block with mu = 0.3 > tan(alpha) = 0.25
+SLIDE_ROCK_MU = 0.3
+SLIDE_ROCK_PULSE = 0.1  # s, rectangular pulse
 
 
 def housner_scene(**kwargs):
@@ -165,6 +174,41 @@ def _sliding_onset(mu, rate, duration, slip_threshold=1e-4):
     return reference, errors
 
 
+def _slide_rock(factor):
+    """A rectangular pulse at ``factor`` times the Zhang-Makris slide-rock threshold."""
+    block = analytical.RockingBlock.from_size(HOUSNER_WIDTH, HOUSNER_HEIGHT)
+    amplitude = factor * analytical.slide_rock_acceleration(block, SLIDE_ROCK_MU)
+
+    def reference():
+        return analytical.initial_mode_under_pulse(block, SLIDE_ROCK_MU, amplitude)
+
+    def errors(result, ref):
+        mode = observed_mode(result, block.b, block.h, rotation=block.alpha / 30.0)
+        return {"mode_mismatch": float(mode != ref)}
+
+    return amplitude, reference, errors
+
+
+# --- two stacked blocks (4.7) ------------------------------------------------------------------
+
+def _stacked_blocks():
+    (w1, h1), (w2, h2) = STACK_SIZES
+    stack = TwoBlockStack(w1 / 2.0, h1 / 2.0, w2 / 2.0, h2 / 2.0)
+
+    def reference():
+        return stack_response(stack, STACK_THETA0, 5.0)
+
+    def errors(result, ref):
+        before = result.t <= ref.impact_time
+        t = result.t[before]
+        rms = [float(np.sqrt(np.mean((result.theta[before, k] - np.interp(t, ref.t, th)) ** 2)) / STACK_THETA0)
+               for k, th in enumerate((ref.theta1, ref.theta2))]
+        return {"impact_time": _relative(first_zero_crossing(result.t, result.theta[:, 0]), ref.impact_time),
+                "rms_lower": rms[0], "rms_upper": rms[1]}
+
+    return reference, errors
+
+
 # --- statics (4.8) ------------------------------------------------------------------------------------
 
 def _statics_errors(result, _ref):
@@ -227,6 +271,10 @@ def all_cases() -> list:
     colonnade = lambda: scenes.colonnade(3, 3, spacing=2.5, epistyle="b", epistyle_density=8000.0)
     mexico = lambda: excitation.record("mexico_city_1985", pga=2.5)
     colonnade_ref, colonnade_err = _against_converged(colonnade, mexico, 40.0)
+    stack_ref, stack_err = _stacked_blocks()
+    below, below_ref, below_err = _slide_rock(0.85)
+    above, above_ref, above_err = _slide_rock(1.25)
+    housner_block = lambda: scenes.block(HOUSNER_WIDTH, HOUSNER_HEIGHT, friction=SLIDE_ROCK_MU)
     return [
         Case("free_rocking", "Free rocking of the 0.25 x 1.0 m block from 0.05236 rad (Housner 4.1, 4.2)",
              housner_scene, excitation.still, 4.0, rocking_ref, rocking_err, primary="peak_decay"),
@@ -279,6 +327,17 @@ def all_cases() -> list:
         Case("sliding_onset", "Onset of sliding of a squat block, mu = 0.3, under a 0.5 m/s^2/s ramp (4.6; slip 0.1 mm)",
              lambda: scenes.block(1.0, 0.5, friction=0.3, base_width=40.0), lambda: excitation.ramp(0.5), 8.0,
              slide_onset_ref, slide_onset_err, quick=False),
+        Case("slide_rock_below", f"0.25 x 1.0 m block, mu = 0.3, rectangular pulse {below:.2f} m/s^2: rocking only "
+             "(0.85 x the Zhang-Makris slide-rock threshold, 4.6)", housner_block,
+             lambda: excitation.rectangular_pulse(below, SLIDE_ROCK_PULSE), SLIDE_ROCK_PULSE, below_ref, below_err,
+             quick=False),
+        Case("slide_rock_above", f"0.25 x 1.0 m block, mu = 0.3, rectangular pulse {above:.2f} m/s^2: rocking and "
+             "sliding (1.25 x the Zhang-Makris slide-rock threshold, 4.6)", housner_block,
+             lambda: excitation.rectangular_pulse(above, SLIDE_ROCK_PULSE), SLIDE_ROCK_PULSE, above_ref, above_err,
+             quick=False),
+        Case("stacked_blocks", "Two stacked blocks (2.5 x 2.5 m under 2.0 x 5.0 m) released from 0.1 rad, up to "
+             "the first impact (Psycharis 4.7)", lambda: scenes.stack(STACK_SIZES, tilt=STACK_THETA0),
+             excitation.still, 0.8, stack_ref, stack_err, quick=False, primary="impact_time"),
         Case("column_record", "8-drum column under 20 s of El Centro 1940 (against the converged native core)",
              lambda: scenes.column(8), _el_centro(), 20.0, column_ref, column_err, output_dt=0.005, quick=False),
         Case("colonnade_mexico", "3-column colonnade, epistyles (b) of 8000 kg/m^3, under Mexico City 1985 at "

@@ -19,6 +19,7 @@ import numpy as np
 import pandas as pd
 
 from comparisons.cases import all_cases
+from comparisons.stress import WRONG
 
 COLOURS = {"dem": "#1b9e77", "pymunk": "#d95f02", "pybullet": "#7570b3", "mujoco": "#e7298a"}
 ACCURACY_LEVELS = (0.10, 0.03, 0.01)
@@ -136,29 +137,66 @@ def convergence_figure(table, case, path):
 STATUS_COLOURS = {"ok": "#1b9e77", "silently wrong": "#e6ab02", "stopped": "#d95f02"}
 
 
-def stability_map_figure(stability: pd.DataFrame, path) -> bool:
-    """Engines and cases against time steps for the growing-dt tests, coloured by outcome; False if absent."""
-    ladder = stability[stability.test.str.contains("growing dt")]
-    if ladder.empty:
-        return False
-    lines = list(dict.fromkeys(zip(ladder.test, ladder.engine)))
-    fig, ax = plt.subplots(figsize=(7.5, 0.6 + 0.55 * len(lines)))
-    for row, (test, engine) in enumerate(lines):
-        runs = ladder[(ladder.test == test) & (ladder.engine == engine)]
-        for col, (_, r) in enumerate(runs.iterrows()):
-            outcome = "stopped" if r.status.startswith("stopped") else r.status
+def _outcome(status: str) -> str:
+    return "stopped" if status.startswith("stopped") else status
+
+
+def stability_map_figure(rows: pd.DataFrame, title: str, path) -> None:
+    """One stress test as tiles: a row per engine, a tile per setting, coloured by outcome,
+    labelled with the setting and the measured value."""
+    engines = list(dict.fromkeys(rows.engine))
+    width = max(rows.groupby("engine").setting.nunique())
+    fig, ax = plt.subplots(figsize=(max(4.0, 1.9 * width + 1.5), 0.9 + 0.6 * len(engines)))
+    for row, engine in enumerate(engines):
+        runs = rows[rows.engine == engine]
+        for col, setting in enumerate(dict.fromkeys(runs.setting)):
+            here = runs[runs.setting == setting]
+            outcome = _outcome(here.status.iloc[0])
+            values = "\n".join(f"{m} {v:.3g}" for m, v in zip(here.metric, here.value) if np.isfinite(v))
             ax.add_patch(plt.Rectangle((col, row), 0.95, 0.9, color=STATUS_COLOURS.get(outcome, "0.6")))
-            ax.text(col + 0.47, row + 0.45, f"{r.setting}\n{outcome}", ha="center", va="center", fontsize=7)
-    ax.set_xlim(0, max(ladder.groupby(["test", "engine"]).size()))
-    ax.set_ylim(0, len(lines))
-    ax.set_yticks(np.arange(len(lines)) + 0.45, [f"{t.split(' at ')[0]}: {e}" for t, e in lines], fontsize=7)
+            ax.text(col + 0.47, row + 0.45, f"{setting}: {outcome}\n{values}", ha="center", va="center", fontsize=6)
+    ax.set_xlim(0, width)
+    ax.set_ylim(0, len(engines))
+    ax.set_yticks(np.arange(len(engines)) + 0.45, engines, fontsize=8)
     ax.set_xticks([])
-    ax.set_title("Growing time steps: ok, silently wrong (error of 10% or more) or stopped by the engine",
-                 fontsize=9)
+    ax.set_title(f"{title}: ok, silently wrong (error of {WRONG:.0%} or more) or stopped by the engine", fontsize=8)
     fig.tight_layout()
     fig.savefig(path, dpi=110)
     plt.close(fig)
-    return True
+
+
+def stiffness_figure(rows: pd.DataFrame, path) -> None:
+    """Free-rocking errors and the automatic time step of the native core against K_n."""
+    kn = rows.setting.str.removeprefix("kn = ").astype(float)
+    fig, (ax, ax_dt) = plt.subplots(1, 2, figsize=(9, 3.5))
+    for metric in ("quarter_period", "peak_decay"):
+        pick = rows.metric == metric
+        ax.loglog(kn[pick], np.abs(rows.value[pick]), "o-", label=metric)
+    pick = rows.metric == "dt_s"
+    ax_dt.loglog(kn[pick], rows.value[pick], "s-", color="0.3")
+    ax.set(xlabel="K_n (N/m^2)", ylabel="|relative error|", title="Free rocking, native core")
+    ax_dt.set(xlabel="K_n (N/m^2)", ylabel="automatic dt (s)", title="Time step")
+    ax.legend(fontsize=8)
+    for a in (ax, ax_dt):
+        a.grid(True, which="both", alpha=0.3)
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+
+
+def _stability_sections(stability: pd.DataFrame, out: Path) -> str:
+    parts = []
+    for k, test in enumerate(dict.fromkeys(stability.test)):
+        rows = stability[stability.test == test]
+        image = f"stability_{k + 1}.png"
+        stability_map_figure(rows, test, out / image)
+        extra = ""
+        if "contact stiffness" in test:
+            stiffness_figure(rows, out / "stability_stiffness.png")
+            extra = '<img src="stability_stiffness.png" alt="errors and time step against contact stiffness">'
+        parts.append(f"<h3>{html.escape(test)}</h3><img src=\"{image}\" alt=\"stability map: {html.escape(test)}\" "
+                     f"style=\"max-width:100%\">{extra}")
+    return "".join(parts)
 
 
 def _table_html(frame: pd.DataFrame) -> str:
@@ -187,8 +225,7 @@ def write_report(table: pd.DataFrame, stability: pd.DataFrame, out: Path, *, qui
             f'<img src="{convergence}" alt="convergence in dt for {case.name}">'
             f'{_table_html(summary)}'
             + (f"<h3>Runs that stopped</h3>{_table_html(failed)}" if len(failed) else "") + "</section>")
-    stability_image = ('<img src="stability_map.png" alt="stability map" style="max-width:100%">'
-                       if stability_map_figure(stability, out / "stability_map.png") else "")
+    stability_images = _stability_sections(stability, out) if len(stability) else ""
     page = f"""<!DOCTYPE html>
 <html lang="en"><head><meta charset="utf-8"><title>Engine comparison: rocking and sliding of stone blocks</title>
 <style>body{{font-family:sans-serif;max-width:1100px;margin:2em auto;color:#222}}img{{max-width:49%}}
@@ -201,7 +238,7 @@ simulations over {table.case.nunique()} cases in {run_time_s:.0f} s of wall time
 (FORMULATION section 4) or to the native core converged in dt; wall times exclude compilation and model
 building. Tables: <a href="results.csv">results.csv</a>, <a href="stability.csv">stability.csv</a>.</p>
 {"".join(sections)}
-<section id="stability"><h2>Stability map</h2>{stability_image}{_table_html(stability)}</section>
+<section id="stability"><h2>Stability map</h2>{stability_images}{_table_html(stability)}</section>
 </body></html>"""
     index = out / "index.html"
     index.write_text(page, encoding="utf-8")

@@ -8,7 +8,7 @@ Shared keyword arguments: ``density`` (kg/m^3), ``friction``, ``depth`` (m),
 default the blocks' span plus 4 times their height, so that whatever
 topples lands on the base).
 
-Block names: ``block``; ``drum1`` (bottom) .. ``drumN``, ``capital``;
+Block names: ``block``; ``block1`` (bottom) .. in stacks; ``drum1`` (bottom) .. ``drumN``, ``capital``;
 in colonnades ``c1_drum1`` .. (column ``c1`` is the leftmost), ``epistyle``
 or ``epistyle1``/``epistyle2``; in two-tier colonnades ``lower_``/``upper_``
 prefixes.  The base is ``base``.
@@ -62,6 +62,31 @@ def block(width: float, height: float, tilt: float = 0.0, *, density: float = 27
         v = transform(v - pivot, tilt, pivot)
     blk = Block(name, v, density=density, depth=depth, friction=friction, angle=tilt)
     return _scene([blk], base_width, friction, depth, contact, interface_friction, np.arctan2(width, height))
+
+
+def stack(sizes, tilt: float = 0.0, *, density: float = 2700.0, friction: float = 0.7, depth: float = 1.0,
+          contact: ContactParameters | None = None, interface_friction: dict | None = None,
+          base_width: float | None = None) -> Scene:
+    """Rectangular blocks stacked on their common centre line, bottom first.
+
+    sizes : ((width, height), ...) in m; blocks are named ``block1`` (bottom) .. ``blockN``.
+    tilt : rad, the whole stack rotated as one body about the bottom corner of
+        ``block1`` it rests on (sign as in :func:`block`); each block's initial
+        angle is ``tilt``.
+    """
+    if not len(sizes):
+        raise SceneError("a stack needs at least one block")
+    blocks, y = [], 0.0
+    pivot = np.array([-sizes[0][0] / 2.0 if tilt > 0 else sizes[0][0] / 2.0, 0.0])
+    for k, (w, h) in enumerate(sizes):
+        _positive(**{f"width of block{k + 1}": w, f"height of block{k + 1}": h})
+        v = rectangle(w, h, -w / 2.0, y)
+        if tilt:
+            v = transform(v - pivot, tilt, pivot)
+        blocks.append(Block(f"block{k + 1}", v, density=density, depth=depth, friction=friction, angle=tilt))
+        y += h
+    return _scene(blocks, base_width, friction, depth, contact, interface_friction,
+                  np.arctan2(sizes[0][0], sizes[0][1]))
 
 
 def _column_blocks(n_drums, width, height, taper, capital, x_centre, y0, density, friction, depth, prefix):

@@ -45,3 +45,20 @@ def test_block_at_rest_lifts_off_exactly_at_g_tan_alpha():
     block = analytical.RockingBlock.from_size(1.0, 6.0)
     ode = analytical.rocking_response(block, lambda t: 0.5 * t, 4.0)
     assert 0.5 * ode.uplift_time == pytest.approx(9.81 / 6.0, rel=1e-9)
+
+
+def test_slide_rock_threshold_meets_the_rocking_threshold_at_mu_tan_alpha():
+    block = analytical.RockingBlock.from_size(0.25, 1.0)
+    assert analytical.slide_rock_acceleration(block, 0.25) == pytest.approx(analytical.G * 0.25, rel=1e-12)
+    assert analytical.slide_rock_acceleration(block, 0.3) > analytical.G * 0.25
+    assert analytical.slide_rock_acceleration(block, 10.0) == float("inf")
+
+
+def test_initial_mode_under_a_pulse_follows_the_four_regions():
+    block = analytical.RockingBlock.from_size(0.25, 1.0)
+    threshold = analytical.slide_rock_acceleration(block, 0.3)
+    assert analytical.initial_mode_under_pulse(block, 0.3, 2.0) == "rest"
+    assert analytical.initial_mode_under_pulse(block, 0.3, 0.9 * threshold) == "rocking"
+    assert analytical.initial_mode_under_pulse(block, 0.3, 1.1 * threshold) == "slide-rock"
+    assert analytical.initial_mode_under_pulse(block, 0.2, 2.0) == "sliding"
+    assert analytical.initial_mode_under_pulse(block, 0.2, 1.9) == "rest"

@@ -99,7 +99,8 @@ def test_report_page_and_its_figures_are_whole(tmp_path):
     assert page.startswith("<!DOCTYPE html>") and page.rstrip().endswith("</html>")
     parser = _Links()
     parser.feed(page)
-    assert len(parser.images) == 5  # a Pareto and a convergence figure per case, and the stability map
+    # a Pareto and a convergence figure per case, a stability map per stress test, K_n figure
+    assert len(parser.images) == 2 * 2 + 2 + 1
     for src in parser.images + parser.links:
         assert (tmp_path / src).is_file(), src
     for src in parser.images:
