@@ -85,7 +85,15 @@ def load(path) -> SceneFile:
         raise SceneFileError(f"{path}: no such scene file") from None
     except tomllib.TOMLDecodeError as exc:
         raise SceneFileError(f"{path}: not valid TOML: {exc}") from None
-    unknown = set(data) - TOP_LEVEL
+    return from_dict(data, path)
+
+
+def from_dict(data: dict, path=Path("<scene>"), *, extra_tables=()) -> SceneFile:
+    """Build a :class:`SceneFile` from the parsed tables of a scene file; ``path`` names it in errors
+    and anchors relative record paths.  ``extra_tables`` are top-level tables some caller reads
+    itself (a sweep's ``[sweep]``)."""
+    path = Path(path)
+    unknown = set(data) - TOP_LEVEL - set(extra_tables)
     if unknown:
         raise SceneFileError(f"{path}: unknown table(s) {sorted(unknown)}; expected some of {sorted(TOP_LEVEL)}")
     try:
