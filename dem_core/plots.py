@@ -1,4 +1,4 @@
-"""Figures of a run: block rotations and displacements over time, with the ground motion."""
+"""Figures of a run: block rotations, displacements and epistyle motion over time, with the ground motion."""
 
 from pathlib import Path
 
@@ -57,12 +57,41 @@ def displacements(result, excitation=None, title="Block displacements relative t
                            excitation, title)
 
 
+def epistyle_names(result) -> list:
+    return [n for n in result.names if "epistyle" in n]
+
+
+def epistyles(result, excitation=None, title="Epistyles"):
+    """Figure: horizontal displacement relative to the base (m) and rotation (rad) of every
+    epistyle, and the ground motion below."""
+    names = epistyle_names(result)
+    if not names:
+        raise ValueError("the run has no block named like an epistyle")
+    index = [result.names.index(n) for n in names]
+    fig, axes = plt.subplots(3, 1, sharex=True, figsize=(9, 7), gridspec_kw={"height_ratios": [2, 2, 1]})
+    rel = result.relative_x - result.relative_x[0]
+    for k, name in zip(index, names):
+        axes[0].plot(result.t, rel[:, k], lw=0.9, label=name)
+        axes[1].plot(result.t, result.theta[:, k], lw=0.9, label=name)
+    axes[0].set_ylabel("displacement (m)")
+    axes[1].set_ylabel("rotation (rad)")
+    for ax in axes[:2]:
+        ax.grid(alpha=0.3)
+    axes[0].legend(fontsize=7)
+    _ground_panel(axes[2], result, excitation)
+    return _finish(fig, axes, result, title)
+
+
 def save_run_figures(result, out_dir, excitation=None, title=""):
-    """Write rotations.png and displacements.png into ``out_dir``; returns their paths."""
+    """Write rotations.png, displacements.png (and epistyles.png if the scene has epistyles)
+    into ``out_dir``; returns their paths."""
     out_dir = Path(out_dir)
     paths = []
-    for name, make, what in (("rotations.png", rotations, "block rotations"),
-                             ("displacements.png", displacements, "displacements relative to the base")):
+    figures = [("rotations.png", rotations, "block rotations"),
+               ("displacements.png", displacements, "displacements relative to the base")]
+    if epistyle_names(result):
+        figures.append(("epistyles.png", epistyles, "epistyles"))
+    for name, make, what in figures:
         fig = make(result, excitation, title=f"{title}: {what}" if title else what.capitalize())
         path = out_dir / name
         fig.savefig(path, dpi=130)

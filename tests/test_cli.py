@@ -47,3 +47,44 @@ def test_bad_scene_file_is_reported_with_its_name(tmp_path, capsys):
 def test_module_entry_point_lists_records():
     done = subprocess.run([sys.executable, "-m", "dem_core", "records"], capture_output=True, text=True, check=True)
     assert "el_centro_1940" in done.stdout
+
+
+COLUMN = textwrap.dedent("""
+    [scene]
+    builder = "column"
+    n_drums = 2
+    [excitation]
+    kind = "sine_pulse"
+    amplitude = 4.0
+    duration = 0.8
+    [simulation]
+    duration = 4.0
+""")
+
+
+def test_threshold_and_ramp_commands_print_their_findings(tmp_path, capsys):
+    scene = tmp_path / "column.toml"
+    scene.write_text(COLUMN)
+    assert main(["threshold", str(scene), "--parameter", "amplitude", "--low", "1", "--high", "12",
+                 "--tolerance", "0.05"]) == 0
+    out = capsys.readouterr().out
+    assert "overturning threshold: amplitude = " in out
+    assert main(["ramp", str(scene), "--duration", "8"]) == 0
+    out = capsys.readouterr().out
+    assert "rocking starts" in out and "m/s^2" in out
+    assert main(["threshold", str(scene), "--parameter", "amplitdue", "--low", "1", "--high", "2"]) == 2
+    assert "amplitdue" in capsys.readouterr().err
+
+
+def test_animate_and_spectrum_commands_write_their_files(tmp_path):
+    scene = tmp_path / "column.toml"
+    scene.write_text(COLUMN)
+    movie = tmp_path / "column.gif"
+    assert main(["animate", str(scene), "--out", str(movie), "--duration", "1", "--fps", "10"]) == 0
+    assert movie.read_bytes()[:6] == b"GIF89a"
+    assert (tmp_path / "column_snapshots.png").is_file()
+    figure = tmp_path / "spectra.png"
+    assert main(["spectrum", "el_centro_1940", "kalamata_1986", "--out", str(figure)]) == 0
+    table = pd.read_csv(figure.with_suffix(".csv"))
+    assert set(table.record) == {"el_centro_1940 x1", "kalamata_1986 x1"}
+    assert main(["spectrum", "no_such_record"]) == 2
