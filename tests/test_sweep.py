@@ -111,3 +111,42 @@ def test_sweep_command(tmp_path):
     path.write_text(textwrap.dedent(SPEC).replace("time_histories = true", "time_histories = false"))
     assert main(["sweep", str(path), "--out", str(tmp_path / "out"), "--workers", "1", "--no-progress"]) == 0
     assert len(pd.read_parquet(tmp_path / "out" / "results.parquet")) == 4
+
+
+def test_bundled_example_sweep_file_builds_every_point():
+    from pathlib import Path
+
+    sweep = load_sweep(Path(__file__).parents[1] / "examples" / "sweeps" / "column_harmonic.toml")
+    points = sweep.points()
+    assert len(points) == 10 * 4 * 2
+    spec = sweep.build(points[-1])
+    assert spec.scene.friction("drum1", "drum2") == 0.7 and spec.simulation["duration"] == 10.0
+
+
+def test_sweep_killed_midway_resumes_without_losing_runs(tmp_path):
+    import os
+    import signal
+    import subprocess
+    import sys
+    import time
+
+    spec = tmp_path / "spec.toml"
+    spec.write_text(SPEC.replace("time_histories = true", "time_histories = false")
+                    .replace("duration = 1.0", "duration = 4.0")
+                    .replace("pga = [3.0, 6.0]", "pga = [1.0, 2.0, 3.0, 4.0, 5.0, 6.0]"))
+    out = tmp_path / "out"
+    command = [sys.executable, "-m", "dem_core", "sweep", str(spec), "--out", str(out), "--workers", "1",
+               "--no-progress"]
+    process = subprocess.Popen(command, start_new_session=True, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    deadline = time.time() + 120
+    while len(list((out / "runs").glob("*.parquet"))) < 3 and time.time() < deadline and process.poll() is None:
+        time.sleep(0.05)
+    os.killpg(process.pid, signal.SIGKILL)  # the command and its worker, at once
+    process.wait()
+    before = {p.name: p.stat().st_mtime_ns for p in (out / "runs").glob("*.parquet")}
+    assert 3 <= len(before) < 12
+    assert subprocess.run(command, check=False, capture_output=True).returncode == 0
+    table = pd.read_parquet(out / "results.parquet")
+    assert len(table) == 12 and table.run_id.is_unique and set(table.status) == {"ok"}
+    for name, mtime in before.items():
+        assert (out / "runs" / name).stat().st_mtime_ns == mtime

@@ -1,0 +1,68 @@
+"""What the study scripts share: where they write, how they run sweeps, how they describe what they found.
+
+Each study writes into ``reports/studies/<name>/``: its figures (PNG), ``results.parquet`` (one row per
+run) and ``README.md`` (the trend found, computed from the results, and the command that made it).
+Sweeps run in ``.study_cache/<name>/`` (not committed), so an interrupted study resumes.
+"""
+
+import sys
+import time
+from pathlib import Path
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt
+import numpy as np
+from matplotlib import transforms
+
+from dem_core.sweep import Sweep, run_sweep
+
+ROOT = Path(__file__).resolve().parents[2]
+REPORTS = ROOT / "reports" / "studies"
+CACHE = ROOT / ".study_cache"
+
+
+def out_dir(name: str) -> Path:
+    path = REPORTS / name
+    path.mkdir(parents=True, exist_ok=True)
+    return path
+
+
+def sweep(name: str, build, parameters: dict, *, workers=None, mode="grid"):
+    """Run (or resume) a sweep of the study and return its table; failures are kept as rows."""
+    table = run_sweep(Sweep(build, parameters, mode=mode), CACHE / name, workers=workers)
+    table.to_parquet(out_dir(name.split("/")[0]) / f"{name.replace('/', '_')}.parquet", index=False)
+    bad = table[table.status != "ok"]
+    if len(bad):
+        print(f"{len(bad)} of {len(table)} runs did not finish:", bad.status.value_counts().to_dict(), file=sys.stderr)
+    return table
+
+
+def curve(ax, x, y, overturned, label, **style):
+    """A line through the runs that stayed up; runs that overturned as crosses along the top edge
+    (their measures stop at the overturn and are not comparable)."""
+    x, y, overturned = map(np.asarray, (x, y, overturned))
+    line = ax.plot(x[~overturned], y[~overturned], "o-", ms=3, label=label, **style)[0]
+    if overturned.any():
+        top = transforms.blended_transform_factory(ax.transData, ax.transAxes)
+        ax.plot(x[overturned], np.full(overturned.sum(), 0.97), "x", color=line.get_color(), ms=7, mew=1.5,
+                transform=top, clip_on=False)
+    return line
+
+
+def save(fig, name: str, file: str) -> str:
+    fig.savefig(out_dir(name) / file, dpi=120)
+    plt.close(fig)
+    return file
+
+
+def write_readme(name: str, title: str, findings: list, figures: list, started: float, script: str, *,
+                 resumes: bool = True) -> None:
+    lines = [f"# {title}", "", *[f"- {f}" for f in findings], ""]
+    lines += [f"![{f}]({f})" for f in figures]
+    resume = "; an interrupted run resumes from `.study_cache/`" if resumes else ""
+    took = time.perf_counter() - started
+    lines += ["", f"Regenerate: `python examples/studies/{script}` ({took:.0f} s on the machine that wrote this{resume})."]
+    (out_dir(name) / "README.md").write_text("\n".join(lines) + "\n")
+    print("\n".join(lines))
