@@ -34,7 +34,7 @@ from pathlib import Path
 import numpy as np
 
 from . import records
-from .scene_file import SceneFileError, load
+from .scene_file import SceneFileError, load, read_toml
 from .simulation import SimulationUnstable, simulate
 
 DEFAULT_SCENE = "column_el_centro.toml"
@@ -195,10 +195,7 @@ def _threshold(args) -> int:
     spec = _load_or_fail(args.scene)
     if spec is None:
         return 2
-    import tomllib
-
-    with open(args.scene, "rb") as fh:
-        build = SceneFileBuild(tomllib.load(fh), str(args.scene))
+    build = SceneFileBuild(read_toml(args.scene), str(args.scene))
     key = f"excitation.{args.parameter}"
 
     def motion_at(value):

@@ -75,25 +75,29 @@ class SceneFile:
     output: dict = field(default_factory=dict)
 
 
-def load(path) -> SceneFile:
-    """Read a scene file; raises :class:`SceneFileError` naming the file and the culprit."""
-    path = Path(path)
+def read_toml(path, error=None, what: str = "scene file") -> dict:
+    """The tables of a TOML file; a missing or malformed file raises ``error`` (default
+    :class:`SceneFileError`) naming the file."""
+    error = error or SceneFileError
     try:
         with open(path, "rb") as fh:
-            data = tomllib.load(fh)
+            return tomllib.load(fh)
     except FileNotFoundError:
-        raise SceneFileError(f"{path}: no such scene file") from None
+        raise error(f"{path}: no such {what}") from None
     except tomllib.TOMLDecodeError as exc:
-        raise SceneFileError(f"{path}: not valid TOML: {exc}") from None
-    return from_dict(data, path)
+        raise error(f"{path}: not valid TOML: {exc}") from None
 
 
-def from_dict(data: dict, path=Path("<scene>"), *, extra_tables=()) -> SceneFile:
+def load(path) -> SceneFile:
+    """Read a scene file; raises :class:`SceneFileError` naming the file and the culprit."""
+    return from_dict(read_toml(path), path)
+
+
+def from_dict(data: dict, path=Path("<scene>")) -> SceneFile:
     """Build a :class:`SceneFile` from the parsed tables of a scene file; ``path`` names it in errors
-    and anchors relative record paths.  ``extra_tables`` are top-level tables some caller reads
-    itself (a sweep's ``[sweep]``)."""
+    and anchors relative record paths."""
     path = Path(path)
-    unknown = set(data) - TOP_LEVEL - set(extra_tables)
+    unknown = set(data) - TOP_LEVEL
     if unknown:
         raise SceneFileError(f"{path}: unknown table(s) {sorted(unknown)}; expected some of {sorted(TOP_LEVEL)}")
     try:

@@ -42,7 +42,6 @@ import itertools
 import json
 import os
 import time
-import tomllib
 import traceback
 from collections.abc import Callable
 from concurrent.futures import ProcessPoolExecutor, as_completed
@@ -158,13 +157,7 @@ def _values(spec, where):
 def load_sweep(path) -> Sweep:
     """Read a sweep file (a scene file with a ``[sweep]`` table); errors name the file and key."""
     path = Path(path)
-    try:
-        with open(path, "rb") as fh:
-            data = tomllib.load(fh)
-    except FileNotFoundError:
-        raise SweepError(f"{path}: no such sweep file") from None
-    except tomllib.TOMLDecodeError as exc:
-        raise SweepError(f"{path}: not valid TOML: {exc}") from None
+    data = scene_file.read_toml(path, SweepError, "sweep file")
     table = dict(data.get("sweep", {}))
     if not table:
         raise SweepError(f"{path}: no [sweep] table: nothing to vary")
