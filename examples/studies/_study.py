@@ -21,6 +21,7 @@ from dem_core.sweep import Sweep, run_sweep
 ROOT = Path(__file__).resolve().parents[2]
 REPORTS = ROOT / "reports" / "studies"
 CACHE = ROOT / ".study_cache"
+_SWEPT = []  # tables of the sweeps run by this process, for the compute time in the README
 
 
 def out_dir(name: str) -> Path:
@@ -32,6 +33,7 @@ def out_dir(name: str) -> Path:
 def sweep(name: str, build, parameters: dict, *, workers=None, mode="grid"):
     """Run (or resume) a sweep of the study and return its table; failures are kept as rows."""
     table = run_sweep(Sweep(build, parameters, mode=mode), CACHE / name, workers=workers)
+    _SWEPT.append(table)
     table.to_parquet(out_dir(name.split("/")[0]) / f"{name.replace('/', '_')}.parquet", index=False)
     bad = table[table.status != "ok"]
     if len(bad):
@@ -39,14 +41,14 @@ def sweep(name: str, build, parameters: dict, *, workers=None, mode="grid"):
     return table
 
 
-def curve(ax, x, y, overturned, label, **style):
-    """A line through the runs that stayed up; runs that overturned as crosses along the top edge
-    (their measures stop at the overturn and are not comparable)."""
+def curve(ax, x, y, overturned, label, row=0, **style):
+    """A line through the runs that stayed up; runs that overturned as crosses along the top edge,
+    one row of crosses per series (their measures stop at the overturn and are not comparable)."""
     x, y, overturned = map(np.asarray, (x, y, overturned))
     line = ax.plot(x[~overturned], y[~overturned], "o-", ms=3, label=label, **style)[0]
     if overturned.any():
         top = transforms.blended_transform_factory(ax.transData, ax.transAxes)
-        ax.plot(x[overturned], np.full(overturned.sum(), 0.97), "x", color=line.get_color(), ms=7, mew=1.5,
+        ax.plot(x[overturned], np.full(overturned.sum(), 0.97 - 0.05 * row), "x", color=line.get_color(), ms=7, mew=1.5,
                 transform=top, clip_on=False)
     return line
 
@@ -61,8 +63,13 @@ def write_readme(name: str, title: str, findings: list, figures: list, started: 
                  resumes: bool = True) -> None:
     lines = [f"# {title}", "", *[f"- {f}" for f in findings], ""]
     lines += [f"![{f}]({f})" for f in figures]
-    resume = "; an interrupted run resumes from `.study_cache/`" if resumes else ""
-    took = time.perf_counter() - started
-    lines += ["", f"Regenerate: `python examples/studies/{script}` ({took:.0f} s on the machine that wrote this{resume})."]
+    if resumes:
+        runs = sum(len(t) for t in _SWEPT)
+        compute = sum(t.wall_time_s.sum() for t in _SWEPT)
+        cost = (f"{runs} runs, {compute:.0f} s of computing in all, spread over the cores; an interrupted or "
+                "repeated run resumes from `.study_cache/`")
+    else:
+        cost = f"{time.perf_counter() - started:.0f} s on the machine that wrote this"
+    lines += ["", f"Regenerate: `python examples/studies/{script}` ({cost})."]
     (out_dir(name) / "README.md").write_text("\n".join(lines) + "\n")
     print("\n".join(lines))

@@ -50,9 +50,9 @@ def epi(table):
 
 
 def panel(ax, table, group, label, measure, ylabel):
-    for value in sorted(table[group].unique()):
+    for k, value in enumerate(sorted(table[group].unique())):
         runs = table[table[group] == value].sort_values("frequency")
-        curve(ax, runs.frequency, measure(runs), runs.overturned, f"{label} {value:g}")
+        curve(ax, runs.frequency, measure(runs), runs.overturned, f"{label} {value:g}", row=k)
     ax.set(xlabel="frequency (Hz)", ylabel=ylabel)
     ax.grid(alpha=0.3)
     ax.legend(fontsize=7)

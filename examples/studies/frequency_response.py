@@ -33,10 +33,10 @@ def figure(table, title, mu_ref):
     pgas = sorted(table.pga.unique())
     fig, axes = plt.subplots(len(pgas), 2, figsize=(10, 2.8 * len(pgas)), sharex=True, squeeze=False)
     for row, pga in enumerate(pgas):
-        for mu in sorted(table.mu.unique()):
+        for k, mu in enumerate(sorted(table.mu.unique())):
             runs = table[(table.pga == pga) & (table.mu == mu)].sort_values("frequency")
             for col, measure, scale in ((0, "total_sliding_m", 1e3), (1, "mean_rocking_rad", 1e3)):
-                curve(axes[row, col], runs.frequency, runs[measure] * scale, runs.overturned, f"mu = {mu:g}",
+                curve(axes[row, col], runs.frequency, runs[measure] * scale, runs.overturned, f"mu = {mu:g}", row=k,
                       lw=2 if mu == mu_ref else 1)
         axes[row, 0].set_ylabel(f"PGA {pga:g} m/s$^2$\ntotal sliding (mm)")
         axes[row, 1].set_ylabel("mean |rotation| (mrad)")
