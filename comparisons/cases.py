@@ -272,6 +272,8 @@ def all_cases() -> list:
     mexico = lambda: excitation.record("mexico_city_1985", pga=2.5)
     colonnade_ref, colonnade_err = _against_converged(colonnade, mexico, 40.0)
     stack_ref, stack_err = _stacked_blocks()
+    northridge_rocking = lambda: excitation.record("northridge_1994", pga=4.0)
+    northridge_rock_ref, northridge_rock_err = _forced_rocking(1.0, 6.0, northridge_rocking, 15.0)
     below, below_ref, below_err = _slide_rock(0.85)
     above, above_ref, above_err = _slide_rock(1.25)
     housner_block = lambda: scenes.block(HOUSNER_WIDTH, HOUSNER_HEIGHT, friction=SLIDE_ROCK_MU)
@@ -296,6 +298,9 @@ def all_cases() -> list:
         Case("record_rocking", "1 x 6 m monolith under El Centro 1940 at 2.75 m/s^2 (rocking equation 4.3)",
              lambda: scenes.block(1.0, 6.0), _el_centro(2.75), 15.0, record_rock_ref, record_rock_err,
              output_dt=0.005, quick=False),
+        Case("record_rocking_northridge", "1 x 6 m monolith under Northridge 1994 (Sylmar) at 4 m/s^2, peak "
+             "0.29 alpha (rocking equation 4.3)", lambda: scenes.block(1.0, 6.0), northridge_rocking, 15.0,
+             northridge_rock_ref, northridge_rock_err, output_dt=0.005, quick=False),
         Case("onset_ramp", "Rocking onset of the 1 x 6 m monolith under a 0.5 m/s^2/s ramp (4.6; criterion theta_cr/30)",
              lambda: scenes.block(ONSET_WIDTH, ONSET_HEIGHT), lambda: excitation.ramp(ONSET_RAMP_RATE), 4.5,
              onset_ref, onset_err, quick=False),
