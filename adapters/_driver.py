@@ -9,6 +9,7 @@ import numpy as np
 
 from dem_core.excitation import still
 from dem_core.result import Result
+from dem_core.stacks import find_stacks, tipped
 
 #: a block further than this many scene heights from where it started has left the scene
 RUNAWAY_HEIGHTS = 5.0
@@ -111,6 +112,9 @@ def _result(engine, scene, excitation, out, t, dt, info) -> Result:
     start_y = np.array([b.centroid[1] for b in scene.blocks])
     drop = 0.5 * np.array([min(b.width, b.height) for b in scene.blocks])
     over = (np.abs(theta) > crit) | (start_y - out[:, :, 1] > drop)
+    column_stacks = find_stacks(scene)
+    for k, whole in enumerate(tipped(column_stacks, scene, out[:, :, 0], theta).T):
+        over[:, list(column_stacks[k].blocks)] |= np.logical_or.accumulate(whole)[:, None]
     overturn_time = np.where(over.any(axis=0), t[np.argmax(over, axis=0)], np.nan) if len(t) else np.full(
         len(scene.blocks), np.nan)
     peak = np.max(np.abs(theta), axis=0) if len(t) else np.abs([b.angle for b in scene.blocks])

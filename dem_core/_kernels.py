@@ -63,7 +63,8 @@ def integrate(pos, vel, local_x, local_y, vstart, inv_mass, inv_inertia, radius,
               ft_el, slip, gravity, load_x, load_y, base_x, base_y, base_vx, base_vy,
               dt, n_steps, stride, out_pos, crit_angle, y_start, drop_limit,
               peak_theta, overturn_step, max_overlap_fraction, skin, speed_limit,
-              energy_tolerance, stop_at_overturn, floor):
+              energy_tolerance, stop_at_overturn, floor, stack_id, stack_bottom, stack_mass, stack_foot,
+              stack_step):
     """Advance the scene ``n_steps`` steps of ``dt`` from the state in ``pos``, ``vel``.
 
     Shapes (nb bodies including the base at index 0, nv vertices in all):
@@ -78,7 +79,11 @@ def integrate(pos, vel, local_x, local_y, vstart, inv_mass, inv_inertia, radius,
     steps starting with the initial state, and with the final state.  Tracking per body: peak |theta|
     into ``peak_theta``, the first step where |theta| exceeds
     ``crit_angle`` or the centre of mass falls ``drop_limit`` below
-    ``y_start`` into ``overturn_step`` (-1 if never).
+    ``y_start`` into ``overturn_step`` (-1 if never).  Stacks (``dem_core.stacks``): ``stack_id``
+    (nb,) the stack of each body or -1; per stack ``stack_bottom`` (body), ``stack_mass`` (kg),
+    ``stack_foot`` (ns, 2, 2) the ends of the bottom body's base in its own frame; the first step
+    where a stack's centre of mass is past an end of that base goes into ``stack_step`` (-1 if
+    never) and, for its bodies, into ``overturn_step``.
 
     Returns ``(status, step, i, j, n_out_written, n_narrow)``, ``n_narrow``
     the number of exact polygon overlaps computed (pairs that passed the
@@ -121,6 +126,8 @@ def integrate(pos, vel, local_x, local_y, vstart, inv_mass, inv_inertia, radius,
         energy_scale += gravity * radius[b] / inv_mass[b]
     work_in = 0.0
     work_gross = 0.0
+    n_stacks = stack_bottom.shape[0]
+    stack_moment = np.zeros(n_stacks)
 
     for step in range(n_steps + 1):
         pos[0, 0] = base_x[step]
@@ -255,6 +262,13 @@ def integrate(pos, vel, local_x, local_y, vstart, inv_mass, inv_inertia, radius,
                 overturn_step[b] = step + 1
                 if stop_at_overturn:
                     toppled = b
+        if n_stacks > 0:
+            _check_stacks(pos, inv_mass, stack_id, stack_bottom, stack_mass, stack_foot, stack_moment, stack_step,
+                          overturn_step, step + 1)
+            if stop_at_overturn and toppled < 0:
+                for k in range(n_stacks):
+                    if stack_step[k] == step + 1:
+                        toppled = stack_bottom[k]
         if toppled >= 0:
             if n_out < out_pos.shape[0]:
                 for b in range(nb_):
@@ -267,6 +281,29 @@ def integrate(pos, vel, local_x, local_y, vstart, inv_mass, inv_inertia, radius,
             if energy - energy0 - work_in > energy_tolerance * (energy_scale + work_gross):
                 return STATUS_ENERGY, step, 0, 0, n_out, n_narrow
     return STATUS_OK, n_steps, 0, 0, n_out, n_narrow
+
+
+@nb.njit(cache=True)
+def _check_stacks(pos, inv_mass, stack_id, stack_bottom, stack_mass, stack_foot, moment, stack_step,
+                  overturn_step, step):
+    """Mark the stacks whose centre of mass has passed an end of their bottom body's base at ``step``."""
+    moment[:] = 0.0
+    for b in range(1, pos.shape[0]):
+        if stack_id[b] >= 0:
+            moment[stack_id[b]] += pos[b, 0] / inv_mass[b]
+    for k in range(stack_bottom.shape[0]):
+        if stack_step[k] >= 0:
+            continue
+        f = stack_bottom[k]
+        c, s = math.cos(pos[f, 2]), math.sin(pos[f, 2])
+        xa = pos[f, 0] + c * stack_foot[k, 0, 0] - s * stack_foot[k, 0, 1]
+        xb = pos[f, 0] + c * stack_foot[k, 1, 0] - s * stack_foot[k, 1, 1]
+        com = moment[k] / stack_mass[k]
+        if com < min(xa, xb) or com > max(xa, xb):
+            stack_step[k] = step
+            for b in range(1, pos.shape[0]):
+                if stack_id[b] == k and overturn_step[b] < 0:
+                    overturn_step[b] = step
 
 
 @nb.njit(cache=True)

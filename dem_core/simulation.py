@@ -15,6 +15,7 @@ from . import _kernels, contact, stability
 from .excitation import GroundMotion, still
 from .geometry import transform
 from .result import Result
+from .stacks import find_stacks, kernel_arrays
 
 #: largest fraction of the stability limit used when dt is not given (the scheme is stable up to the
 #: limit: mirror-image runs stay mirror images to round-off there)
@@ -113,6 +114,9 @@ def simulate(scene, excitation: GroundMotion | None = None, duration: float | No
     out_pos = np.full((len(out_steps), nb, 3), np.nan)
     peak = np.abs(pos[:, 2])
     overturn_step = np.full(nb, -1, np.int64)
+    column_stacks = find_stacks(scene)
+    stack_arrays = kernel_arrays(scene, column_stacks)
+    stack_step = np.full(len(column_stacks), -1, np.int64)
 
     def run(steps, out):
         return _kernels.integrate(
@@ -122,7 +126,8 @@ def simulate(scene, excitation: GroundMotion | None = None, duration: float | No
             ground["load"][0], ground["load"][1], ground["base"][0], ground["base"][1], ground["base_v"][0],
             ground["base_v"][1], dt, steps, stride, out, arrays["crit_angle"], arrays["y_start"],
             arrays["drop_limit"], peak, overturn_step, MAX_OVERLAP_FRACTION, arrays["skin"], speed_limit,
-            ENERGY_TOLERANCE, stop_at_overturn, arrays["floor"])
+            ENERGY_TOLERANCE, stop_at_overturn, arrays["floor"], stack_arrays["stack_id"],
+            stack_arrays["stack_bottom"], stack_arrays["stack_mass"], stack_arrays["stack_foot"], stack_step)
 
     t0 = time.perf_counter()
     _ensure_compiled(run, pos, vel, nb)
@@ -156,14 +161,25 @@ def simulate(scene, excitation: GroundMotion | None = None, duration: float | No
         "run_time_s": run_time,
         "kn": scene.contact.kn,
     }
+    tipped = [k for k in range(len(column_stacks)) if 0 <= stack_step[k] <= step]
+    if tipped:
+        info["tipped_stacks"] = {_stack_label(scene, column_stacks[k]): float(stack_step[k] * dt) for k in tipped}
     if status == _kernels.STATUS_OVERTURNED:
-        info["stopped"] = f"block '{bodies[i].name}' overturned at t = {step * dt:.6g} s"
+        whole = [k for k in tipped if stack_step[k] == step and column_stacks[k].blocks[0] == i - 1]
+        what = (f"the stack {_stack_label(scene, column_stacks[whole[0]])} tipped past its base"
+                if whole else f"block '{bodies[i].name}' overturned")
+        info["stopped"] = f"{what} at t = {step * dt:.6g} s"
     over_t = np.where(overturn_step[1:] >= 0, overturn_step[1:] * dt, np.nan)
     result = Result(out_t, x, y, theta, ground_x, ground_y, tuple(scene.block_names), peak[1:], over_t,
                     interface_slip, dt, info)
     if status not in (_kernels.STATUS_OK, _kernels.STATUS_OVERTURNED):
         raise SimulationUnstable(_stop_message(scene, status, step, dt, i, j, speed_limit, out_t), result)
     return result
+
+
+def _stack_label(scene, stack) -> str:
+    names = [scene.blocks[b].name for b in stack.blocks]
+    return f"{names[0]}..{names[-1]}"
 
 
 def _time_step(scene, dt, limit, impact, safety, steps_per_impact, enforce) -> float:
