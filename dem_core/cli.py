@@ -246,14 +246,25 @@ def _ramp(args) -> int:
     return 0
 
 
-def _animate(args) -> int:
+def _scene_and_settings(args):
+    """(path, scene file, simulate settings with --duration applied) of a command's SCENE argument
+    (the bundled default if none), or None after printing why it cannot be read."""
     path = Path(args.scene) if args.scene else default_scene_path()
     spec = _load_or_fail(path)
     if spec is None:
-        return 2
-    settings = {**spec.simulation, "output_dt": min(spec.simulation.get("output_dt", 0.01), args.speed / args.fps)}
+        return None
+    settings = dict(spec.simulation)
     if args.duration is not None:
         settings["duration"] = args.duration
+    return path, spec, settings
+
+
+def _animate(args) -> int:
+    loaded = _scene_and_settings(args)
+    if loaded is None:
+        return 2
+    path, spec, settings = loaded
+    settings["output_dt"] = min(settings.get("output_dt", 0.01), args.speed / args.fps)
     try:
         result = simulate(spec.scene, spec.excitation, **settings)
     except SimulationUnstable as exc:
@@ -295,13 +306,11 @@ def _spectrum(args) -> int:
 def _stiffness(args) -> int:
     from .convergence import MEASURES, stiffness_convergence
 
-    path = Path(args.scene) if args.scene else default_scene_path()
-    spec = _load_or_fail(path)
-    if spec is None:
+    loaded = _scene_and_settings(args)
+    if loaded is None:
         return 2
-    settings = {k: v for k, v in spec.simulation.items() if k != "dt"}
-    if args.duration is not None:
-        settings["duration"] = args.duration
+    _, spec, settings = loaded
+    settings.pop("dt", None)  # each stiffness takes its own automatic step
     try:
         table = stiffness_convergence(spec.scene, spec.excitation, factors=args.factors, **settings)
     except (ValueError, SimulationUnstable) as exc:
