@@ -41,21 +41,3 @@ def first_exceedance(t, values, threshold: float) -> float:
         return float(t[k])
     return float(t[k - 1] + (t[k] - t[k - 1]) * (threshold - a[k - 1]) / (a[k] - a[k - 1]))
 
-
-def pivot_slip(result, half_width: float, half_height: float) -> np.ndarray:
-    """(n,) horizontal slip (m) over the ground of the bottom corner a single rectangular block
-    (``result`` of a one-block scene) tips onto first: the left one if its first clear rotation is positive."""
-    theta = result.theta[:, 0]
-    moving = np.nonzero(np.abs(theta) > 1e-6)[0]
-    side = -1.0 if not moving.size or theta[moving[0]] > 0 else 1.0
-    corner = result.x[:, 0] + side * half_width * np.cos(theta) + half_height * np.sin(theta) - result.base_x
-    return corner - corner[0]
-
-
-def observed_mode(result, half_width: float, half_height: float, *, rotation: float, slip: float = 1e-5) -> str:
-    """``"rest"``, ``"rocking"``, ``"sliding"`` or ``"slide-rock"``: whether the block's rotation passes
-    ``rotation`` (rad) and the slip of its pivot corner passes ``slip`` (m) during the run."""
-    rocks = bool(np.max(np.abs(result.theta[:, 0])) > rotation)
-    slides = bool(np.max(np.abs(pivot_slip(result, half_width, half_height))) > slip)
-    return {(False, False): "rest", (True, False): "rocking", (False, True): "sliding",
-            (True, True): "slide-rock"}[(rocks, slides)]

@@ -136,6 +136,13 @@ def slides(scene: Scene, result, slip: float = SLIP_THRESHOLD) -> bool:
     return any(np.max(np.abs(s)) > slip for s in interface_slip_history(scene, result).values())
 
 
+def motion_mode(scene: Scene, result, slip: float = SLIP_THRESHOLD) -> str:
+    """``"rest"``, ``"rocking"``, ``"sliding"`` or ``"slide-rock"``: which of :func:`rocks` and
+    :func:`slides` (more than ``slip`` m) the run showed."""
+    return {(False, False): "rest", (True, False): "rocking", (False, True): "sliding",
+            (True, True): "slide-rock"}[(rocks(scene, result), slides(scene, result, slip))]
+
+
 def overturning_threshold(scene: Scene, motion_at: Callable, low: float, high: float, *, tolerance: float = 0.02,
                           scan: int = 6, **simulate_options) -> Threshold:
     """Smallest scale at which ``simulate(scene, motion_at(scale))`` overturns a block.
