@@ -19,6 +19,8 @@ import numpy as np
 from matplotlib import animation as mpl_animation
 from matplotlib.collections import PolyCollection
 
+from .geometry import transform
+
 STONE = "#d9cbb0"
 EDGE = "#5b4a36"
 EPISTYLE = "#c9a77c"
@@ -26,23 +28,14 @@ EPISTYLE = "#c9a77c"
 
 def _local_shapes(scene, result):
     """Vertices of every block in its own frame (about the result's first centroid and angle)."""
-    shapes = []
-    for k, block in enumerate(scene.blocks):
-        c0 = np.array([result.x[0, k], result.y[0, k]])
-        th0 = result.theta[0, k]
-        rot = np.array([[np.cos(th0), np.sin(th0)], [-np.sin(th0), np.cos(th0)]])  # R(-theta0)
-        shapes.append((block.vertices - c0) @ rot.T)
-    return shapes
+    return [transform(block.vertices - (result.x[0, k], result.y[0, k]), -result.theta[0, k])
+            for k, block in enumerate(scene.blocks)]
 
 
 def block_outlines(scene, result, k: int) -> list:
     """World vertices of every block at output ``k`` of ``result`` (list of (n_i, 2) arrays)."""
-    outlines = []
-    for b, local in enumerate(_local_shapes(scene, result)):
-        th = result.theta[k, b]
-        rot = np.array([[np.cos(th), -np.sin(th)], [np.sin(th), np.cos(th)]])
-        outlines.append(local @ rot.T + np.array([result.x[k, b], result.y[k, b]]))
-    return outlines
+    return [transform(local, result.theta[k, b], (result.x[k, b], result.y[k, b]))
+            for b, local in enumerate(_local_shapes(scene, result))]
 
 
 def _view(scene, result):

@@ -199,10 +199,12 @@ def _threshold(args) -> int:
     from .sweep import SceneFileBuild
     from .thresholds import onset_threshold, overturning_threshold
 
-    spec = _load_or_fail(args.scene)
-    if spec is None:
+    try:
+        build = SceneFileBuild(read_toml(args.scene), str(args.scene))
+        spec = build({})
+    except SceneFileError as exc:
+        print(f"error: {exc}", file=sys.stderr)
         return 2
-    build = SceneFileBuild(read_toml(args.scene), str(args.scene))
     key = f"excitation.{args.parameter}"
 
     def motion_at(value):

@@ -182,19 +182,11 @@ def load_sweep(path) -> Sweep:
 # --- running ---------------------------------------------------------------------------------------
 
 def measures(result) -> dict:
-    """The scene-level measures of a run, and peak rotation / displacement of each block."""
+    """The scene-level measures of a run (those of ``Result.summary`` that are numbers), its end time,
+    and peak rotation / displacement of each block."""
     rel = result.relative_x - result.relative_x[0]
-    row = {
-        "total_sliding_m": result.total_sliding,
-        "mean_rocking_rad": result.rocking,
-        "max_peak_abs_theta_rad": float(np.max(result.peak_theta)),
-        "max_peak_displacement_m": float(np.max(np.abs(rel))),
-        "overturned": result.overturned,
-        "overturn_time_s": result.time_of_overturn,
-        "end_time_s": float(result.t[-1]),
-        "dt_s": result.dt,
-        "steps": result.info.get("steps", np.nan),
-    }
+    row = {k: v for k, v in result.summary().items() if isinstance(v, (bool, int, float, np.number))}
+    row.update(max_peak_displacement_m=float(np.max(np.abs(rel))), end_time_s=float(result.t[-1]))
     for k, name in enumerate(result.names):
         row[f"peak_theta:{name}"] = float(result.peak_theta[k])
         row[f"peak_displacement:{name}"] = float(np.max(np.abs(rel[:, k])))
