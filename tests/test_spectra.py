@@ -25,9 +25,10 @@ def test_oscillator_matches_scipy_lsim(el_centro, period, damping):
 
 def test_spectrum_limits(el_centro):
     s = spectra.response_spectrum(el_centro, periods=[0.005, 1.0, 30.0])
-    assert s.psa[0] == pytest.approx(s.pga, rel=0.01)  # a rigid oscillator follows the ground
+    assert s.psa[0] == pytest.approx(s.pga, rel=0.002)  # a rigid oscillator follows the ground: measured -0.02%
     peak_ground_displacement = np.max(np.abs(el_centro.displacement(np.arange(0, el_centro.end_time, 0.01))[0]))
-    assert s.sd[2] == pytest.approx(peak_ground_displacement, rel=0.1)  # a very soft one stays put
+    # a very soft one stays put: measured -5.2% at T = 30 s (the oscillator still moves a little)
+    assert s.sd[2] == pytest.approx(peak_ground_displacement, rel=0.07)
     np.testing.assert_allclose(s.psa, (2 * np.pi / s.periods) ** 2 * s.sd)
 
 
