@@ -101,7 +101,7 @@ def main(argv=None):
     print(f"\n8-drum column, {COLUMN_DURATION:g} s of El Centro 1940")
     column = scenes.column(8)
     motion = excitation.record("el_centro_1940")
-    auto_dt = dem_core.simulate(column, motion, duration=1e-3).dt
+    auto_dt = dem_core.automatic_time_step(column)
     reference = dem_core.simulate(column, motion, duration=COLUMN_DURATION, output_dt=0.005, dt=auto_dt / 8)
     check = dem_core.simulate(column, motion, duration=COLUMN_DURATION, output_dt=0.005, dt=auto_dt / 4)
     peak_err, rms_err = column_error(check, reference)

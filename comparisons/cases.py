@@ -225,7 +225,7 @@ def _statics_errors(result, _ref):
 def _against_converged(make_scene, make_motion, duration, refine=16):
     def reference():
         scene, motion = make_scene(), make_motion()
-        dt = dem_core.simulate(scene, motion, duration=1e-3).dt / refine
+        dt = dem_core.automatic_time_step(scene) / refine
         return dem_core.simulate(scene, motion, duration=duration, dt=dt, output_dt=0.005, stop_at_overturn=False)
 
     def errors(result, ref):

@@ -51,10 +51,8 @@ def run_one(case, engine, step, settings, reference) -> list:
     """Rows for one run (one per metric)."""
     scene, motion = case.scene(), case.motion()
     if engine == "dem":
-        # the automatic step of a run going on through a collapse, without the extra collapse factor:
-        # the user's default step, kept below the limit of toppled blocks
-        auto = (dem_core.simulate(scene, motion, duration=1e-3, stop_at_overturn=False).dt
-                / dem_core.simulation.COLLAPSE_STEP_FACTOR)
+        # the user's default step, kept below the limit of toppled blocks (these runs go on through a collapse)
+        auto = dem_core.automatic_time_step(scene, toppled=True)
         dt, label = auto / step, f"auto/{step}"
         options = {"stop_at_overturn": False, **settings}
     else:

@@ -13,10 +13,10 @@ from . import contact, excitation, geometry, records, scenes, spectra, stability
 from .contact import ContactParameters
 from .result import Result
 from .scene import Block, Scene, SceneError
-from .simulation import SimulationUnstable, simulate
+from .simulation import SimulationUnstable, automatic_time_step, simulate
 
 __all__ = [
-    "Block", "ContactParameters", "Result", "Scene", "SceneError", "SimulationUnstable",
+    "Block", "ContactParameters", "Result", "Scene", "SceneError", "SimulationUnstable", "automatic_time_step",
     "contact", "excitation", "geometry", "records", "scenes", "simulate", "spectra", "stability", "sweep",
     "thresholds",
 ]

@@ -182,6 +182,18 @@ def _stack_label(scene, stack) -> str:
     return f"{names[0]}..{names[-1]}"
 
 
+def automatic_time_step(scene, *, toppled: bool = False, safety: float = 0.8,
+                        steps_per_impact: float = 10) -> float:
+    """The step :func:`simulate` chooses when given none, s: the smaller of ``safety`` times the
+    stability limit (with ``toppled``, the limit of blocks lying on their long sides) and the
+    shortest impact over ``steps_per_impact``.  (Going on through a collapse, ``simulate`` takes
+    ``COLLAPSE_STEP_FACTOR`` of the toppled value.)"""
+    interfaces = contact.interface_arrays(scene)
+    limit = stability.stability_limit(scene, interfaces, toppled=toppled)
+    return _time_step(scene, None, limit, stability.impact_duration(scene, interfaces), safety, steps_per_impact,
+                      True)
+
+
 def _time_step(scene, dt, limit, impact, safety, steps_per_impact, enforce) -> float:
     if not 0.0 < safety <= 1.0:
         raise ValueError(f"safety is the fraction of the stability limit used as dt; it must be in (0, 1], "

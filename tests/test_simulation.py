@@ -5,10 +5,11 @@ import pytest
 
 import dem_core
 from dem_core import excitation, scenes
+from dem_core.simulation import COLLAPSE_STEP_FACTOR
 
 
 def _mode_difference(scene, motion, duration, refine=1):
-    dt = dem_core.simulate(scene, motion, duration=1e-3).dt / refine
+    dt = dem_core.automatic_time_step(scene) / refine
     a = dem_core.simulate(scene, motion, duration=duration, ground_motion="inertial", output_dt=1e-3, dt=dt)
     b = dem_core.simulate(scene, motion, duration=duration, ground_motion="moving_base", output_dt=1e-3, dt=dt)
     np.testing.assert_allclose(a.base_x, b.base_x, atol=1e-9)
@@ -78,3 +79,10 @@ def test_a_column_collapses_through_to_rest_when_asked_to_go_on():
     top_start = 6.0 - 0.375
     assert r.y[-1, -1] < 0.5 * top_start  # the top drum has come down
     assert np.all(np.isfinite(r.theta))
+
+
+def test_automatic_time_step_is_the_step_simulate_takes():
+    for scene in (scenes.column(8), scenes.colonnade(3, 2, epistyle="b")):
+        assert dem_core.simulate(scene, duration=1e-3).dt == dem_core.automatic_time_step(scene)
+        collapse = dem_core.simulate(scene, duration=1e-3, stop_at_overturn=False).dt
+        assert collapse == dem_core.automatic_time_step(scene, toppled=True) * COLLAPSE_STEP_FACTOR
