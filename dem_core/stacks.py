@@ -36,7 +36,7 @@ def find_stacks(scene) -> tuple:
     """The stacks of two or more blocks standing on the base of ``scene``."""
     below = {b: [] for b in range(len(scene.bodies))}
     above = {b: [] for b in range(len(scene.bodies))}
-    base_contact = {}
+    on_base = set()
     bodies = scene.bodies
     for i, j, contact in scene.touching_pairs():
         if abs(contact.normal[1]) < VERTICAL_NORMAL:
@@ -45,9 +45,9 @@ def find_stacks(scene) -> tuple:
         below[high].append(low)
         above[low].append(high)
         if low == 0:
-            base_contact[high] = True
+            on_base.add(high)
     stacks = []
-    for bottom in base_contact:
+    for bottom in sorted(on_base):
         if below[bottom] != [0]:
             continue
         chain = [bottom]
@@ -56,7 +56,7 @@ def find_stacks(scene) -> tuple:
         if len(chain) < 2:
             continue
         stacks.append(Stack(tuple(b - 1 for b in chain), base_ends(bodies[bottom])))
-    return tuple(sorted(stacks, key=lambda st: st.blocks[0]))
+    return tuple(stacks)
 
 
 def base_ends(block) -> np.ndarray:
