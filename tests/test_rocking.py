@@ -111,7 +111,7 @@ def test_onset_mode_follows_friction_against_slenderness():
 
 # Under a record the soft contact's own rocking mode (about 15 Hz for the 1 x 6 m monolith at the default
 # K_n, inside a record's band) amplifies the motion: the peak under Northridge at 4 m/s^2 is +110% at
-# K_n = 2e10, +25% at 2e11 and -2.4% at 2e12 against the rocking equation.
+# K_n = 2e10, +29% at 2e11 and -1.8% at 2e12 against the rocking equation.
 RECORD_STIFF_CONTACT_BAND = 0.05  # at K_n = 2e12
 
 
