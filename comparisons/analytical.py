@@ -129,11 +129,13 @@ def rocking_response(block: RockingBlock, ground_acceleration, t_end: float, *, 
     max_step = 1e-3 if max_step is None else max_step
     t_eval = np.arange(0.0, t_end + 0.5 * max_step, max_step) if t_eval is None else np.asarray(t_eval)
 
-    def rhs(t, y):
+    def rhs(t, y, side):
+        # ``side`` is the corner rocked on (+1 left), fixed from uplift or impact to the next impact, so
+        # that the solver's trial points just past theta = 0 do not switch corners: |theta| = side theta
         th, om = y
-        s = 1.0 if th > 0 else -1.0
         gv = 1.0 + av(t) / g
-        return [om, -p2 * (s * gv * np.sin(alpha - abs(th)) - ground_acceleration(t) / g * np.cos(alpha - abs(th)))]
+        lever = alpha - side * th
+        return [om, -p2 * (side * gv * np.sin(lever) - ground_acceleration(t) / g * np.cos(lever))]
 
     def uplift_margin(t):
         return abs(ground_acceleration(t)) - (g + av(t)) * np.tan(alpha)
@@ -156,7 +158,7 @@ def rocking_response(block: RockingBlock, ground_acceleration, t_end: float, *, 
             om = 0.0
             if np.isnan(uplift_time):
                 uplift_time = t
-        side = 1.0 if th > 0 else -1.0
+        side = 1.0 if th > 0 or (th == 0.0 and om > 0) else -1.0
 
         def crossing(t_, y):
             return y[0]
@@ -169,7 +171,8 @@ def rocking_response(block: RockingBlock, ground_acceleration, t_end: float, *, 
 
         topple.terminal = True
         topple.direction = 1.0
-        sol = solve_ivp(rhs, (t, t_end), [th, om], method="DOP853", events=(crossing, topple), dense_output=True,
+        sol = solve_ivp(lambda t_, y, side=side: rhs(t_, y, side), (t, t_end), [th, om], method="DOP853",
+                        events=(crossing, topple), dense_output=True,
                         max_step=max_step, rtol=rtol, atol=atol)
         t_stop = sol.t[-1]
         mask = (t_eval >= t) & (t_eval <= t_stop)

@@ -13,7 +13,13 @@ A mode ends at an impact (a rotation returning to zero) or, for ``locked``,
 when the contact resultant under the upper block leaves its base and it starts
 to rock on that edge.  Angles as in :mod:`comparisons.analytical`: counter-
 clockwise positive, ``theta1`` the lower block's angle, ``theta2`` the upper
-one's (absolute); ``theta > 0`` pivots on the left corner.
+one's (absolute).  Which corners the blocks pivot on is part of the state, not
+read off the signs of the angles: ``pivot1 = +1`` is the lower block's left
+bottom corner (it rocks with ``theta1 > 0``), ``-1`` its right one;
+``pivot2`` likewise for the upper block on the lower one (with
+``theta2 - theta1``).  A pivot is chosen when the motion on it starts and kept
+until the impact that ends it, so the state at an impact, where an angle is
+zero give or take round-off, still belongs to the corner it rocked on.
 
 Reference:
   Psycharis, I. N. (1990) Dynamic behaviour of rocking two-block assemblies.
@@ -63,36 +69,37 @@ class TwoBlockStack:
     def i2(self) -> float:
         return self.m2 * (self.b2 ** 2 + self.h2 ** 2) / 3.0
 
-    def _arms(self, theta1, theta2):
-        """Pivot-to-centroid arm of block 1 (a1), lower pivot to upper pivot (e), upper pivot to centroid (d2)."""
-        s1 = 1.0 if theta1 >= 0 else -1.0
-        s2 = 1.0 if theta2 - theta1 >= 0 else -1.0
-        pivot1 = np.array([-s1 * self.b1, 0.0])
-        a1 = np.array([0.0, self.h1]) - pivot1
-        e = np.array([-s2 * self.b2, 2.0 * self.h1]) - pivot1
-        d2 = np.array([s2 * self.b2, self.h2])
-        return pivot1, a1, e, d2
+    def _arms(self, pivot1, pivot2):
+        """Lower pivot (corner1), its arm to block 1's centroid (a1), lower pivot to upper pivot (e), upper
+        pivot to upper centroid (d2), all in the blocks' own frames; ``pivot1``, ``pivot2`` are +1 or -1."""
+        if pivot1 not in (1, -1) or pivot2 not in (1, -1):
+            raise ValueError(f"pivots are +1 (left corner) or -1 (right corner), got {pivot1}, {pivot2}")
+        corner1 = np.array([-pivot1 * self.b1, 0.0])
+        a1 = np.array([0.0, self.h1]) - corner1
+        e = np.array([-pivot2 * self.b2, 2.0 * self.h1]) - corner1
+        d2 = np.array([pivot2 * self.b2, self.h2])
+        return corner1, a1, e, d2
 
-    def centroids(self, theta1, theta2):
-        """World centroids (2, 2) of the lower and upper block for the given angles (rad)."""
-        pivot1, a1, e, d2 = self._arms(theta1, theta2)
-        c1 = pivot1 + _rot(theta1) @ a1
-        c2 = pivot1 + _rot(theta1) @ e + _rot(theta2) @ d2
+    def centroids(self, theta1, theta2, pivot1, pivot2):
+        """World centroids (2, 2) of the lower and upper block for the given angles (rad) and pivots."""
+        corner1, a1, e, d2 = self._arms(pivot1, pivot2)
+        c1 = corner1 + _rot(theta1) @ a1
+        c2 = corner1 + _rot(theta1) @ e + _rot(theta2) @ d2
         return np.array([c1, c2])
 
-    def energy(self, theta1, theta2, omega1, omega2) -> float:
+    def energy(self, theta1, theta2, omega1, omega2, pivot1, pivot2) -> float:
         """Kinetic plus potential energy per unit lower mass (J/kg), potential zero at y = 0."""
-        _, a1, e, d2 = self._arms(theta1, theta2)
+        _, a1, e, d2 = self._arms(pivot1, pivot2)
         v_lower = omega1 * (_E @ _rot(theta1) @ a1)
         v_upper = omega1 * (_E @ _rot(theta1) @ e) + omega2 * (_E @ _rot(theta2) @ d2)
-        c = self.centroids(theta1, theta2)
+        c = self.centroids(theta1, theta2, pivot1, pivot2)
         return float(0.5 * self.m1 * v_lower @ v_lower + 0.5 * self.m2 * v_upper @ v_upper
                      + 0.5 * self.i1 * omega1 ** 2 + 0.5 * self.i2 * omega2 ** 2
                      + self.g * (self.m1 * c[0, 1] + self.m2 * c[1, 1]))
 
-    def accelerations(self, mode, theta1, theta2, omega1, omega2):
+    def accelerations(self, mode, theta1, theta2, omega1, omega2, pivot1, pivot2):
         """Angular accelerations (rad/s^2) of both blocks in ``mode`` (Lagrange's equations)."""
-        _, a1, e, d2 = self._arms(theta1, theta2)
+        _, a1, e, d2 = self._arms(pivot1, pivot2)
         r1, r2 = _rot(theta1), _rot(theta2)
         u1, v1, v2 = _E @ r1 @ a1, _E @ r1 @ e, _E @ r2 @ d2
         m1, m2, g = self.m1, self.m2, self.g
@@ -110,11 +117,13 @@ class TwoBlockStack:
             return np.array([0.0, force[1] / mass[1, 1]])
         raise ValueError(f"unknown mode {mode!r}")
 
-    def upper_resultant(self, theta, omega):
-        """In ``locked`` mode: where the contact force under the upper block acts, along its base
-        from its centre line (m, in its own frame).  Beyond +-b2 the upper block tips onto that edge."""
-        alpha = self.accelerations("locked", theta, theta, omega, omega)[0]
-        _, _, e, d2 = self._arms(theta, theta)
+    def upper_resultant(self, theta, omega, pivot):
+        """In ``locked`` mode, the stack rocking as one body on corner ``pivot`` of the lower block: where
+        the contact force under the upper block acts, along its base from its centre line (m, in its own
+        frame).  Beyond +-b2 the upper block tips onto that edge."""
+        # locked, the upper block's pivot does not matter: e + d2 runs from corner to centroid either way
+        alpha = self.accelerations("locked", theta, theta, omega, omega, pivot, 1)[0]
+        _, _, e, d2 = self._arms(pivot, 1)
         arm = _rot(theta) @ (e + d2)  # lower pivot to upper centroid
         accel = alpha * (_E @ arm) - omega ** 2 * arm
         force = self.m2 * (accel + np.array([0.0, self.g]))  # from the lower block on the upper one
@@ -126,7 +135,8 @@ class TwoBlockStack:
 class StackHistory:
     """theta1, theta2 (rad) and omega1, omega2 (rad/s) at times t (s), up to the first impact.
 
-    modes : ((start time, mode), ...).  impact_time : s, when a rotation first returns to zero
+    pivot1, pivot2 : (n,) the corners the blocks pivot on at each sample (+1 left, -1 right, see the
+    module docstring).  modes : ((start time, mode), ...).  impact_time : s, when a rotation first returns to zero
     (NaN if none within the time asked for).  impact : which interface closed, "ground" or "upper".
     """
 
@@ -135,6 +145,8 @@ class StackHistory:
     theta2: np.ndarray
     omega1: np.ndarray
     omega2: np.ndarray
+    pivot1: np.ndarray
+    pivot2: np.ndarray
     modes: tuple
     impact_time: float
     impact: str | None
@@ -149,10 +161,12 @@ def stack_response(stack: TwoBlockStack, theta0: float, t_end: float, *, max_ste
     """
     if theta0 == 0.0:
         raise ValueError("theta0 must be non-zero: an upright stack at rest stays at rest")
-    side = np.sign(theta0)
+    pivot1 = 1 if theta0 > 0 else -1
+    pivot2 = pivot1  # locked, the upper pivot is immaterial (see upper_resultant)
     mode = "locked"
-    if abs(stack.upper_resultant(theta0, 0.0)) > stack.b2:
-        mode = "both"
+    resultant = stack.upper_resultant(theta0, 0.0, pivot1)
+    if abs(resultant) > stack.b2:
+        mode, pivot2 = "both", (-1 if resultant > 0 else 1)
     y = np.array([theta0, theta0, 0.0, 0.0])
     t0 = 0.0
     pieces, modes = [], []
@@ -160,11 +174,11 @@ def stack_response(stack: TwoBlockStack, theta0: float, t_end: float, *, max_ste
     while t0 < t_end:
         modes.append((t0, mode))
 
-        def rhs(_t, state, mode=mode):
-            return [state[2], state[3], *stack.accelerations(mode, *state)]
+        def rhs(_t, state, mode=mode, pivots=(pivot1, pivot2)):
+            return [state[2], state[3], *stack.accelerations(mode, *state, *pivots)]
 
         def ground(_t, state):
-            return state[0] * side
+            return state[0] * pivot1
         ground.terminal, ground.direction = True, -1
 
         def upper(_t, state):
@@ -172,15 +186,14 @@ def stack_response(stack: TwoBlockStack, theta0: float, t_end: float, *, max_ste
         upper.terminal = True
 
         def tip(_t, state):
-            return stack.b2 - abs(stack.upper_resultant(state[0], state[2]))
+            return stack.b2 - abs(stack.upper_resultant(state[0], state[2], pivot1))
         tip.terminal, tip.direction = True, -1
 
         events = {"locked": [ground, tip], "both": [ground, upper], "upper": [upper]}[mode]
-        if mode != "locked":
-            upper.direction = -np.sign(y[1] - y[0])  # the relative angle returning to zero
+        upper.direction = -pivot2  # the relative angle returning to zero
         sol = solve_ivp(rhs, (t0, t_end), y, method="DOP853", events=events, max_step=max_step, rtol=rtol,
                         atol=1e-12, dense_output=False)
-        pieces.append((sol.t, sol.y))
+        pieces.append((sol.t, sol.y, pivot1, pivot2))
         hit = [k for k, te in enumerate(sol.t_events) if len(te)]
         if not hit:
             break
@@ -188,11 +201,14 @@ def stack_response(stack: TwoBlockStack, theta0: float, t_end: float, *, max_ste
         t0, y = float(sol.t_events[hit[0]][0]), sol.y_events[hit[0]][0].copy()
         if which is tip:
             mode = "both"
-            # nudge the relative angle onto the side the upper block tips to
-            y[1] = y[0] - 1e-14 * np.sign(stack.upper_resultant(y[0], y[2]))
+            # the resultant left the upper block's base at its edge: it tips onto that corner
+            pivot2 = -1 if stack.upper_resultant(y[0], y[2], pivot1) > 0 else 1
             continue
         impact_time, impact = t0, ("ground" if which is ground else "upper")
         break
     t = np.concatenate([p[0] for p in pieces])
     states = np.concatenate([p[1] for p in pieces], axis=1)
-    return StackHistory(t, states[0], states[1], states[2], states[3], tuple(modes), impact_time, impact)
+    pivot1s = np.concatenate([np.full(len(p[0]), p[2]) for p in pieces])
+    pivot2s = np.concatenate([np.full(len(p[0]), p[3]) for p in pieces])
+    return StackHistory(t, states[0], states[1], states[2], states[3], pivot1s, pivot2s, tuple(modes),
+                        impact_time, impact)

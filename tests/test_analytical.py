@@ -62,3 +62,26 @@ def test_initial_mode_under_a_pulse_follows_the_four_regions():
     assert analytical.initial_mode_under_pulse(block, 0.3, 1.1 * threshold) == "slide-rock"
     assert analytical.initial_mode_under_pulse(block, 0.2, 2.0) == "sliding"
     assert analytical.initial_mode_under_pulse(block, 0.2, 1.9) == "rest"
+
+
+def test_rocking_from_theta_zero_takes_the_corner_its_speed_points_to(housner_block):
+    """Started at exactly theta = 0, the block rocks on the corner its angular velocity turns it onto;
+    the two directions are mirror images to round-off (the corner is the segment's, not sign(theta)'s)."""
+    omega0 = 0.5 * housner_block.p * housner_block.alpha
+    left = analytical.rocking_response(housner_block, lambda t: 0.0, 1.5, theta0=0.0, omega0=omega0, max_step=1e-3)
+    right = analytical.rocking_response(housner_block, lambda t: 0.0, 1.5, theta0=0.0, omega0=-omega0,
+                                        max_step=1e-3)
+    assert left.theta[1] > 0 > right.theta[1]
+    np.testing.assert_allclose(right.theta, -left.theta, atol=1e-12 * housner_block.alpha)
+    np.testing.assert_allclose(right.impacts, left.impacts, rtol=1e-9)
+
+
+def test_sliding_reference_is_odd_in_the_ground_motion():
+    """Leaving rest exactly where |a| reaches mu g, the block slides the way the ground drags it."""
+    t = np.arange(0.0, 2.0, 0.01)
+    a = 4.0 * np.sin(2.0 * np.pi * t)
+    forward = analytical.rigid_plastic_sliding(a, 0.01, 0.2)
+    backward = analytical.rigid_plastic_sliding(-a, 0.01, 0.2)
+    assert forward.max_slip > 0.01
+    np.testing.assert_allclose(backward.u, -forward.u, atol=1e-15)
+    assert backward.total_slip == pytest.approx(forward.total_slip, rel=1e-12)

@@ -33,8 +33,27 @@ def reference(stack):
 def test_reference_conserves_energy_through_its_mode_change(stack, reference):
     assert [m for _, m in reference.modes] == ["locked", "both"]
     energy = np.array([stack.energy(*s) for s in zip(reference.theta1, reference.theta2, reference.omega1,
-                                                       reference.omega2)])
+                                                       reference.omega2, reference.pivot1, reference.pivot2)])
     assert np.ptp(energy) < 1e-9 * abs(energy[0])
+
+
+def test_reference_keeps_its_pivots_through_theta_zero(stack, reference):
+    """At the ground impact theta1 is zero give or take round-off; the corners are state, so the energy
+    there does not depend on which side of zero the round-off fell."""
+    assert reference.impact == "ground" and abs(reference.theta1[-1]) < 1e-12
+    last = (reference.theta2[-1], reference.omega1[-1], reference.omega2[-1], reference.pivot1[-1],
+            reference.pivot2[-1])
+    at_zero = [stack.energy(theta1, *last) for theta1 in (-1e-17, 0.0, 1e-17)]
+    np.testing.assert_allclose(at_zero, at_zero[1], rtol=1e-14)
+    # and the corner is the one it rocked on since the release, not the one the sign of theta1 suggests
+    assert set(reference.pivot1) == {1}
+
+
+def test_mirror_image_release_mirrors_the_reference(stack, reference):
+    mirror = stack_response(stack, -STACK_THETA0, 5.0)
+    assert mirror.impact_time == pytest.approx(reference.impact_time, rel=1e-12)
+    assert set(mirror.pivot1) == {-1} and mirror.pivot2[-1] == -reference.pivot2[-1]
+    np.testing.assert_allclose(mirror.theta2[-1], -reference.theta2[-1], rtol=1e-9)
 
 
 def test_reference_of_equal_widths_is_one_rocking_block():
