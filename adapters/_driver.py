@@ -7,9 +7,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from dem_core.excitation import still
-from dem_core.result import Result
-from dem_core.stacks import find_stacks, tipped
+from dem_core.inputs.excitation import still
+from dem_core.engine.result import Result
+from dem_core.engine.stacks import find_stacks, tipped
 
 #: a block further than this many scene heights from where it started has left the scene
 RUNAWAY_HEIGHTS = 5.0

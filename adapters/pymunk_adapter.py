@@ -32,7 +32,7 @@ import numpy as np
 import pymunk
 import pymunk.batch
 
-from dem_core.geometry import transform
+from dem_core.engine.geometry import transform
 
 from ._driver import EngineRun, engine_settings, product_friction, run
 

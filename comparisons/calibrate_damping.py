@@ -6,7 +6,7 @@ peak angles after each of the first ``n`` impacts are compared with Housner's
 :class:`dem_core.ContactParameters` (the other contact parameters at their
 defaults) that minimises the largest relative error
 is found by bounded scalar minimisation.  The value in
-``dem_core.contact.DEFAULT_DAMPING_RATIO`` comes from running this script;
+``dem_core.engine.contact.DEFAULT_DAMPING_RATIO`` comes from running this script;
 it also prints how well that one value does for other slendernesses.
 
     python -m comparisons.calibrate_damping

@@ -62,8 +62,8 @@ def main(argv=None):
                 asymmetric = min(asymmetric, f)
                 break
         print(f"{name:30s} {limit:10.3e} {asymmetric:16.2f} {stopped:13.2f}")
-    print(f"default: dt = min({dem_core.simulation.DEFAULT_SAFETY} x limit, impact duration / "
-          f"{dem_core.simulation.DEFAULT_STEPS_PER_IMPACT})")
+    print(f"default: dt = min({dem_core.engine.simulation.DEFAULT_SAFETY} x limit, impact duration / "
+          f"{dem_core.engine.simulation.DEFAULT_STEPS_PER_IMPACT})")
 
 
 if __name__ == "__main__":

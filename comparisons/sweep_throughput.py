@@ -16,7 +16,7 @@ import time
 import numpy as np
 
 from dem_core import excitation, scenes
-from dem_core.sweep import RunSpec, Sweep, run_sweep
+from dem_core.analyses.sweep import RunSpec, Sweep, run_sweep
 
 DURATION = 10.0  # s simulated per run
 

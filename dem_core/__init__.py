@@ -4,19 +4,28 @@
 >>> scene = dem_core.scenes.column(n_drums=8, width=1.0, height=6.0)
 >>> result = dem_core.simulate(scene, dem_core.excitation.record("el_centro_1940"))
 
-Parametric sweeps: :mod:`dem_core.sweep`; overturning and onset searches: :mod:`dem_core.thresholds`;
-response spectra: :mod:`dem_core.spectra`; animations: :mod:`dem_core.animation` (imports matplotlib).
-Method, scenes and benchmarks: FORMULATION.md (shared with the project).
+The package is laid out by what each part is for:
+
+* :mod:`dem_core.engine`: contact laws, geometry, the time step, the compiled kernels, ``simulate``;
+* :mod:`dem_core.inputs`: scenes and their builders, scene files, ground motions and records;
+* :mod:`dem_core.analyses`: threshold searches, parametric sweeps, response spectra, stiffness convergence;
+* :mod:`dem_core.pictures`: figures and animations (import matplotlib).
+
+The modules users reach for are also names here: ``dem_core.scenes``, ``excitation``, ``records``,
+``contact``, ``geometry``, ``stability``, ``thresholds``, ``sweep``, ``spectra``, ``convergence``.
+The method is written out in the project's docs/method.md.
 """
 
-from . import contact, excitation, geometry, records, scenes, spectra, stability, sweep, thresholds
-from .contact import ContactParameters
-from .result import Result
-from .scene import Block, Scene, SceneError
-from .simulation import SimulationUnstable, automatic_time_step, simulate
+from .analyses import convergence, spectra, sweep, thresholds
+from .engine import contact, geometry, stability
+from .engine.contact import ContactParameters
+from .engine.result import Result
+from .engine.simulation import SimulationUnstable, automatic_time_step, simulate
+from .inputs import excitation, records, scenes
+from .inputs.scene import Block, Scene, SceneError
 
 __all__ = [
     "Block", "ContactParameters", "Result", "Scene", "SceneError", "SimulationUnstable", "automatic_time_step",
-    "contact", "excitation", "geometry", "records", "scenes", "simulate", "spectra", "stability", "sweep",
-    "thresholds",
+    "contact", "convergence", "excitation", "geometry", "records", "scenes", "simulate", "spectra", "stability",
+    "sweep", "thresholds",
 ]

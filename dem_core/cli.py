@@ -3,7 +3,7 @@
 * ``run [SCENE.toml]``: run a scene file (default: the bundled 8-drum column
   under the 1940 El Centro record), write results and plots (below);
   ``--animate run.gif`` adds an animation and a snapshot strip;
-* ``sweep SPEC.toml --out DIR``: a parametric sweep (:mod:`dem_core.sweep`) on
+* ``sweep SPEC.toml --out DIR``: a parametric sweep (:mod:`dem_core.analyses.sweep`) on
   this machine's cores or, with ``--scheduler ADDRESS``, on a Dask cluster;
 * ``threshold SCENE.toml``: the smallest PGA (or other excitation parameter)
   that overturns the scene, or starts it rocking or sliding;
@@ -35,9 +35,9 @@ from pathlib import Path
 
 import numpy as np
 
-from . import records
-from .scene_file import SceneFileError, load, read_toml
-from .simulation import SimulationUnstable, simulate
+from .inputs import records
+from .inputs.scene_file import SceneFileError, load, read_toml
+from .engine.simulation import SimulationUnstable, simulate
 
 DEFAULT_SCENE = "column_el_centro.toml"
 
@@ -131,7 +131,7 @@ def _run(args) -> int:
     wall = time.perf_counter() - started
     _write(result, out, fmt)
     if not args.no_plots and spec.output.get("plots", True) and len(result.t) > 1:
-        from .plots import save_run_figures  # matplotlib loads only when figures are written
+        from .pictures.plots import save_run_figures  # matplotlib loads only when figures are written
 
         save_run_figures(result, out, spec.excitation, title=path.stem)
     if args.animate:
@@ -159,7 +159,7 @@ def _write(result, out: Path, fmt: str):
 
 
 def _write_animation(spec, result, movie, strip, title, fps=25, speed=1.0):
-    from .animation import animate, default_snapshot_times, snapshot_strip
+    from .pictures.animation import animate, default_snapshot_times, snapshot_strip
 
     animate(spec.scene, result, movie, excitation=spec.excitation, fps=fps, speed=speed, title=title)
     figure = snapshot_strip(spec.scene, result, default_snapshot_times(result), title=title)
@@ -176,7 +176,7 @@ def _load_or_fail(path):
 
 
 def _sweep(args) -> int:
-    from .sweep import SweepError, load_sweep, run_sweep
+    from .analyses.sweep import SweepError, load_sweep, run_sweep
 
     try:
         sweep = load_sweep(args.spec)
@@ -196,8 +196,8 @@ def _sweep(args) -> int:
 
 
 def _threshold(args) -> int:
-    from .sweep import SceneFileBuild
-    from .thresholds import onset_threshold, overturning_threshold
+    from .analyses.sweep import SceneFileBuild
+    from .analyses.thresholds import onset_threshold, overturning_threshold
 
     try:
         build = SceneFileBuild(read_toml(args.scene), str(args.scene))
@@ -234,7 +234,7 @@ def _threshold(args) -> int:
 
 
 def _ramp(args) -> int:
-    from .thresholds import onset_under_ramp
+    from .analyses.thresholds import onset_under_ramp
 
     spec = _load_or_fail(args.scene)
     if spec is None:
@@ -282,8 +282,8 @@ def _spectrum(args) -> int:
     import matplotlib.pyplot as plt
     import pandas as pd
 
-    from .excitation import record
-    from .spectra import response_spectrum, spectrum_figure
+    from .inputs.excitation import record
+    from .analyses.spectra import response_spectrum, spectrum_figure
 
     try:
         spectra = [response_spectrum(record(name), damping=args.damping) for name in args.records]
@@ -306,7 +306,7 @@ def _spectrum(args) -> int:
 
 
 def _stiffness(args) -> int:
-    from .convergence import MEASURES, stiffness_convergence
+    from .analyses.convergence import MEASURES, stiffness_convergence
 
     loaded = _scene_and_settings(args)
     if loaded is None:

@@ -5,7 +5,8 @@ import pytest
 from PIL import Image
 
 import dem_core
-from dem_core import animation, excitation, geometry, scenes
+from dem_core import excitation, geometry, scenes
+from dem_core.pictures import animation
 
 
 @pytest.fixture(scope="module")

@@ -5,7 +5,7 @@ import sys
 
 PROBE = """
 import dem_core
-from dem_core import _kernels
+from dem_core.engine import _kernels
 dem_core.simulate(dem_core.scenes.column(2), duration=0.01)
 stats = _kernels.integrate.stats
 print(sum(stats.cache_hits.values()), sum(stats.cache_misses.values()))

@@ -5,7 +5,7 @@ import pytest
 
 import dem_core
 from dem_core import scenes, stability
-from dem_core.contact import damping_ratio_for_restitution, normal_damping, restitution_for_damping_ratio
+from dem_core.engine.contact import damping_ratio_for_restitution, normal_damping, restitution_for_damping_ratio
 
 
 @pytest.mark.parametrize("e", [0.15, 0.37, 0.8, 1.0])

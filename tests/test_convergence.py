@@ -5,7 +5,7 @@ import pytest
 import dem_core
 from dem_core import excitation, scenes
 from dem_core.cli import main
-from dem_core.convergence import stiffness_convergence
+from dem_core.analyses.convergence import stiffness_convergence
 
 
 def test_table_matches_direct_runs_and_shows_the_peak_settling():

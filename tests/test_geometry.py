@@ -6,7 +6,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from dem_core import geometry
-from dem_core.geometry import GeometryError, as_convex_ccw, contact_geometry, overlap_area, rectangle, transform
+from dem_core.engine.geometry import GeometryError, as_convex_ccw, contact_geometry, overlap_area, rectangle, transform
 
 
 def test_rectangle_mass_properties_are_exact():
@@ -136,9 +136,9 @@ def test_tangent_does_not_jump_when_the_overlap_turns_from_triangle_to_quadrilat
 
 
 def _vertex_count(p, q):
-    from dem_core import _geometry
+    from dem_core.engine import _polygon
 
     cap = len(p) + len(q) + 2
     out = [np.empty(cap), np.empty(cap)]
-    return _geometry.clip_convex(p[:, 0].copy(), p[:, 1].copy(), 0, len(p), q[:, 0].copy(), q[:, 1].copy(), 0,
+    return _polygon.clip_convex(p[:, 0].copy(), p[:, 1].copy(), 0, len(p), q[:, 0].copy(), q[:, 1].copy(), 0,
                                  len(q), out[0], out[1], np.empty((2, 2, cap)))

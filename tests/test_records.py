@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 
 from dem_core import excitation, records
-from dem_core.records import G_STANDARD, RecordError
+from dem_core.inputs.records import G_STANDARD, RecordError
 
 # SOURCES.md: npts, dt (s), PGA in m/s^2
 DOCUMENTED = {

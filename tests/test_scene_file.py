@@ -8,7 +8,7 @@ import pytest
 import dem_core
 from dem_core import scenes
 from dem_core.cli import default_scene_path
-from dem_core.scene_file import SceneFileError, load
+from dem_core.inputs.scene_file import SceneFileError, load
 
 
 def write(tmp_path, text, name="scene.toml"):

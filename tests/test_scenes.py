@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 
 from dem_core import Block, Scene, SceneError, scenes
-from dem_core.geometry import rectangle
+from dem_core.engine.geometry import rectangle
 
 
 def test_column_drums_stack_without_overlap_and_keep_the_mass():

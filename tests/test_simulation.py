@@ -5,7 +5,7 @@ import pytest
 
 import dem_core
 from dem_core import excitation, scenes
-from dem_core.simulation import COLLAPSE_STEP_FACTOR
+from dem_core.engine.simulation import COLLAPSE_STEP_FACTOR
 
 
 def _mode_difference(scene, motion, duration, refine=1):

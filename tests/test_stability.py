@@ -19,8 +19,8 @@ def test_explicit_dt_above_the_stability_limit_is_refused():
 def test_auto_dt_is_reported_below_the_limit_and_resolves_impacts(scene):
     r = dem_core.simulate(scene, duration=0.01)
     limit, impact = r.info["stability_limit_s"], r.info["impact_duration_s"]
-    assert r.dt == pytest.approx(min(dem_core.simulation.DEFAULT_SAFETY * limit,
-                                     impact / dem_core.simulation.DEFAULT_STEPS_PER_IMPACT))
+    assert r.dt == pytest.approx(min(dem_core.engine.simulation.DEFAULT_SAFETY * limit,
+                                     impact / dem_core.engine.simulation.DEFAULT_STEPS_PER_IMPACT))
     assert r.dt < limit
     # impact duration of the stiffest face: pi sqrt(m_eff / (K_n d L))
     masses = [b.mass for b in scene.blocks]

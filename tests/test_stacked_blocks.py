@@ -9,7 +9,7 @@ from comparisons.cases import STACK_SIZES, STACK_THETA0
 from comparisons.measures import first_zero_crossing
 from comparisons.stacked_rocking import TwoBlockStack, stack_response
 from dem_core import excitation, scenes
-from dem_core.contact import ContactParameters
+from dem_core.engine.contact import ContactParameters
 
 # The upper block's contact resultant starts 0.7% of its half width inside its edge, so a compliant
 # joint opens at once: the soft contact's error is the joint's compliance and shrinks as kn grows.

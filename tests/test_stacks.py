@@ -6,7 +6,7 @@ import pytest
 import adapters
 import dem_core
 from dem_core import excitation, scenes
-from dem_core.stacks import find_stacks, tipped
+from dem_core.engine.stacks import find_stacks, tipped
 
 
 def _names(scene):

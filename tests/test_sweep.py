@@ -8,7 +8,7 @@ import pytest
 
 import dem_core
 from dem_core import excitation, scenes
-from dem_core.sweep import RunSpec, Sweep, SweepError, load_sweep, run_id, run_sweep
+from dem_core.analyses.sweep import RunSpec, Sweep, SweepError, load_sweep, run_id, run_sweep
 
 SPEC = """
 [scene]

@@ -16,7 +16,7 @@ import matplotlib.pyplot as plt
 import numpy as np
 from matplotlib import transforms
 
-from dem_core.sweep import Sweep, run_sweep
+from dem_core.analyses.sweep import Sweep, run_sweep
 
 ROOT = Path(__file__).resolve().parents[2]
 REPORTS = ROOT / "reports" / "studies"

@@ -7,7 +7,7 @@ import matplotlib.pyplot as plt
 from _study import curve, save, sweep, write_readme
 
 from dem_core import excitation, scenes
-from dem_core.sweep import RunSpec
+from dem_core.analyses.sweep import RunSpec
 
 NAME = "colonnades"
 FREQUENCIES = [0.5, 0.75, 1.0, 1.5, 2.0]

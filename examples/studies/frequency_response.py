@@ -8,7 +8,7 @@ import numpy as np
 from _study import curve, save, sweep, write_readme
 
 from dem_core import excitation, scenes
-from dem_core.sweep import RunSpec
+from dem_core.analyses.sweep import RunSpec
 
 NAME = "frequency_response"
 SMALL = {"frequency": list(np.round(np.geomspace(1.0, 20.0, 12), 3)), "pga": [3.0, 5.0, 7.0],

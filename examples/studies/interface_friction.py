@@ -8,7 +8,7 @@ import numpy as np
 from _study import save, sweep, write_readme
 
 from dem_core import excitation, scenes
-from dem_core.sweep import RunSpec
+from dem_core.analyses.sweep import RunSpec
 
 NAME = "interface_friction"
 MU_ELSEWHERE = 0.48

@@ -10,7 +10,7 @@ from _study import out_dir, save, write_readme
 from comparisons import analytical
 from comparisons.measures import first_exceedance
 from dem_core import scenes
-from dem_core.thresholds import ROCKING_FRACTION, onset_under_ramp
+from dem_core.analyses.thresholds import ROCKING_FRACTION, onset_under_ramp
 
 NAME = "onset_and_overturning"
 RATE = 0.5  # m/s^2 per s

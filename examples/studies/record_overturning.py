@@ -10,7 +10,7 @@ import pandas as pd
 from _study import out_dir, save, write_readme
 
 from dem_core import SimulationUnstable, excitation, records, scenes
-from dem_core.thresholds import overturning_threshold
+from dem_core.analyses.thresholds import overturning_threshold
 
 NAME = "record_overturning"
 LOW, HIGH = 0.5, 20.0  # m/s^2

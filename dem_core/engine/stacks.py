@@ -85,7 +85,7 @@ def kernel_arrays(scene, stacks) -> dict:
 
 def tipped(stacks, scene, x, theta) -> np.ndarray:
     """(n, n_stacks) whether each stack's centre of mass is past an end of its bottom block's
-    base at each output; ``x``, ``theta`` (n, n_blocks) as in :class:`~dem_core.result.Result`."""
+    base at each output; ``x``, ``theta`` (n, n_blocks) as in :class:`~dem_core.engine.result.Result`."""
     masses = np.array([b.mass for b in scene.blocks])
     out = np.zeros((x.shape[0], len(stacks)), bool)
     for k, st in enumerate(stacks):

@@ -19,7 +19,7 @@ import numpy as np
 from matplotlib import animation as mpl_animation
 from matplotlib.collections import PolyCollection
 
-from .geometry import transform
+from ..engine.geometry import transform
 
 STONE = "#d9cbb0"
 EDGE = "#5b4a36"

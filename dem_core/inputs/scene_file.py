@@ -38,7 +38,7 @@ from pathlib import Path
 
 from . import excitation as excitation_module
 from . import scenes
-from .contact import ContactParameters
+from ..engine.contact import ContactParameters
 from .scene import Block, Scene, SceneError
 
 BUILDERS = {

@@ -21,9 +21,9 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .excitation import ramp
-from .scene import Scene
-from .simulation import simulate
+from ..inputs.excitation import ramp
+from ..inputs.scene import Scene
+from ..engine.simulation import simulate
 
 ROCKING_FRACTION = 1.0 / 30.0  # rocking starts at theta_cr / 30
 SLIP_THRESHOLD = 1e-4  # m

@@ -25,7 +25,7 @@ class Result:
     peak_theta : (n_blocks,) peak |theta| over every time step (not only outputs), rad.
     overturn_time : (n_blocks,) s, first time the block passed its critical
         angle or fell half its size, or the column (stack) it belongs to tipped
-        its centre of mass past its base (:mod:`dem_core.stacks`); NaN if never.
+        its centre of mass past its base (:mod:`dem_core.engine.stacks`); NaN if never.
     interface_slip : {(name_a, name_b): m} accumulated slip per interface that slid,
         or None when the engine does not measure it (sliding measures are then NaN).
     dt : s, the time step used; info : run facts (engine, stability limit,

@@ -1,9 +1,9 @@
 """Builders for the scenes of FORMULATION section 3.
 
-Every builder returns an immutable :class:`~dem_core.scene.Scene` whose base
+Every builder returns an immutable :class:`~dem_core.inputs.scene.Scene` whose base
 top is the line y = 0 and whose blocks rest on it touching (zero overlap).
 Shared keyword arguments: ``density`` (kg/m^3), ``friction``, ``depth`` (m),
-``contact`` (:class:`~dem_core.contact.ContactParameters`),
+``contact`` (:class:`~dem_core.engine.contact.ContactParameters`),
 ``interface_friction`` ({(name_a, name_b): mu}), ``base_width`` (m; by
 default the blocks' span plus 4 times their height, so that whatever
 topples lands on the base).
@@ -16,8 +16,8 @@ prefixes.  The base is ``base``.
 
 import numpy as np
 
-from .contact import ContactParameters
-from .geometry import rectangle, transform
+from ..engine.contact import ContactParameters
+from ..engine.geometry import rectangle, transform
 from .scene import Block, Scene, SceneError
 
 BASE_HEIGHT = 1.0  # m; the base is kinematic, its thickness only places its centroid

@@ -11,7 +11,7 @@ sweep that is killed and started again skips what is done and loses nothing;
 a failing run is recorded with its error and the sweep goes on.  At the end the
 rows are gathered into ``OUT/results.parquet``.
 
-Sweep files are scene files (:mod:`dem_core.scene_file`) with a ``[sweep]``
+Sweep files are scene files (:mod:`dem_core.inputs.scene_file`) with a ``[sweep]``
 table whose sub-tables name the table and key to vary::
 
     [scene]
@@ -52,10 +52,10 @@ import numpy as np
 import pandas as pd
 from tqdm import tqdm
 
-from . import scene_file
-from .excitation import GroundMotion
-from .scene import Scene
-from .simulation import SimulationUnstable, simulate
+from ..inputs import scene_file
+from ..inputs.excitation import GroundMotion
+from ..inputs.scene import Scene
+from ..engine.simulation import SimulationUnstable, simulate
 
 RESULTS = "results.parquet"
 MODES = ("grid", "zip")

@@ -1,7 +1,7 @@
 """What a scene is: immutable blocks, the base, contact parameters, friction overrides.
 
 A :class:`Scene` describes the model only; where the blocks are during a run
-lives in the simulation state (see :mod:`dem_core.simulation`).  Every engine
+lives in the simulation state (see :mod:`dem_core.engine.simulation`).  Every engine
 (native core and adapters) builds from this one description.
 """
 
@@ -11,8 +11,8 @@ from functools import cached_property
 
 import numpy as np
 
-from . import geometry
-from .contact import ContactParameters
+from ..engine import geometry
+from ..engine.contact import ContactParameters
 
 STANDARD_GRAVITY = 9.81  # m/s^2, the value FORMULATION's onset figures use (g b/h = 1.635 for 1 x 6 m)
 
@@ -126,7 +126,7 @@ class Scene:
 
     blocks : the free bodies, in the order results report them.
     base : the stylobate; it moves with the ground and has no dynamics.
-    contact : :class:`~dem_core.contact.ContactParameters`.
+    contact : :class:`~dem_core.engine.contact.ContactParameters`.
     interface_friction : mapping ``{(name_a, name_b): mu}`` that overrides the
         default (smaller of the two blocks' values) at chosen interfaces.
     gravity : m/s^2.
@@ -134,7 +134,7 @@ class Scene:
         as a fraction of the smaller block's smaller extent.
     slenderness : rad, atan(b/h) of the body that rocks as a unit (a whole
         column, not one drum); sets the default contact damping
-        (:func:`dem_core.contact.housner_damping_ratio`).  The builders set
+        (:func:`dem_core.engine.contact.housner_damping_ratio`).  The builders set
         it; None takes atan(width/height) of the blocks' bounding box.
     """
 
@@ -221,7 +221,7 @@ class Scene:
 
         Two blocks touch when moving one towards the other by ``gap`` times
         the smaller block size makes them overlap; ``contact`` is the
-        :class:`~dem_core.geometry.ContactGeometry` of that thin overlap.
+        :class:`~dem_core.engine.geometry.ContactGeometry` of that thin overlap.
         """
         pairs = []
         for i, j, p, q, offset in self._pairs_within_reach():

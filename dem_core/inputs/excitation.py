@@ -333,7 +333,7 @@ def record(source, dt: float | None = None, scale: float = 1.0, pga: float | Non
     """A recorded accelerogram as ground motion.
 
     source : path of a PEER AT2 file or a column text file, the name of a
-        bundled record (see :data:`dem_core.records.BUNDLED`), or an array of
+        bundled record (see :data:`dem_core.inputs.records.BUNDLED`), or an array of
         accelerations in m/s^2 (then ``dt`` is required).
     dt : s, sampling interval; read from the file when it has a time column or header.
     scale : factor applied to both components; ignored when ``pga`` is given.

@@ -2,8 +2,8 @@
 
 The scene is the immutable model; the state (positions and half-step
 velocities, tangential contact forces) is created here, advanced by the
-compiled kernel in :mod:`dem_core._kernels` and returned as a
-:class:`~dem_core.result.Result`.
+compiled kernel in :mod:`dem_core.engine._kernels` and returned as a
+:class:`~dem_core.engine.result.Result`.
 """
 
 import math
@@ -12,7 +12,7 @@ import time
 import numpy as np
 
 from . import _kernels, contact, stability
-from .excitation import GroundMotion, still
+from ..inputs.excitation import GroundMotion, still
 from .geometry import transform
 from .result import Result
 from .stacks import find_stacks, kernel_arrays
@@ -52,12 +52,12 @@ def simulate(scene, excitation: GroundMotion | None = None, duration: float | No
              stop_at_overturn: bool = True, enforce_stability_limit: bool = True) -> Result:
     """Simulate ``scene`` under ``excitation`` with the native soft-contact DEM.
 
-    scene : :class:`~dem_core.scene.Scene`.
-    excitation : :class:`~dem_core.excitation.GroundMotion` (None: no ground motion).
+    scene : :class:`~dem_core.inputs.scene.Scene`.
+    excitation : :class:`~dem_core.inputs.excitation.GroundMotion` (None: no ground motion).
     duration : s; default the excitation's natural end (records, pulses).
     dt : s; None picks the smaller of ``safety`` x the stability limit
-        (:func:`dem_core.stability.stability_limit`) and the shortest impact
-        over ``steps_per_impact`` (:func:`dem_core.stability.impact_duration`).
+        (:func:`dem_core.engine.stability.stability_limit`) and the shortest impact
+        over ``steps_per_impact`` (:func:`dem_core.engine.stability.impact_duration`).
         A dt above the limit is refused.
     output_dt : s between outputs (rounded to a whole number of steps; the
         final state is always an output); default 0.01 s.
@@ -69,7 +69,7 @@ def simulate(scene, excitation: GroundMotion | None = None, duration: float | No
         critical angle or falls half its size); the result then ends at that
         time and ``info["stopped"]`` says why.  With False the run goes on
         through the collapse, with an automatic step small enough for blocks
-        lying on their long sides (see :func:`dem_core.stability.stability_limit`)
+        lying on their long sides (see :func:`dem_core.engine.stability.stability_limit`)
         and for piles of fallen blocks (``COLLAPSE_STEP_FACTOR``).
     enforce_stability_limit : refuse an explicit dt above the stability limit.
         Only for stress tests that study what happens past it

@@ -1,7 +1,7 @@
 """Compiled time stepping of the soft-contact DEM (FORMULATION section 1).
 
 Private module: :func:`integrate` takes arrays and scalars only and is called
-by :mod:`dem_core.simulation`.  Body 0 is the base; it follows the prescribed
+by :mod:`dem_core.engine.simulation`.  Body 0 is the base; it follows the prescribed
 ground motion and has no dynamics.  State is structure-of-arrays:
 ``pos[:, 0:3] = (x, y, theta)`` of each centre of mass and ``vel`` at the
 half step (central differences in velocity form:
@@ -17,7 +17,7 @@ import math
 import numba as nb
 import numpy as np
 
-from ._geometry import MAX_OVERLAP_VERTICES, clip_convex, contact_frame, polygon_moments
+from ._polygon import MAX_OVERLAP_VERTICES, clip_convex, contact_frame, polygon_moments
 
 STATUS_OK = 0
 STATUS_NONFINITE = 1
@@ -70,7 +70,7 @@ def integrate(pos, vel, local_x, local_y, vstart, inv_mass, inv_inertia, radius,
     Shapes (nb bodies including the base at index 0, nv vertices in all):
     pos, vel (nb, 3); local_x, local_y (nv,) vertices about each centre of
     mass; vstart (nb + 1,) vertex offsets; inv_mass, inv_inertia, radius,
-    area (nb,); pair_* (nb, nb) contact parameters (see ``dem_core.contact``); ft_el, slip (nb, nb) tangential elastic
+    area (nb,); pair_* (nb, nb) contact parameters (see ``dem_core.engine.contact``); ft_el, slip (nb, nb) tangential elastic
     force (N, along the contact tangent) and accumulated slip (m) per pair,
     updated in place; load_x, load_y (n_steps,) inertial loads per unit mass
     (m/s^2) at each step; base_x, base_y (n_steps + 1,) base position at step
@@ -79,7 +79,7 @@ def integrate(pos, vel, local_x, local_y, vstart, inv_mass, inv_inertia, radius,
     steps starting with the initial state, and with the final state.  Tracking per body: peak |theta|
     into ``peak_theta``, the first step where |theta| exceeds
     ``crit_angle`` or the centre of mass falls ``drop_limit`` below
-    ``y_start`` into ``overturn_step`` (-1 if never).  Stacks (``dem_core.stacks``): ``stack_id``
+    ``y_start`` into ``overturn_step`` (-1 if never).  Stacks (``dem_core.engine.stacks``): ``stack_id``
     (nb,) the stack of each body or -1; per stack ``stack_bottom`` (body), ``stack_mass`` (kg),
     ``stack_foot`` (ns, 2, 2) the ends of the bottom body's base in its own frame; the first step
     where a stack's centre of mass is past an end of that base goes into ``stack_step`` (-1 if

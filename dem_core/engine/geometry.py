@@ -9,7 +9,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from . import _geometry
+from . import _polygon
 
 
 class GeometryError(ValueError):
@@ -37,7 +37,7 @@ def polygon_properties(vertices) -> PolygonProperties:
     ``rho`` and depth ``d`` about its centroid is ``rho * d * polar_moment``.
     """
     v = np.asarray(vertices, dtype=float)
-    a, cx, cy, sxx, syy, _ = _geometry.polygon_moments(v[:, 0].copy(), v[:, 1].copy(), len(v))
+    a, cx, cy, sxx, syy, _ = _polygon.polygon_moments(v[:, 0].copy(), v[:, 1].copy(), len(v))
     return PolygonProperties(a, np.array([cx, cy]), sxx + syy)
 
 
@@ -89,7 +89,7 @@ def _split(p):
 
 def overlap_area(p, q) -> float:
     """Area of the intersection of two convex counter-clockwise polygons (m^2)."""
-    return _geometry.overlap(*_split(p), *_split(q))[0]
+    return _polygon.overlap(*_split(p), *_split(q))[0]
 
 
 def contact_geometry(p, q) -> ContactGeometry | None:
@@ -102,11 +102,11 @@ def contact_geometry(p, q) -> ContactGeometry | None:
     qx, qy, n_q = _split(q)
     cap = n_p + n_q + 2
     out = [np.empty(cap), np.empty(cap)]
-    m = _geometry.clip_convex(px, py, 0, n_p, qx, qy, 0, n_q, out[0], out[1], np.empty((2, 2, cap)))
-    a, cx, cy, sxx, syy, sxy = _geometry.polygon_moments(out[0], out[1], m)
+    m = _polygon.clip_convex(px, py, 0, n_p, qx, qy, 0, n_q, out[0], out[1], np.empty((2, 2, cap)))
+    a, cx, cy, sxx, syy, sxy = _polygon.polygon_moments(out[0], out[1], m)
     if a <= 0.0:
         return None
     c_p = polygon_properties(p).centroid
-    tx, ty, nx, ny = _geometry.contact_frame(sxx, syy, sxy, cx, cy, c_p[0], c_p[1])
+    tx, ty, nx, ny = _polygon.contact_frame(sxx, syy, sxy, cx, cy, c_p[0], c_p[1])
     along = out[0][:m] * tx + out[1][:m] * ty
     return ContactGeometry(a, np.array([cx, cy]), np.array([tx, ty]), np.array([nx, ny]), float(np.ptp(along)))

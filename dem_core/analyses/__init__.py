@@ -1,0 +1,1 @@
+"""What is done with many runs: threshold searches, parametric sweeps, response spectra, stiffness convergence."""

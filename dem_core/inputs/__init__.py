@@ -1,0 +1,1 @@
+"""What a run is given: scenes and their builders, scene files, ground motions and records."""
