@@ -9,7 +9,7 @@ import numpy as np
 
 from dem_core.inputs.excitation import still
 from dem_core.engine.result import Result
-from dem_core.engine.stacks import find_stacks, tipped
+from dem_core.engine.stacks import columns, find_stacks, tipped
 
 #: a block further than this many scene heights from where it started has left the scene
 RUNAWAY_HEIGHTS = 5.0
@@ -119,7 +119,8 @@ def _result(engine, scene, excitation, out, t, dt, info) -> Result:
         len(scene.blocks), np.nan)
     peak = np.max(np.abs(theta), axis=0) if len(t) else np.abs([b.angle for b in scene.blocks])
     return Result(t, out[:, :, 0] + ground_x[:, None], out[:, :, 1] + ground_y[:, None], theta, ground_x, ground_y,
-                  tuple(scene.block_names), peak, overturn_time, None, dt, info)
+                  tuple(scene.block_names), peak, overturn_time, None, dt, info, critical_angle=crit,
+                  columns=columns(scene, column_stacks))
 
 
 def product_friction(engine: str, scene, pairs) -> np.ndarray:

@@ -64,7 +64,7 @@ def integrate(pos, vel, local_x, local_y, vstart, inv_mass, inv_inertia, radius,
               dt, n_steps, stride, out_pos, crit_angle, y_start, drop_limit,
               peak_theta, overturn_step, max_overlap_fraction, skin, speed_limit,
               energy_tolerance, stop_at_overturn, floor, stack_id, stack_bottom, stack_mass, stack_foot,
-              stack_step):
+              stack_step, if_i, if_j, out_slip):
     """Advance the scene ``n_steps`` steps of ``dt`` from the state in ``pos``, ``vel``.
 
     Shapes (nb bodies including the base at index 0, nv vertices in all):
@@ -83,7 +83,9 @@ def integrate(pos, vel, local_x, local_y, vstart, inv_mass, inv_inertia, radius,
     (nb,) the stack of each body or -1; per stack ``stack_bottom`` (body), ``stack_mass`` (kg),
     ``stack_foot`` (ns, 2, 2) the ends of the bottom body's base in its own frame; the first step
     where a stack's centre of mass is past an end of that base goes into ``stack_step`` (-1 if
-    never) and, for its bodies, into ``overturn_step``.
+    never) and, for its bodies, into ``overturn_step``.  Interfaces followed over time: pairs
+    ``(if_i[k], if_j[k])``; their accumulated slip goes into ``out_slip`` (n_out, n_interfaces) with
+    every output.
 
     Returns ``(status, step, i, j, n_out_written, n_narrow)``, ``n_narrow``
     the number of exact polygon overlaps computed (pairs that passed the
@@ -135,9 +137,7 @@ def integrate(pos, vel, local_x, local_y, vstart, inv_mass, inv_inertia, radius,
         vel[0, 0] = base_vx[step]
         vel[0, 1] = base_vy[step]
         if (step % stride == 0 or step == n_steps) and n_out < out_pos.shape[0]:
-            for b in range(nb_):
-                for d in range(3):
-                    out_pos[n_out, b, d] = pos[b, d]
+            _write_output(pos, slip, if_i, if_j, out_pos, out_slip, n_out)
             n_out += 1
         if step == n_steps:
             break
@@ -271,9 +271,7 @@ def integrate(pos, vel, local_x, local_y, vstart, inv_mass, inv_inertia, radius,
                         toppled = stack_bottom[k]
         if toppled >= 0:
             if n_out < out_pos.shape[0]:
-                for b in range(nb_):
-                    for d in range(3):
-                        out_pos[n_out, b, d] = pos[b, d]
+                _write_output(pos, slip, if_i, if_j, out_pos, out_slip, n_out)
                 n_out += 1
             return STATUS_OVERTURNED, step + 1, toppled, toppled, n_out, n_narrow
         if step % ENERGY_CHECK_INTERVAL == 0:
@@ -281,6 +279,15 @@ def integrate(pos, vel, local_x, local_y, vstart, inv_mass, inv_inertia, radius,
             if energy - energy0 - work_in > energy_tolerance * (energy_scale + work_gross):
                 return STATUS_ENERGY, step, 0, 0, n_out, n_narrow
     return STATUS_OK, n_steps, 0, 0, n_out, n_narrow
+
+
+@nb.njit(cache=True)
+def _write_output(pos, slip, if_i, if_j, out_pos, out_slip, k):
+    for b in range(pos.shape[0]):
+        for d in range(3):
+            out_pos[k, b, d] = pos[b, d]
+    for m in range(if_i.shape[0]):
+        out_slip[k, m] = slip[if_i[m], if_j[m]]
 
 
 @nb.njit(cache=True)

@@ -30,6 +30,13 @@ class Result:
         or None when the engine does not measure it (sliding measures are then NaN).
     dt : s, the time step used; info : run facts (engine, stability limit,
         steps, compile and run wall times, ...).
+    interfaces : ((name_a, name_b), ...) the interfaces touching at the start, whose slip is
+        followed over time.
+    slip_history : (n, n_interfaces) slip accumulated at each interface up to each output, m;
+        None when the engine does not measure it.
+    critical_angle : (n_blocks,) each block's own critical angle atan(b/h), rad.
+    columns : (:class:`~dem_core.engine.stacks.Column`, ...) the stacks of blocks standing on the
+        base (a column's drums and capital) with the tilt at which each tips over as one body.
     """
 
     t: np.ndarray
@@ -44,6 +51,10 @@ class Result:
     interface_slip: dict
     dt: float
     info: dict = field(default_factory=dict)
+    interfaces: tuple = ()
+    slip_history: np.ndarray | None = None
+    critical_angle: np.ndarray | None = None
+    columns: tuple = ()
 
     @property
     def n_blocks(self) -> int:

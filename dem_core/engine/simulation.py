@@ -15,7 +15,7 @@ from . import _kernels, contact, stability
 from ..inputs.excitation import GroundMotion, still
 from .geometry import transform
 from .result import Result
-from .stacks import find_stacks, kernel_arrays
+from .stacks import columns, find_stacks, kernel_arrays
 
 #: largest fraction of the stability limit used when dt is not given (the scheme is stable up to the
 #: limit: mirror-image runs stay mirror images to round-off there)
@@ -117,8 +117,12 @@ def simulate(scene, excitation: GroundMotion | None = None, duration: float | No
     column_stacks = find_stacks(scene)
     stack_arrays = kernel_arrays(scene, column_stacks)
     stack_step = np.full(len(column_stacks), -1, np.int64)
+    followed = [(i, j) for i, j, _ in scene.touching_pairs() if interfaces.active[i, j]]
+    if_i = np.array([i for i, _ in followed], np.int64)
+    if_j = np.array([j for _, j in followed], np.int64)
+    out_slip = np.full((len(out_steps), len(followed)), np.nan)
 
-    def run(steps, out):
+    def run(steps, out, out_slip):
         return _kernels.integrate(
             pos, vel, arrays["local_x"], arrays["local_y"], arrays["vstart"], arrays["inv_mass"],
             arrays["inv_inertia"], arrays["radius"], arrays["area"], interfaces.kn, interfaces.cn, interfaces.cr,
@@ -127,13 +131,14 @@ def simulate(scene, excitation: GroundMotion | None = None, duration: float | No
             ground["base_v"][1], dt, steps, stride, out, arrays["crit_angle"], arrays["y_start"],
             arrays["drop_limit"], peak, overturn_step, MAX_OVERLAP_FRACTION, arrays["skin"], speed_limit,
             ENERGY_TOLERANCE, stop_at_overturn, arrays["floor"], stack_arrays["stack_id"],
-            stack_arrays["stack_bottom"], stack_arrays["stack_mass"], stack_arrays["stack_foot"], stack_step)
+            stack_arrays["stack_bottom"], stack_arrays["stack_mass"], stack_arrays["stack_foot"], stack_step,
+            if_i, if_j, out_slip)
 
     t0 = time.perf_counter()
-    _ensure_compiled(run, pos, vel, nb)
+    _ensure_compiled(run, pos, vel, nb, len(followed))
     compile_time = time.perf_counter() - t0
     t0 = time.perf_counter()
-    status, step, i, j, written, n_narrow = run(n_steps, out_pos)
+    status, step, i, j, written, n_narrow = run(n_steps, out_pos, out_slip)
     run_time = time.perf_counter() - t0
 
     bodies = scene.bodies
@@ -171,7 +176,9 @@ def simulate(scene, excitation: GroundMotion | None = None, duration: float | No
         info["stopped"] = f"{what} at t = {step * dt:.6g} s"
     over_t = np.where(overturn_step[1:] >= 0, overturn_step[1:] * dt, np.nan)
     result = Result(out_t, x, y, theta, ground_x, ground_y, tuple(scene.block_names), peak[1:], over_t,
-                    interface_slip, dt, info)
+                    interface_slip, dt, info, interfaces=tuple((bodies[a].name, bodies[b].name) for a, b in followed),
+                    slip_history=out_slip[:written], critical_angle=arrays["crit_angle"][1:].copy(),
+                    columns=columns(scene, column_stacks))
     if status not in (_kernels.STATUS_OK, _kernels.STATUS_OVERTURNED):
         raise SimulationUnstable(_stop_message(scene, status, step, dt, i, j, speed_limit, out_t), result)
     return result
@@ -262,10 +269,10 @@ def _speed_limit(scene, excitation, t_steps) -> float:
     return SPEED_LIMIT_FACTOR * (fall + ground + 1e-3)
 
 
-def _ensure_compiled(run, pos, vel, nb):
+def _ensure_compiled(run, pos, vel, nb, n_interfaces):
     """Trigger compilation (or loading from numba's cache) with a zero-step call."""
     saved = pos.copy(), vel.copy()
-    run(0, np.empty((1, nb, 3)))
+    run(0, np.empty((1, nb, 3)), np.empty((1, n_interfaces)))
     pos[:], vel[:] = saved
 
 

@@ -13,6 +13,7 @@ column's drums and capital, not an epistyle shared by several columns).
 """
 
 from dataclasses import dataclass
+from typing import NamedTuple
 
 import numpy as np
 
@@ -57,6 +58,33 @@ def find_stacks(scene) -> tuple:
             continue
         stacks.append(Stack(tuple(b - 1 for b in chain), base_ends(bodies[bottom])))
     return tuple(stacks)
+
+
+class Column(NamedTuple):
+    """A stack as results report it: ``blocks`` the names bottom first; ``critical_angle`` (rad) the
+    tilt of the whole stack, rotated as one body about a corner of its base, at which its centre of
+    mass passes over that corner (for a single rectangle atan(b/h))."""
+
+    blocks: tuple
+    critical_angle: float
+
+
+def columns(scene, stacks=None) -> tuple:
+    """The :class:`Column` of each stack of ``scene`` (``stacks`` from :func:`find_stacks` if not given)."""
+    stacks = find_stacks(scene) if stacks is None else stacks
+    found = []
+    for st in stacks:
+        members = [scene.blocks[b] for b in st.blocks]
+        mass = np.array([b.mass for b in members])
+        com = np.array([b.centroid for b in members]).T @ mass / mass.sum()
+        bottom = members[0]
+        # the base's ends in the world at the start, and the stack's centre of mass relative to them
+        ends = geometry.transform(st.foot_local, bottom.angle, bottom.centroid)
+        angle0 = bottom.angle
+        arms = [geometry.transform((com - end)[None, :], -angle0)[0] for end in ends]
+        found.append(Column(tuple(b.name for b in members),
+                            float(min(np.arctan2(abs(a[0]), a[1]) for a in arms))))
+    return tuple(found)
 
 
 def base_ends(block) -> np.ndarray:
