@@ -9,7 +9,7 @@ import numpy as np
 
 from dem_core.inputs.excitation import still
 from dem_core.engine.result import Result
-from dem_core.engine.stacks import columns, find_stacks, tipped
+from dem_core.engine.stacks import columns, find_stacks, first_overturns
 
 #: a block further than this many scene heights from where it started has left the scene
 RUNAWAY_HEIGHTS = 5.0
@@ -108,18 +108,13 @@ def run(engine: str, scene, excitation, duration, dt, output_dt, build) -> Resul
 def _result(engine, scene, excitation, out, t, dt, info) -> Result:
     ground_x, ground_y = excitation.displacement(t)
     theta = out[:, :, 2]
-    crit = np.array([b.critical_angle for b in scene.blocks])
-    start_y = np.array([b.centroid[1] for b in scene.blocks])
-    drop = 0.5 * np.array([min(b.width, b.height) for b in scene.blocks])
-    over = (np.abs(theta) > crit) | (start_y - out[:, :, 1] > drop)
     column_stacks = find_stacks(scene)
-    for k, whole in enumerate(tipped(column_stacks, scene, out[:, :, 0], theta).T):
-        over[:, list(column_stacks[k].blocks)] |= np.logical_or.accumulate(whole)[:, None]
-    overturn_time = np.where(over.any(axis=0), t[np.argmax(over, axis=0)], np.nan) if len(t) else np.full(
-        len(scene.blocks), np.nan)
+    first, _ = first_overturns(scene, out[:, :, 0], out[:, :, 1], theta)
+    overturn_time = np.where(first >= 0, t[np.maximum(first, 0)] if len(t) else np.nan, np.nan)
     peak = np.max(np.abs(theta), axis=0) if len(t) else np.abs([b.angle for b in scene.blocks])
     return Result(t, out[:, :, 0] + ground_x[:, None], out[:, :, 1] + ground_y[:, None], theta, ground_x, ground_y,
-                  tuple(scene.block_names), peak, overturn_time, None, dt, info, critical_angle=crit,
+                  tuple(scene.block_names), peak, overturn_time, None, dt, info,
+                  critical_angle=np.array([b.critical_angle for b in scene.blocks]),
                   columns=columns(scene, column_stacks))
 
 

@@ -20,12 +20,13 @@ from .analyses import convergence, spectra, sweep, thresholds
 from .engine import contact, geometry, stability
 from .engine.contact import ContactParameters
 from .engine.result import Result
-from .engine.simulation import SimulationUnstable, automatic_time_step, simulate
+from .engine.simulation import Simulation, SimulationUnstable, automatic_time_step, simulate
 from .inputs import excitation, records, scenes
 from .inputs.scene import Block, Scene, SceneError
 
 __all__ = [
-    "Block", "ContactParameters", "Result", "Scene", "SceneError", "SimulationUnstable", "automatic_time_step",
+    "Block", "ContactParameters", "Result", "Scene", "SceneError", "Simulation", "SimulationUnstable",
+    "automatic_time_step",
     "contact", "convergence", "excitation", "geometry", "records", "scenes", "simulate", "spectra", "stability",
     "sweep", "thresholds",
 ]

@@ -5,9 +5,9 @@ import sys
 
 PROBE = """
 import dem_core
-from dem_core.engine import _kernels
+from dem_core.engine import _step
 dem_core.simulate(dem_core.scenes.column(2), duration=0.01)
-stats = _kernels.integrate.stats
+stats = _step.advance.stats
 print(sum(stats.cache_hits.values()), sum(stats.cache_misses.values()))
 """
 

@@ -1,97 +1,124 @@
-"""Rocking of rigid blocks against Housner's solution and the rocking equation (FORMULATION 4.1-4.3, 4.6)."""
+"""Rocking of rigid blocks under the default corner law, against the rigid rocking equation (docs/method.md,
+section 7: the references).
+
+Every check runs at the default stiffness with the automatic step, and again at 100 times the stiffness
+with no other change: the corner law puts its springs at the corners, so its rocking does not depend on
+K_n (the overlap-area law's does; see test_overlap_area_law.py).  The reference for free rocking is the
+exact rocking equation with Housner's impact rule, not Housner's closed forms, which linearise
+sin(alpha - theta): for the squat block (alpha = 0.38) the exact quarter period is 0.7% longer than his
+formula.
+"""
 
 import numpy as np
 import pytest
 
 import dem_core
 from comparisons import analytical, cases
-from comparisons.cases import HOUSNER_HEIGHT, HOUSNER_THETA0, HOUSNER_WIDTH
 from comparisons.measures import first_exceedance, first_zero_crossing, peaks_between_crossings
 from dem_core import excitation, scenes
 
-# Bands (relative errors) from the issue; the comments give what the default contact gives today.
-# Housner's period formula linearises sin(alpha - theta); the exact solution of his equation of motion
-# reaches theta = 0 0.34% later for this release.  The soft contact adds its own delay: the pivot sits
-# inside the corner, at the centroid of the triangular overlap.
-QUARTER_PERIOD_BAND = 0.01  # measured +0.91% against the formula, +0.56% against the exact equation
-PEAK_DECAY_BAND = 0.03  # measured +0.7%, +1.3%, +1.5%, +1.8%, +2.0% after impacts 1 to 5
-PULSE_PEAK_BAND = 0.05  # measured +1.3% (6 m/s^2, 0.25 s) and +1.6% (10 m/s^2, 0.15 s)
+STIFFNESS_FACTORS = (1.0, 100.0)
+QUARTER_PERIOD_BAND = 0.005  # measured within -0.03% at both stiffnesses, every case
+PEAK_DECAY_BAND = 0.015  # worst peak after 1-5 impacts; measured 0.8-1.4% (default), 0.1-0.8% (100x)
+PULSE_PEAK_BAND = 0.03  # measured +0.1% (sine pulses), +2.6% (the one-cosine pulse at the default stiffness)
+ONSET_BAND = 0.005  # measured -0.03% (default), -0.0003% (100x)
+RECORD_PEAK_BAND = 0.05  # Northridge at 4 m/s^2: measured -1.3% (default), -0.2% (100x)
+
+FREE_ROCKING = {  # width, height (m), release angle as a fraction of alpha
+    "housner_block": (cases.HOUSNER_WIDTH, cases.HOUSNER_HEIGHT, cases.HOUSNER_THETA0 / np.arctan(0.25)),
+    "housner_block_large": (cases.HOUSNER_WIDTH, cases.HOUSNER_HEIGHT, 0.5),
+    "monolith": (1.0, 6.0, 0.2),
+    "monolith_large": (1.0, 6.0, 0.5),
+}
+#: Housner's rule takes the impact as rigid, plastic and without slip; a compliant corner stores and returns
+#: some tangential energy, which matters for squat blocks: the 0.4 x 1.0 m block's fifth peak is +4.9% high
+#: (-4.6% with a tangential damping ratio of 0.2: the answer turns on the tangential contact, not on K_n)
+SQUAT = (0.4, 1.0, 0.3)
 
 
-@pytest.fixture(scope="module")
-def free_rocking(housner_scene):
-    return dem_core.simulate(housner_scene, duration=3.0, output_dt=1e-9)  # every step
+def _contact(factor):
+    return dem_core.ContactParameters(kn=factor * dem_core.contact.DEFAULT_NORMAL_STIFFNESS)
 
 
-def test_free_rocking_quarter_period_matches_housner(free_rocking, housner_block):
-    housner = analytical.housner_period(housner_block, HOUSNER_THETA0) / 4.0
-    exact = analytical.rocking_response(housner_block, lambda t: 0.0, 0.5, theta0=HOUSNER_THETA0, max_step=1e-4)
-    quarter = first_zero_crossing(free_rocking.t, free_rocking.theta[:, 0])
-    assert quarter == pytest.approx(housner, rel=QUARTER_PERIOD_BAND)
-    assert quarter == pytest.approx(exact.impacts[0], rel=QUARTER_PERIOD_BAND)
+def _free_rocking_errors(width, height, fraction, factor):
+    block = analytical.RockingBlock.from_size(width, height)
+    theta0 = fraction * block.alpha
+    periods = 1.6 * analytical.housner_period(block, theta0)
+    exact = analytical.rocking_response(block, lambda t: 0.0, 4 * periods, theta0=theta0, max_step=2e-4)
+    result = dem_core.simulate(scenes.block(width, height, tilt=theta0, contact=_contact(factor)),
+                               duration=4 * periods, output_dt=1e-9)  # every step
+    quarter = first_zero_crossing(result.t, result.theta[:, 0]) / exact.impacts[0] - 1.0
+    reference = peaks_between_crossings(exact.theta, 6)[1:]
+    peaks = peaks_between_crossings(result.theta[:, 0], 6)[1:]
+    assert len(peaks) == 5, "the block stopped rocking before its fifth impact"
+    return quarter, np.abs(peaks / reference - 1.0)
 
 
-def test_free_rocking_peaks_decay_as_housner_predicts(free_rocking, housner_block):
-    n = 5
-    reference = analytical.housner_peaks(housner_block, HOUSNER_THETA0, n)
-    peaks = peaks_between_crossings(free_rocking.theta[:, 0], n + 1)
-    assert len(peaks) == n + 1
-    np.testing.assert_allclose(peaks[1:], reference[1:], rtol=PEAK_DECAY_BAND)
+@pytest.mark.parametrize("factor", STIFFNESS_FACTORS)
+@pytest.mark.parametrize("name", FREE_ROCKING)
+def test_free_rocking_matches_the_rocking_equation(name, factor):
+    quarter, decay = _free_rocking_errors(*FREE_ROCKING[name], factor)
+    assert abs(quarter) < QUARTER_PERIOD_BAND
+    assert np.max(decay) < PEAK_DECAY_BAND, decay
 
 
-def test_default_rocking_damping_follows_the_calibrated_slenderness_law(housner_scene):
-    alpha = np.arctan2(HOUSNER_WIDTH, HOUSNER_HEIGHT)
-    assert housner_scene.rocking_slenderness == pytest.approx(alpha)
-    zeta_r = dem_core.contact.rocking_damping_ratio(housner_scene)
-    assert zeta_r == pytest.approx(dem_core.contact.housner_damping_ratio(alpha))
+def test_squat_block_rocks_with_the_right_period():
+    quarter, _ = _free_rocking_errors(*SQUAT, 1.0)
+    assert abs(quarter) < QUARTER_PERIOD_BAND
 
 
-@pytest.mark.parametrize("amplitude, duration", [(6.0, 0.25), (10.0, 0.15)])
-def test_one_sine_pulse_peak_matches_the_rocking_equation(housner_block, amplitude, duration):
-    motion = excitation.sine_pulse(amplitude, duration)
-    scene = scenes.block(HOUSNER_WIDTH, HOUSNER_HEIGHT, friction=0.7)
-    result = dem_core.simulate(scene, motion, duration=2.5, output_dt=1e-3)
-    ode = analytical.rocking_response(housner_block, lambda t: float(motion.horizontal.acceleration(t)), 2.5,
+@pytest.mark.xfail(strict=True, reason="known: a compliant corner impact of a squat block (alpha = 0.38) loses "
+                   "about 5% less or more than Housner's rigid rule depending on the tangential contact")
+def test_squat_block_loses_housners_energy():
+    _, decay = _free_rocking_errors(*SQUAT, 1.0)
+    assert np.max(decay) < PEAK_DECAY_BAND
+
+
+def test_housner_closed_forms_are_the_small_angle_limit_of_the_reference(housner_block):
+    """The closed forms the free-rocking cases were first judged by agree with the exact reference to the
+    size of their linearisation (0.34% on the quarter period, 0.12% on the peaks here)."""
+    theta0 = cases.HOUSNER_THETA0
+    exact = analytical.rocking_response(housner_block, lambda t: 0.0, 3.0, theta0=theta0, max_step=1e-4)
+    assert exact.impacts[0] == pytest.approx(analytical.housner_period(housner_block, theta0) / 4, rel=0.004)
+    np.testing.assert_allclose(peaks_between_crossings(exact.theta, 6)[1:],
+                               analytical.housner_peaks(housner_block, theta0, 5)[1:], rtol=0.002)
+
+
+@pytest.mark.parametrize("factor", STIFFNESS_FACTORS)
+@pytest.mark.parametrize("width, height, make_motion, duration", [
+    (cases.HOUSNER_WIDTH, cases.HOUSNER_HEIGHT, lambda: excitation.sine_pulse(6.0, 0.25), 2.5),
+    (cases.HOUSNER_WIDTH, cases.HOUSNER_HEIGHT, lambda: excitation.sine_pulse(10.0, 0.15), 2.5),
+    (1.0, 6.0, lambda: excitation.sine_pulse(4.0, 0.6), 6.0),
+    (1.0, 6.0, lambda: excitation.cosine_pulse(2.5, 1.0), 6.0),
+], ids=["sine-6-0.25", "sine-10-0.15", "sine-slender", "cosine-slender"])
+def test_pulse_peak_matches_the_rocking_equation(width, height, make_motion, duration, factor):
+    motion = make_motion()
+    block = analytical.RockingBlock.from_size(width, height)
+    ode = analytical.rocking_response(block, lambda t: float(motion.horizontal.acceleration(t)), duration,
                                       max_step=1e-3)
+    result = dem_core.simulate(scenes.block(width, height, contact=_contact(factor)), motion, duration=duration)
     assert not ode.overturned and not result.overturned
     assert result.peak_theta[0] == pytest.approx(ode.peak, rel=PULSE_PEAK_BAND)
-
-
-RAMP_RATE = cases.ONSET_RAMP_RATE
-
-
-def _ramp_onset(kn=None):
-    """Ground acceleration at which the 1 x 6 m block's rotation passes theta_cr / 30 under the ramp."""
-    contact = None if kn is None else dem_core.ContactParameters(kn=kn)
-    scene = scenes.block(cases.ONSET_WIDTH, cases.ONSET_HEIGHT, contact=contact)
-    result = dem_core.simulate(scene, excitation.ramp(RAMP_RATE), duration=4.5, output_dt=1e-3)
-    return RAMP_RATE * first_exceedance(result.t, result.theta[:, 0], scene.blocks[0].critical_angle / 30.0)
 
 
 @pytest.fixture(scope="module")
 def rigid_ramp_onset():
     block = analytical.RockingBlock.from_size(cases.ONSET_WIDTH, cases.ONSET_HEIGHT)
-    ode = analytical.rocking_response(block, lambda t: RAMP_RATE * t, 6.0, max_step=1e-3)
-    assert RAMP_RATE * ode.uplift_time == pytest.approx(analytical.rocking_onset_acceleration(block), rel=1e-9)
+    ode = analytical.rocking_response(block, lambda t: cases.ONSET_RAMP_RATE * t, 6.0, max_step=1e-3)
+    assert cases.ONSET_RAMP_RATE * ode.uplift_time == pytest.approx(analytical.rocking_onset_acceleration(block),
+                                                                    rel=1e-9)
     assert analytical.rocking_onset_acceleration(block) == pytest.approx(1.635, abs=5e-4)
-    return RAMP_RATE * first_exceedance(ode.t, ode.theta, block.alpha / 30.0)
+    return cases.ONSET_RAMP_RATE * first_exceedance(ode.t, ode.theta, block.alpha / 30.0)
 
 
-def test_rocking_onset_under_a_ramp_converges_to_the_rigid_value(rigid_ramp_onset):
-    """A soft contact lifts a corner before a rigid one does: the overturning moment it can resist
-    is cut by the triangular overlap (its centroid sits l/3 inside the corner), a bias that shrinks
-    like K_n^(-1/3).  Stiff contacts must reach the rigid answer; each 8-fold stiffening halves the bias."""
-    stiff = _ramp_onset(kn=1e12)
-    assert stiff == pytest.approx(rigid_ramp_onset, rel=0.03)  # measured -2.3%
-    bias = [_ramp_onset(kn) / rigid_ramp_onset - 1.0 for kn in (2e10, 1.6e11)]
-    assert bias[0] < bias[1] < 0.0
-    assert bias[0] / bias[1] == pytest.approx(2.0, rel=0.2)  # measured 2.03
-
-
-def test_rocking_onset_at_default_stiffness_is_below_the_rigid_threshold_by_the_soft_contact_bias(rigid_ramp_onset):
-    # measured -8.9% against the rigid equation under the same criterion (1.78 against 1.95 m/s^2)
-    onset = _ramp_onset()
-    assert 0.85 * rigid_ramp_onset < onset < rigid_ramp_onset
+@pytest.mark.parametrize("factor", STIFFNESS_FACTORS)
+def test_rocking_onset_under_a_ramp_is_the_rigid_value(rigid_ramp_onset, factor):
+    """The corner springs resist the overturning moment at the corner itself, as a rigid block does."""
+    scene = scenes.block(cases.ONSET_WIDTH, cases.ONSET_HEIGHT, contact=_contact(factor))
+    result = dem_core.simulate(scene, excitation.ramp(cases.ONSET_RAMP_RATE), duration=4.5, output_dt=1e-3)
+    onset = cases.ONSET_RAMP_RATE * first_exceedance(result.t, result.theta[:, 0],
+                                                     scene.blocks[0].critical_angle / 30.0)
+    assert onset == pytest.approx(rigid_ramp_onset, rel=ONSET_BAND)
 
 
 def test_onset_mode_follows_friction_against_slenderness():
@@ -109,22 +136,15 @@ def test_onset_mode_follows_friction_against_slenderness():
         assert (rocked, slid) == ((mode == "rocking"), (mode == "sliding")), (mu, result.peak_theta, result.total_sliding)
 
 
-# Under a record the soft contact's own rocking mode (about 15 Hz for the 1 x 6 m monolith at the default
-# K_n, inside a record's band) amplifies the motion: the peak under Northridge at 4 m/s^2 is +110% at
-# K_n = 2e10, +29% at 2e11 and -1.8% at 2e12 against the rocking equation.
-RECORD_STIFF_CONTACT_BAND = 0.05  # at K_n = 2e12
-
-
-def test_record_rocking_converges_to_the_rocking_equation_as_the_contact_stiffens():
+@pytest.mark.parametrize("factor", STIFFNESS_FACTORS)
+def test_record_rocking_matches_the_rocking_equation(factor):
+    """Northridge at 4 m/s^2 on the 1 x 6 m monolith: a case away from the jumps in the peak that records
+    near a threshold show (El Centro at 2.75 against 2.76 m/s^2 takes the rigid peak from 0.163 to 0.208
+    alpha); ensembles over many scales are the harness's job."""
     block = analytical.RockingBlock.from_size(1.0, 6.0)
     motion = excitation.record("northridge_1994", pga=4.0)
     reference = analytical.rocking_response(block, lambda t: float(motion.horizontal.acceleration(t)), 15.0,
                                             max_step=motion.horizontal.dt)
-    assert not reference.overturned
-    errors = []
-    for kn in (2e10, 2e11, 2e12):
-        result = dem_core.simulate(scenes.block(1.0, 6.0, contact=dem_core.ContactParameters(kn=kn)), motion,
-                                   duration=15.0)
-        errors.append(abs(result.peak_theta[0] / reference.peak - 1.0))
-    assert errors[0] > errors[1] > errors[2]
-    assert errors[2] < RECORD_STIFF_CONTACT_BAND
+    result = dem_core.simulate(scenes.block(1.0, 6.0, contact=_contact(factor)), motion, duration=15.0)
+    assert not reference.overturned and not result.overturned
+    assert result.peak_theta[0] == pytest.approx(reference.peak, rel=RECORD_PEAK_BAND)

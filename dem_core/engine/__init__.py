@@ -1,6 +1,8 @@
 """The engine: what a scene compiles to, the compiled kernels that step it, and what a run returns.
 
-``contact`` (the contact laws' parameters), ``geometry`` (polygons), ``stability`` (the time step),
-``stacks`` (columns and their overturn), ``simulation`` (``simulate``), ``result`` (``Result``);
-the compiled kernels are the private ``_``-modules.
+Public modules: ``contact`` (the contact laws' parameters), ``geometry`` (polygons), ``model`` (the
+compiled scene), ``state`` (where a run is), ``stability`` (the time step), ``stacks`` (columns and
+their overturn), ``simulation`` (``simulate``, ``Simulation``), ``result`` (``Result``).  The compiled
+kernels are the private modules, one stage each: ``_broadphase``, ``_manifold`` (corner law
+geometry), ``_polygon`` (overlap-area law geometry), ``_contact_law``, ``_checks`` and ``_step``.
 """

@@ -1,38 +1,29 @@
-"""The soft-contact law: parameters, their defaults, and the stable time step.
+"""The contact laws' parameters and their defaults (docs/method.md, sections 2 and 3).
 
-Per interface (FORMULATION section 1), with overlap area ``A`` (m^2), block
-depth ``d`` (m, the smaller of the pair) and relative velocities at the
-overlap centroid:
+Two laws, chosen by ``ContactParameters.law``:
 
-    F_n = K_n * A * d + C_n * v_n            (clamped at >= 0)
-    F_t = F_t,el - C_t * v_t,  F_t,el += -K_t * v_t * dt,  |F_t| <= mu F_n
+* ``"corner"`` (default): vertex-to-face springs as UDEC uses.  Each pair of touching polygons has at
+  most two contact points (the corners of the contact); at each
+  ``F_n = k_p delta + c_p delta'`` (clamped at >= 0) with ``k_p = K_n d L / 2``, so that a flush
+  face has the total stiffness ``K_n d L``, and ``c_p = 2 zeta sqrt(k_p m_eff)``, critical
+  (``zeta = 1``) by default: an almost plastic corner impact, which is what Housner's rocking theory
+  assumes, so that the energy a rocking block loses follows from the geometry with no fitted table.
+* ``"overlap_area"``: the thesis' law (L. Papaloizou, 2009).  One force ``F_n = K_n d A + C_n v_n`` at
+  the overlap's centroid, and a dashpot spread along the contact length ``l`` that resists relative
+  rotation with the couple ``-C_r l^2 / 12 (omega_B - omega_A)``; ``C_n = 2 zeta_n sqrt(k m_eff)``
+  with ``k = K_n d L`` and ``zeta_n = 0.3`` by default, ``C_r`` likewise with ``zeta_r`` calibrated
+  against Housner's decay per slenderness (:data:`HOUSNER_DAMPING`): its impacts lose the right
+  energy only at the stiffness it was calibrated at.
 
-``K_n`` (N/m^2 per metre of depth) is the one scene-wide stiffness.  The
-other three are per interface and, unless given explicitly, follow from it
-and from the pair of blocks so that no hand tuning is needed:
+Both laws: tangential ``F_t,el += -K_t v_t dt``, ``F_t = F_t,el - C_t v_t``, ``|F_t| <= mu F_n`` (per
+point for the corner law), ``K_t = tangential_stiffness_ratio`` times the normal spring and
+``C_t = 2 zeta_t sqrt(K_t m_eff)``.  ``K_n`` (N/m^2 per metre of depth) is the one scene-wide
+stiffness; ``L`` is the smaller of the two blocks' widths, ``d`` the smaller depth and ``m_eff`` the
+pair's reduced mass (a block's own mass against the base).  The per-pair constants are computed by
+:func:`dem_core.engine._contact_law.pair_parameters`, the function the compiled kernel calls.
 
-* ``k = K_n * d * L`` is the interface's linear normal stiffness (N/m) for a
-  flat contact of length ``L`` = the smaller of the two blocks' widths;
-* ``C_n = 2 * zeta_n * sqrt(k * m_eff)`` with ``m_eff`` the pair's reduced
-  mass (the block's own mass against the base): a dashpot with damping ratio
-  ``zeta_n`` acting at the overlap centroid;
-* a dashpot spread evenly along the contact length ``l`` (a Kelvin-Voigt
-  foundation under the uniform pressure ``K_n``) also resists the relative
-  rotation of the pair: the couple ``-C_r l^2 / 12 (omega_B - omega_A)`` with
-  ``C_r = 2 * zeta_r * sqrt(k * m_eff)``.  Without it a soft contact rolls
-  from one corner to the other with almost no loss, whatever ``C_n``: a
-  dashpot at the centroid sees almost no velocity there.  By default
-  ``zeta_r`` follows :func:`housner_damping_ratio` of the scene's rocking
-  slenderness, calibrated so that a rocking block of that slenderness loses
-  the energy Housner's impact rule predicts (FORMULATION 4.2).  It is kept
-  apart from ``zeta_n`` because stiffness-proportional dashpots are what
-  limit an explicit time step: a small ``zeta_n`` and ``zeta_t`` keep the
-  step large;
-* ``K_t = tangential_stiffness_ratio * k`` and
-  ``C_t = 2 * zeta_t * sqrt(K_t * m_eff)``.
-
-:func:`damping_ratio_for_restitution` and :func:`normal_damping` map a target
-coefficient of restitution or damping ratio onto ``C_n``.
+:func:`damping_ratio_for_restitution` and :func:`normal_damping` map a target coefficient of
+restitution or damping ratio onto a dashpot.
 """
 
 import math
@@ -66,34 +57,45 @@ def housner_damping_ratio(alpha: float) -> float:
     return float(np.interp(alpha, table[:, 0], table[:, 1]))
 
 
+LAWS = ("corner", "overlap_area")
+#: default damping ratios per law: (normal, tangential)
+DEFAULT_DAMPING = {"corner": (1.0, 1.0), "overlap_area": (DEFAULT_NORMAL_DAMPING_RATIO, DEFAULT_TANGENTIAL_DAMPING_RATIO)}
+
+
 @dataclass(frozen=True)
 class ContactParameters:
-    """Soft-contact parameters of a scene.
+    """Contact parameters of a scene.
 
-    kn : N/m^2 per m depth, penalty stiffness on the overlap area.
-    damping_ratio : zeta_n of every interface's normal dashpot (ignored if
-        ``cn`` is given).
-    rocking_damping_ratio : zeta_r of the dashpot couple that resists relative
-        rotation (ignored if ``cr`` is given); None:
-        :func:`housner_damping_ratio` of the scene's rocking slenderness.
-    tangential_stiffness_ratio : K_t / (K_n d L) (ignored if ``kt`` is given).
-    tangential_damping_ratio : zeta_t of the tangential dashpot (ignored if
-        ``ct`` is given).
-    cn, cr, kt, ct : explicit N s/m, N s/m, N/m, N s/m applied to every
-        interface, or None for the per-interface defaults.
+    law : ``"corner"`` (default) or ``"overlap_area"`` (the thesis' law); see the module docstring.
+    kn : N/m^2 per m depth, the normal stiffness (per metre of contact length and of depth).
+    damping_ratio : zeta of the normal dashpots (None: 1.0 for the corner law, critical; 0.3 for the
+        overlap-area law).  Ignored if ``cn`` or ``restitution`` is given.
+    restitution : instead of ``damping_ratio``, the coefficient of restitution of a flat impact the
+        normal dashpots should give (:func:`damping_ratio_for_restitution`).
+    rocking_damping_ratio : overlap-area law only, zeta_r of the couple that resists relative
+        rotation (ignored if ``cr`` is given); None: :func:`housner_damping_ratio` of the scene's
+        rocking slenderness.
+    tangential_stiffness_ratio : K_t over the normal spring (ignored if ``kt`` is given).
+    tangential_damping_ratio : zeta_t of the tangential dashpot (None: 0.2; ignored if ``ct`` is given).
+    cn, cr, kt, ct : explicit N s/m, N s/m, N/m, N s/m applied to every interface (per contact
+        point for the corner law), or None for the per-interface defaults.
     """
 
+    law: str = "corner"
     kn: float = DEFAULT_NORMAL_STIFFNESS
-    damping_ratio: float = DEFAULT_NORMAL_DAMPING_RATIO
+    damping_ratio: float | None = None
+    restitution: float | None = None
     rocking_damping_ratio: float | None = None
     tangential_stiffness_ratio: float = 0.5
-    tangential_damping_ratio: float = DEFAULT_TANGENTIAL_DAMPING_RATIO
+    tangential_damping_ratio: float | None = None
     cn: float | None = None
     cr: float | None = None
     kt: float | None = None
     ct: float | None = None
 
     def __post_init__(self):
+        if self.law not in LAWS:
+            raise ValueError(f"contact law must be one of {', '.join(LAWS)}, got {self.law!r}")
         for name in ("kn", "tangential_stiffness_ratio"):
             v = getattr(self, name)
             if not (np.isfinite(v) and v > 0):
@@ -102,6 +104,29 @@ class ContactParameters:
             v = getattr(self, name)
             if v is not None and not (np.isfinite(v) and v >= 0):
                 raise ValueError(f"contact parameter {name} must be >= 0 or None, got {v}")
+        if self.restitution is not None:
+            if self.damping_ratio is not None:
+                raise ValueError("give either damping_ratio or restitution, not both")
+            damping_ratio_for_restitution(self.restitution)  # raises for a value out of range
+        if self.law == "corner" and self.rocking_damping_ratio is not None:
+            raise ValueError("rocking_damping_ratio belongs to the overlap-area law; the corner law has no "
+                             "rocking couple")
+
+    @property
+    def normal_damping_ratio(self) -> float:
+        """zeta of the normal dashpots in force (from ``damping_ratio``, ``restitution`` or the law's default)."""
+        if self.damping_ratio is not None:
+            return float(self.damping_ratio)
+        if self.restitution is not None:
+            return damping_ratio_for_restitution(self.restitution)
+        return DEFAULT_DAMPING[self.law][0]
+
+    @property
+    def tangential_damping(self) -> float:
+        """zeta_t in force."""
+        if self.tangential_damping_ratio is not None:
+            return float(self.tangential_damping_ratio)
+        return DEFAULT_DAMPING[self.law][1]
 
 
 def restitution_for_damping_ratio(damping_ratio: float) -> float:
@@ -150,67 +175,11 @@ def normal_damping(stiffness: float, mass: float, *, restitution: float | None =
     return 2.0 * zeta * math.sqrt(stiffness * mass)
 
 
-@dataclass(frozen=True)
-class InterfaceArrays:
-    """Dense per-pair parameters, indexed ``[i, j]`` by body index (0 = base).
-
-    kn : (nb, nb) N/m^2 times depth, so that ``F = kn * A``.
-    cn, cr, kt, ct : (nb, nb) N s/m, N s/m, N/m, N s/m (the couple is ``cr l^2 / 12`` times
-        the relative angular velocity).
-    mu : (nb, nb) Coulomb coefficient.
-    k_linear : (nb, nb) N/m, ``K_n d L`` (used for the stable time step).
-    m_eff : (nb, nb) kg, reduced mass of the pair (the block's mass against the base).
-    active : (nb, nb) bool, pairs that may interact (not base with itself).
-    """
-
-    kn: np.ndarray
-    cn: np.ndarray
-    cr: np.ndarray
-    kt: np.ndarray
-    ct: np.ndarray
-    mu: np.ndarray
-    k_linear: np.ndarray
-    m_eff: np.ndarray
-    active: np.ndarray
-
-
 def rocking_damping_ratio(scene) -> float:
-    """The damping ratio of the rotational dashpot couple in force for ``scene``."""
+    """The damping ratio of the overlap-area law's rotational dashpot couple for ``scene`` (0 for the corner law)."""
     p = scene.contact
+    if p.law != "overlap_area":
+        return 0.0
     if p.rocking_damping_ratio is None:
         return housner_damping_ratio(scene.rocking_slenderness)
     return p.rocking_damping_ratio
-
-
-def interface_arrays(scene) -> InterfaceArrays:
-    """Per-interface contact parameters of ``scene`` (see the module docstring)."""
-    p = scene.contact
-    bodies = scene.bodies
-    nb = len(bodies)
-    mass = np.array([0.0] + [b.mass for b in scene.blocks])
-    width = np.array([b.width for b in bodies])
-    depth = np.array([b.depth for b in bodies])
-    d = np.minimum.outer(depth, depth)
-    length = np.minimum.outer(width, width)
-    total = mass[:, None] + mass[None, :]
-    total[0, 0] = 1.0  # base with itself: never in contact
-    m_eff = mass[:, None] * mass[None, :] / total
-    m_eff[0, :] = mass  # the base is infinitely heavy: a block meets it with its own mass
-    m_eff[:, 0] = mass
-    kn = p.kn * d
-    k_lin = kn * length
-    cn = np.full((nb, nb), p.cn) if p.cn is not None else 2.0 * p.damping_ratio * np.sqrt(k_lin * m_eff)
-    cr = (np.full((nb, nb), p.cr) if p.cr is not None
-          else 2.0 * rocking_damping_ratio(scene) * np.sqrt(k_lin * m_eff))
-    kt = np.full((nb, nb), p.kt) if p.kt is not None else p.tangential_stiffness_ratio * k_lin
-    ct = np.full((nb, nb), p.ct) if p.ct is not None else 2.0 * p.tangential_damping_ratio * np.sqrt(kt * m_eff)
-    mu = np.empty((nb, nb))
-    for i, a in enumerate(bodies):
-        for j, b in enumerate(bodies):
-            mu[i, j] = scene.friction(a.name, b.name) if i != j else 0.0
-    active = np.ones((nb, nb), bool)
-    np.fill_diagonal(active, False)
-    active[0, 0] = False
-    for arr in (cn, cr, kt, ct):
-        arr[~active] = 0.0
-    return InterfaceArrays(kn, cn, cr, kt, ct, mu, k_lin, m_eff, active)

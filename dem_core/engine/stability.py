@@ -1,57 +1,67 @@
-"""The time step: the stability limit of the explicit scheme and the duration of impacts.
+"""The time step: the stability limit of the explicit scheme and the duration of impacts (docs/method.md, section 5).
 
-Central differences with the damping force taken at the lagging half step
-are stable only below a limit set by the stiffest, most damped mode; impacts
-must moreover last several steps for the energy they take to converge.
+Central differences with the damping force taken at the lagging half step are stable only below a
+limit set by the stiffest, most damped mode; impacts must moreover last several steps for the
+energy they take to converge.  Both are computed from the contacts present at the start, with the
+per-pair constants the kernel uses (:func:`dem_core.engine._contact_law.pair_parameters`).
 """
 
 import numpy as np
 
-from .contact import InterfaceArrays, interface_arrays
+from ._contact_law import CORNER, dashpot, effective_mass, pair_parameters
+from .model import Model, compile_model
 
 
-def stability_limit(scene, interfaces: InterfaceArrays | None = None, toppled: bool = False) -> float:
+def _pair(model: Model, i: int, j: int):
+    """(k_n, c_n, k_t, c_t, c_r, m_eff, length) of bodies i, j under the model's law."""
+    b, law = model.bodies, model.law
+    return pair_parameters(law.law, law.kn, law.zeta_n, law.zeta_t, law.zeta_r, law.kt_ratio, law.cn, law.cr,
+                           law.kt, law.ct, b.mass[i], b.mass[j], b.width[i], b.width[j], b.depth[i], b.depth[j])
+
+
+def stability_limit(scene, model: Model | None = None, toppled: bool = False, touching=None) -> float:
     """Largest time step (s) at which the central-difference scheme stays stable.
 
-    Linearises the contacts present at the start (pairs that touch within a
-    hair's breadth) as flat faces of length ``L`` (the smaller of the two
-    blocks' extents along the contact): normal spring ``k = K_n d L`` and
-    dashpot ``C_n``, tangential ``K_t`` and ``C_t``, rotational stiffness
-    ``k L^2 / 12`` and the dashpot couple ``C_n L^2 / 12``.  The contacts act
-    at the centres of the faces or, as in rocking, off centre: the normal
-    spring a quarter of the face length aside (a triangular overlap of extent
-    ``l`` has normal stiffness ``K_n d l`` acting ``L/2 - l/3`` from the face
-    centre, and ``l (L/2 - l/3)^2 <= L^3 / 18``: the lever of the full
-    stiffness at ``L / sqrt(18) ~ 0.24 L``) and the tangential spring, whose
-    stiffness does not shrink with the overlap, at the corner.
+    Linearises the contacts present at the start (pairs that touch within a hair's breadth) as flat
+    faces of length ``L`` (the smaller of the two blocks' extents along the contact):
 
-    For each case the one-step amplification matrix of the scheme,
-    ``v' = v + dt M^-1 (-K x - C v)``, ``x' = x + dt v'`` (damping on the
-    lagging half-step velocity), is formed and the largest dt with spectral
-    radius <= 1 found by bisection; the smallest over the cases is returned.
-    This catches the dashpots' own limit (explicit damping is stable only
-    while ``dt c / m`` stays below about 2), which a bound on the undamped
-    frequency misses: a tall block's tangential dashpot acts on its rocking
-    through a lever of its full height.  Above 60 blocks the per-mode bound
-    ``(2 / omega) (sqrt(1 + zeta^2) - zeta)`` with the modal damping ratios
-    replaces the bisection.
+    * corner law: a normal spring ``k_p`` and dashpot ``c_p`` and a tangential spring and dashpot at
+      each end of the face;
+    * overlap-area law: the normal spring ``K_n d L`` and dashpot ``C_n`` at the face centre or a
+      quarter of the face aside (a triangular overlap of extent ``l`` has normal stiffness
+      ``K_n d l`` acting ``L/2 - l/3`` from the centre, and ``l (L/2 - l/3)^2 <= L^3 / 18``: the
+      lever of the full stiffness at ``L / sqrt(18) ~ 0.24 L``), the tangential spring at the corner,
+      and the rotational stiffness ``K_n d L^3 / 12`` with the couple ``C_r L^2 / 12``.
 
-    Contacts that form later can be stiffer: a toppled block lying on its
-    long side presses a longer face.  ``toppled=True`` allows for that by
-    scaling the limit with ``sqrt(width / longest edge)`` of the block where
-    that ratio is smallest (the stiffness grows with the face length).
+    For each case the one-step amplification matrix of the scheme, ``v' = v + dt M^-1 (-K x - C v)``,
+    ``x' = x + dt v'`` (damping on the lagging half-step velocity), is formed and the largest dt with
+    spectral radius <= 1 found by bisection; the smallest over the cases is returned.  This catches
+    the dashpots' own limit (explicit damping is stable only while ``dt c / m`` stays below about
+    2), which a bound on the undamped frequency misses.  Above 60 blocks the per-mode bound
+    ``(2 / omega) (sqrt(1 + zeta^2) - zeta)`` with the modal damping ratios replaces the bisection.
+
+    Contacts that form later can be stiffer: a toppled block lying on its long side presses a longer
+    face.  ``toppled=True`` allows for that by scaling the limit with ``sqrt(width / longest edge)``
+    of the block where that ratio is smallest (the stiffness grows with the face length).
+    ``model``, ``touching`` : the compiled scene and its touching pairs, if already known.
     """
-    ia = interface_arrays(scene) if interfaces is None else interfaces
+    touching = scene.touching_pairs() if touching is None else touching
+    model = compile_model(scene, touching) if model is None else model
     mass = np.array([[b.mass, b.mass, b.inertia] for b in scene.blocks]).ravel()
-    faces = _touching_faces(scene, ia)
+    faces = _touching_faces(scene, touching)
     if not faces:  # nothing touches yet: the stiffest contact that can form is a face on the base
-        lam = max(ia.k_linear[0, i] * (1.0 / b.mass + b.circumradius**2 / b.inertia) for i, b in
-                  enumerate(scene.blocks, start=1))
-        return float(_damped_limit(np.sqrt(lam), _largest_damping_ratio(scene, ia)))
+        worst = np.inf
+        for i, b in enumerate(scene.blocks, start=1):
+            k_n, c_n, *_rest, m_eff, length = _pair(model, 0, i)
+            spring = k_n * (2.0 if model.law.law == CORNER else length)
+            omega = np.sqrt(spring * (1.0 / b.mass + b.circumradius ** 2 / b.inertia))
+            worst = min(worst, float(_damped_limit(omega, _damping_ratio(model, 0, i))))
+        return worst
     lying = min(b.width / _longest_edge(b.vertices) for b in scene.blocks) if toppled else 1.0
     dt = np.inf
-    for side in (-1.0, 0.0, 1.0):
-        stiffness, damping = _linearised_matrices(scene, ia, faces, 0.25 * side, 0.5 * side)
+    shifts = (0.0,) if model.law.law == CORNER else (-1.0, 0.0, 1.0)
+    for side in shifts:
+        stiffness, damping = _linearised_matrices(scene, model, faces, 0.25 * side, 0.5 * side)
         dt = min(dt, _scheme_limit(stiffness, damping, mass))
     return float(np.sqrt(lying) * dt)
 
@@ -90,20 +100,24 @@ def _scheme_limit(stiffness, damping, mass) -> float:
     return lo
 
 
-def impact_duration(scene, interfaces: InterfaceArrays | None = None) -> float:
+def impact_duration(scene, model: Model | None = None, touching=None) -> float:
     """Shortest impact duration ``pi sqrt(m_eff / k)`` (s) of the face contacts touching at the start.
 
-    Half a period of the face's spring: ``k = K_n d L`` of the face and
-    ``m_eff`` the pair's reduced mass.  Without touching faces, the blocks'
-    contacts with the base count.
+    Half a period of the face's spring: ``k = K_n d L`` of the whole face (both corner springs of the
+    corner law, or the overlap law's face stiffness) and ``m_eff`` the pair's reduced mass.  Without
+    touching faces, the blocks' contacts with the base count.
     """
-    ia = interface_arrays(scene) if interfaces is None else interfaces
-    faces = _touching_faces(scene, ia)
-    if faces:
-        stiffness = [(ia.kn[i, j] * extent, ia.m_eff[i, j]) for i, j, _, _, _, extent in faces]
-    else:
-        stiffness = [(ia.k_linear[0, i], ia.m_eff[0, i]) for i in range(1, len(scene.bodies))]
-    return float(min(np.pi * np.sqrt(m / k) for k, m in stiffness))
+    touching = scene.touching_pairs() if touching is None else touching
+    model = compile_model(scene, touching) if model is None else model
+    faces = _touching_faces(scene, touching)
+    pairs = [(i, j, extent) for i, j, _, _, _, extent in faces] or [
+        (0, i, min(scene.base.width, b.width)) for i, b in enumerate(scene.blocks, start=1)]
+    durations = []
+    for i, j, extent in pairs:
+        m_eff = _pair(model, i, j)[5]
+        durations.append(np.pi * np.sqrt(m_eff / (model.law.kn * min(scene.bodies[i].depth, scene.bodies[j].depth)
+                                                   * extent)))
+    return float(min(durations))
 
 
 def _longest_edge(vertices) -> float:
@@ -115,55 +129,81 @@ def _damped_limit(omega, zeta):
     return 2.0 / omega * (np.sqrt(1.0 + zeta**2) - zeta)
 
 
-def _touching_faces(scene, ia: InterfaceArrays) -> list:
-    """``(i, j, centroid, normal, tangent, L)`` of every interacting pair touching at the start."""
+def _point_mass(model: Model, i: int, j: int, point, direction) -> float:
+    """Effective mass (kg) of bodies i and j at ``point`` along ``direction``, as the kernel computes it."""
+    b = model.bodies
+    ri = point - b.centroid0[i]
+    rj = point - b.centroid0[j]
+    return effective_mass(direction[0], direction[1], ri[0], ri[1], b.inv_mass[i], b.inv_inertia[i], rj[0], rj[1],
+                          b.inv_mass[j], b.inv_inertia[j])
+
+
+def _damping_ratio(model: Model, i: int, j: int) -> float:
+    """Largest damping ratio of the pair's dashpots against its own springs and reduced mass."""
+    k_n, c_n, k_t, c_t, c_r, m_eff, length = _pair(model, i, j)
+    if model.law.law == CORNER:
+        c_n = dashpot(c_n, model.law.zeta_n, k_n, m_eff)
+        c_t = dashpot(c_t, model.law.zeta_t, k_t, m_eff)
+    spring = k_n if model.law.law == CORNER else k_n * length
+    ratios = [max(c_n, c_r) / (2.0 * np.sqrt(spring * m_eff))]
+    if k_t > 0:
+        ratios.append(c_t / (2.0 * np.sqrt(k_t * m_eff)))
+    return float(max(ratios))
+
+
+def _touching_faces(scene, touching) -> list:
+    """``(i, j, centroid, normal, tangent, L)`` of every pair touching at the start."""
     faces = []
-    for i, j, touch in scene.touching_pairs():
-        if ia.active[i, j]:
-            p, q = scene.bodies[i], scene.bodies[j]
-            t = touch.tangent
-            extent = min(np.ptp(p.vertices @ t), np.ptp(q.vertices @ t))
-            faces.append((i, j, touch.centroid, touch.normal, t, extent))
+    for i, j, touch in touching:
+        p, q = scene.bodies[i], scene.bodies[j]
+        t = touch.tangent
+        extent = min(np.ptp(p.vertices @ t), np.ptp(q.vertices @ t))
+        faces.append((i, j, touch.centroid, touch.normal, t, extent))
     return faces
 
 
-def _linearised_matrices(scene, ia: InterfaceArrays, faces: list, shift_n: float, shift_t: float):
+def _row(scene, i, j, point, direction):
+    """The constraint row of a spring along ``direction`` at ``point`` between bodies i and j."""
+    n = len(scene.blocks)
+    row = np.zeros(3 * n)
+    for body, sign in ((i, -1.0), (j, 1.0)):
+        if body:
+            r = point - scene.bodies[body].centroid
+            row[3 * body - 3:3 * body] = sign * np.array(
+                [direction[0], direction[1], r[0] * direction[1] - r[1] * direction[0]])
+    return row
+
+
+def _linearised_matrices(scene, model: Model, faces: list, shift_n: float, shift_t: float):
     """(3 n, 3 n) stiffness and damping of the touching faces, n = number of blocks.
 
-    ``shift_n``, ``shift_t`` move the points of action of the normal and the
-    tangential spring along the tangent by that fraction of the face length.
+    Corner law: springs at both ends of each face.  Overlap law: ``shift_n``, ``shift_t`` move the
+    points of action of the normal and the tangential spring along the tangent by that fraction of
+    the face length.
     """
-    bodies = scene.bodies
     n = len(scene.blocks)
     stiffness = np.zeros((3 * n, 3 * n))
     damping = np.zeros((3 * n, 3 * n))
     for i, j, centroid, normal, t, extent in faces:
-        k_n = ia.kn[i, j] * extent
+        k_n, c_n, k_t, c_t, c_r, _, _ = _pair(model, i, j)
         rows = []
-        for direction, k, c, shift in ((normal, k_n, ia.cn[i, j], shift_n), (t, ia.kt[i, j], ia.ct[i, j], shift_t)):
-            point = centroid + shift * extent * t
-            row = np.zeros(3 * n)
+        if model.law.law == CORNER:
+            for end in (-0.5, 0.5):
+                point = centroid + end * extent * t
+                for direction, k, given, zeta in ((normal, k_n, c_n, model.law.zeta_n), (t, k_t, c_t, model.law.zeta_t)):
+                    mass = _point_mass(model, i, j, point, direction)
+                    rows.append((_row(scene, i, j, point, direction), k, dashpot(given, zeta, k, mass)))
+        else:
+            spring = k_n * extent
+            rows.append((_row(scene, i, j, centroid + shift_n * extent * t, normal), spring, c_n))
+            rows.append((_row(scene, i, j, centroid + shift_t * extent * t, t), k_t, c_t))
+            rot = np.zeros(3 * n)
             for body, sign in ((i, -1.0), (j, 1.0)):
                 if body:
-                    r = point - bodies[body].centroid
-                    row[3 * body - 3:3 * body] = sign * np.array(
-                        [direction[0], direction[1], r[0] * direction[1] - r[1] * direction[0]])
-            rows.append((row, k, c))
-        rot = np.zeros(3 * n)
-        for body, sign in ((i, -1.0), (j, 1.0)):
-            if body:
-                rot[3 * body - 1] = sign
-        rows.append((rot, k_n * extent**2 / 12.0, ia.cr[i, j] * extent**2 / 12.0))
+                    rot[3 * body - 1] = sign
+            rows.append((rot, spring * extent**2 / 12.0, c_r * extent**2 / 12.0))
         for row, k, c in rows:
             outer = np.outer(row, row)
             stiffness += k * outer
             damping += c * outer
     return stiffness, damping
-
-
-def _largest_damping_ratio(scene, ia: InterfaceArrays) -> float:
-    m_eff = ia.m_eff[ia.active]
-    zn = np.maximum(ia.cn[ia.active], ia.cr[ia.active]) / (2.0 * np.sqrt(ia.k_linear[ia.active] * m_eff))
-    with np.errstate(invalid="ignore", divide="ignore"):
-        zt = np.where(ia.kt[ia.active] > 0, ia.ct[ia.active] / (2.0 * np.sqrt(ia.kt[ia.active] * m_eff)), 0.0)
-    return float(max(zn.max(), zt.max(), 0.0))

@@ -33,13 +33,14 @@ class Stack:
     foot_local: np.ndarray
 
 
-def find_stacks(scene) -> tuple:
-    """The stacks of two or more blocks standing on the base of ``scene``."""
+def find_stacks(scene, touching=None) -> tuple:
+    """The stacks of two or more blocks standing on the base of ``scene`` (``touching``: its
+    :meth:`~dem_core.inputs.scene.Scene.touching_pairs`, if already known)."""
     below = {b: [] for b in range(len(scene.bodies))}
     above = {b: [] for b in range(len(scene.bodies))}
     on_base = set()
     bodies = scene.bodies
-    for i, j, contact in scene.touching_pairs():
+    for i, j, contact in (scene.touching_pairs() if touching is None else touching):
         if abs(contact.normal[1]) < VERTICAL_NORMAL:
             continue
         low, high = (i, j) if bodies[i].centroid[1] < bodies[j].centroid[1] else (j, i)
@@ -96,31 +97,15 @@ def base_ends(block) -> np.ndarray:
     return np.array([low[np.argmin(low[:, 0])], low[np.argmax(low[:, 0])]])
 
 
-def kernel_arrays(scene, stacks) -> dict:
-    """The stacks as the kernel takes them (body indices count the base as 0)."""
-    n_bodies = len(scene.bodies)
-    stack_id = np.full(n_bodies, -1, np.int64)
-    for k, st in enumerate(stacks):
-        stack_id[np.array(st.blocks) + 1] = k
-    masses = np.array([b.mass for b in scene.blocks])
-    return {
-        "stack_id": stack_id,
-        "stack_bottom": np.array([st.blocks[0] + 1 for st in stacks], np.int64),
-        "stack_mass": np.array([masses[list(st.blocks)].sum() for st in stacks]),
-        "stack_foot": np.array([st.foot_local for st in stacks]).reshape(len(stacks), 2, 2),
-    }
+def first_overturns(scene, x, y, theta) -> tuple:
+    """Index of the first output at which each block overturned and each stack tipped, by the rule the
+    kernel applies every step (:func:`dem_core.engine._checks.mark_overturns`): ``(blocks
+    (n_blocks,), stacks (n_stacks,))`` int64, -1 if never.  ``x``, ``y``, ``theta`` (n, n_blocks)
+    relative to the base, as a :class:`~dem_core.engine.result.Result` holds them less the ground."""
+    from ._checks import first_overturns as check
+    from .model import compile_bodies, compile_stacks
 
-
-def tipped(stacks, scene, x, theta) -> np.ndarray:
-    """(n, n_stacks) whether each stack's centre of mass is past an end of its bottom block's
-    base at each output; ``x``, ``theta`` (n, n_blocks) as in :class:`~dem_core.engine.result.Result`."""
-    masses = np.array([b.mass for b in scene.blocks])
-    out = np.zeros((x.shape[0], len(stacks)), bool)
-    for k, st in enumerate(stacks):
-        members = list(st.blocks)
-        com = x[:, members] @ masses[members] / masses[members].sum()
-        b = st.blocks[0]
-        th = theta[:, b]
-        ends = x[:, b, None] + np.cos(th)[:, None] * st.foot_local[:, 0] - np.sin(th)[:, None] * st.foot_local[:, 1]
-        out[:, k] = (com < ends.min(axis=1)) | (com > ends.max(axis=1))
-    return out
+    states = np.zeros((len(x), len(scene.bodies), 3))
+    states[:, 1:, 0], states[:, 1:, 1], states[:, 1:, 2] = x, y, theta
+    blocks, stacks = check(states, compile_bodies(scene), compile_stacks(scene))
+    return blocks[1:], stacks

@@ -1,0 +1,144 @@
+"""Compiled contact manifold of two convex polygons for the corner law (docs/method.md, section 2).
+
+Private module.  Polygons are counter-clockwise, given as slices of world vertex arrays
+``wx[start:start + n]``, ``wy[...]`` with the outward unit normal of each edge (edge ``k`` runs from
+vertex ``k`` to ``k + 1``) in ``wnx``, ``wny``.
+
+The manifold follows the separating-axis and face-clipping construction of rigid-body engines
+(Box2D's ``b2CollidePolygons``): the reference face is the face of least penetration over both
+polygons, the incident face the other polygon's face most opposed to it; the incident face is
+clipped to the reference face's side lines, and the clipped points below the reference face are the
+contact points (at most two).  Each point carries its depth, and a feature key naming the reference
+face and the incident vertex (or the incident face and the side line that clipped it), under which
+its tangential history is kept from step to step.
+"""
+
+import math
+
+import numba as nb
+
+#: bits of a reference code and of a point code within a feature key
+FACE_BITS = 20
+POINT_BITS = 23
+#: the other polygon's face must be better than last step's reference by this fraction of the
+#: penetration before the reference changes sides (flush faces tie to round-off and must not flip)
+REFERENCE_HYSTERESIS = 0.1
+
+
+@nb.njit(cache=True, inline="always")
+def face_separation(ax, ay, anx, any_, a0, na, bx, by, b0, nb_):
+    """Largest, over the faces of A, of the smallest signed distance of B's vertices from the face's
+    line (m; negative: B's deepest vertex is inside by that much), and that face (index within A)."""
+    best = -math.inf
+    face = -1
+    for k in range(na):
+        nx = anx[a0 + k]
+        ny = any_[a0 + k]
+        px = ax[a0 + k]
+        py = ay[a0 + k]
+        lowest = math.inf
+        for m in range(nb_):
+            d = nx * (bx[b0 + m] - px) + ny * (by[b0 + m] - py)
+            if d < lowest:
+                lowest = d
+        if lowest > best:
+            best = lowest
+            face = k
+    return best, face
+
+
+@nb.njit(cache=True)
+def reference_code(side, face):
+    """Code of a reference face: ``side`` 0 for polygon A's face, 1 for B's."""
+    return (side << FACE_BITS) | face
+
+
+@nb.njit(cache=True, inline="always")
+def corner_manifold(wx, wy, wnx, wny, a0, na, b0, nb_, previous, points, keys):
+    """Contact points of convex polygons A (``a0``, ``na``) and B (``b0``, ``nb_``).
+
+    previous : last step's reference code of this pair (-1 if none): its side is kept unless the
+        other polygon's best face penetrates less by ``REFERENCE_HYSTERESIS`` of the penetration.
+    points : (2, 3) output, per point x, y (m) where the force acts (midway between the incident
+        point and the reference face) and depth (m, >= 0).
+    keys : (2,) int64 output, the points' feature keys.
+
+    Returns ``(count, nx, ny, code)``: the number of points (0 when the polygons do not overlap),
+    the reference face's outward normal (pointing from the reference polygon into the incident one)
+    and the reference code (side 0: A is the reference).
+    """
+    sep_a, face_a = face_separation(wx, wy, wnx, wny, a0, na, wx, wy, b0, nb_)
+    if sep_a > 0.0:
+        return 0, 0.0, 0.0, -1
+    sep_b, face_b = face_separation(wx, wy, wnx, wny, b0, nb_, wx, wy, a0, na)
+    if sep_b > 0.0:
+        return 0, 0.0, 0.0, -1
+    margin = REFERENCE_HYSTERESIS * min(-sep_a, -sep_b)
+    if previous >= 0 and (previous >> FACE_BITS) == 1:
+        use_b = not sep_a > sep_b + margin
+    else:
+        use_b = sep_b > sep_a + margin
+    if use_b:
+        r0, nr, i0, ni, face, side = b0, nb_, a0, na, face_b, 1
+    else:
+        r0, nr, i0, ni, face, side = a0, na, b0, nb_, face_a, 0
+    code = reference_code(side, face)
+    nx = wnx[r0 + face]
+    ny = wny[r0 + face]
+    tx = -ny  # the face runs along t from its first vertex to its second (counter-clockwise)
+    ty = nx
+    next_face = face + 1 if face + 1 < nr else 0
+    v1x = wx[r0 + face]
+    v1y = wy[r0 + face]
+    v2x = wx[r0 + next_face]
+    v2y = wy[r0 + next_face]
+
+    incident = 0
+    most_opposed = math.inf
+    for k in range(ni):
+        d = wnx[i0 + k] * nx + wny[i0 + k] * ny
+        if d < most_opposed:
+            most_opposed = d
+            incident = k
+    next_incident = incident + 1 if incident + 1 < ni else 0
+    p0x = wx[i0 + incident]
+    p0y = wy[i0 + incident]
+    p1x = wx[i0 + next_incident]
+    p1y = wy[i0 + next_incident]
+    f0 = incident << 1  # point codes: vertex v -> 2 v; clipped by side line s of incident face e -> 2 (2 e + s) + 1
+    f1 = next_incident << 1
+
+    # side line 0 through v1 keeps t . (p - v1) >= 0; side line 1 through v2 keeps t . (v2 - p) >= 0
+    for s in range(2):
+        if s == 0:
+            d0 = tx * (p0x - v1x) + ty * (p0y - v1y)
+            d1 = tx * (p1x - v1x) + ty * (p1y - v1y)
+        else:
+            d0 = tx * (v2x - p0x) + ty * (v2y - p0y)
+            d1 = tx * (v2x - p1x) + ty * (v2y - p1y)
+        if d0 < 0.0 and d1 < 0.0:
+            return 0, 0.0, 0.0, -1
+        clipped = (((incident << 1) | s) << 1) | 1
+        if d0 < 0.0:
+            f = d0 / (d0 - d1)
+            p0x += f * (p1x - p0x)
+            p0y += f * (p1y - p0y)
+            f0 = clipped
+        elif d1 < 0.0:
+            f = d1 / (d1 - d0)
+            p1x += f * (p0x - p1x)
+            p1y += f * (p0y - p1y)
+            f1 = clipped
+
+    count = 0
+    for q in range(2):
+        px = p0x if q == 0 else p1x
+        py = p0y if q == 0 else p1y
+        depth = -(nx * (px - v1x) + ny * (py - v1y))
+        if depth >= 0.0:
+            points[count, 0] = px + 0.5 * depth * nx
+            points[count, 1] = py + 0.5 * depth * ny
+            points[count, 2] = depth
+            keys[count] = (code << POINT_BITS) | (f0 if q == 0 else f1)
+            count += 1
+    return count, nx, ny, code

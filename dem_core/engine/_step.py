@@ -1,0 +1,357 @@
+"""Compiled time stepping: contacts, forces, central differences, checks, outputs.
+
+Private module: :func:`advance` takes the model's named tuples, the state's arrays and the ground
+motion of the steps to take, and is called by :mod:`dem_core.engine.simulation` in chunks (so that a
+progress bar can follow a long run and the ground input never has to exist for the whole run at
+once).  Central differences in velocity form (docs/method.md, section 5):
+``v(t + dt/2) = v(t - dt/2) + dt M^-1 F(t)``, ``x(t + dt) = x(t) + dt v(t + dt/2)``, with the
+dashpots acting on the lagging half-step velocities.  Per step, in stages:
+
+1. the base is placed by the ground motion; an output is written when one is due;
+2. world vertices, edge normals and boxes of every body (:func:`world_geometry`);
+3. the broad phase lists candidate pairs again if a body has moved half a skin (:mod:`._broadphase`);
+4. each candidate pair whose boxes overlap: the corner manifold (:mod:`._manifold`) or the overlap
+   polygon (:mod:`._polygon`), then the contact law (:mod:`._contact_law`), forces summed per body
+   (:func:`corner_pair`, :func:`overlap_pair`);
+5. velocities and positions advance (:func:`move`);
+6. checks: non-finite state, a block off the base or flying off, overturns (:mod:`._checks`), and
+   every ``ENERGY_CHECK_INTERVAL`` steps the energy balance.
+
+The stages called per pair and per step take arrays, not the named tuples: numba counts references
+to every array of a tuple it passes, which would cost more than the contact itself.
+"""
+
+import math
+
+import numba as nb
+import numpy as np
+
+from ._broadphase import bounding_boxes, candidate_keys, relist
+from ._checks import mark_overturns, mechanical_energy
+from ._contact_law import CORNER, dashpot, effective_mass, normal_force, tangential_force
+from ._manifold import FACE_BITS, corner_manifold
+from ._polygon import clip_convex, contact_frame, polygon_moments
+from .state import (C_N, C_R, C_T, K_N, K_T, MU, NARROW, OUTPUTS, PAIR_I, PAIR_INTERFACE, PAIR_J, POINT_FORCE,
+                    POINT_KEY, REBUILDS, REFERENCE, SLIP, STEP)
+
+STATUS_OK = 0
+STATUS_NONFINITE = 1
+STATUS_DEEP_OVERLAP = 2
+STATUS_RUNAWAY = 3
+STATUS_ENERGY = 4
+STATUS_OVERTURNED = 5
+STATUS_FELL_OFF = 6
+ENERGY_CHECK_INTERVAL = 16  # steps between energy balance checks
+
+
+@nb.njit(cache=True, inline="always")
+def world_geometry(pos, local_x, local_y, normal_x, normal_y, vstart, wx, wy, wnx, wny):
+    """World vertices and edge normals of every body at ``pos``."""
+    for b in range(pos.shape[0]):
+        c = math.cos(pos[b, 2])
+        s = math.sin(pos[b, 2])
+        for k in range(vstart[b], vstart[b + 1]):
+            wx[k] = pos[b, 0] + c * local_x[k] - s * local_y[k]
+            wy[k] = pos[b, 1] + s * local_x[k] + c * local_y[k]
+            wnx[k] = c * normal_x[k] - s * normal_y[k]
+            wny[k] = s * normal_x[k] + c * normal_y[k]
+
+
+@nb.njit(cache=True, inline="always")
+def _push(force, body, fx, fy, px, py, pos, couple):
+    """Add the force (fx, fy) acting at (px, py), and a couple, to ``body``'s resultant."""
+    force[body, 0] += fx
+    force[body, 1] += fy
+    force[body, 2] += (px - pos[body, 0]) * fy - (py - pos[body, 1]) * fx + couple
+
+
+@nb.njit(cache=True, inline="always")
+def _add_slip(p, ids, forces, interface_slip, amount):
+    if amount > 0.0:
+        k = ids[p, PAIR_INTERFACE]
+        if k >= 0:
+            interface_slip[k] += amount
+        else:
+            forces[p, SLIP] += amount
+
+
+@nb.njit(cache=True, inline="always")
+def corner_pair(p, ids, constants, memory, forces, interface_slip, pos, vel, force, wx, wy, wnx, wny, vstart,
+                inv_mass, inv_inertia, zeta_n, zeta_t, limit, dt, points, keys):
+    """Corner-law forces of candidate pair ``p`` added to ``force``.
+
+    zeta_n, zeta_t : damping ratios of the points' dashpots (used where the pair has no explicit
+    dashpot constants) against the pair's effective mass at each point.  limit : m, the deepest
+    contact a stable run can have.  points (2, 3), keys (2,) : scratch.
+    Returns ``(points in contact, depth past the limit or 0)``.
+    """
+    i = ids[p, PAIR_I]
+    j = ids[p, PAIR_J]
+    n_i = vstart[i + 1] - vstart[i]
+    n_j = vstart[j + 1] - vstart[j]
+    if n_i == 4 and n_j == 4:  # drums, blocks, the base: with the sizes known the compiler unrolls the loops
+        count, nx, ny, code = corner_manifold(wx, wy, wnx, wny, vstart[i], 4, vstart[j], 4, memory[p, REFERENCE],
+                                              points, keys)
+    else:
+        count, nx, ny, code = corner_manifold(wx, wy, wnx, wny, vstart[i], n_i, vstart[j], n_j, memory[p, REFERENCE],
+                                              points, keys)
+    memory[p, REFERENCE] = code
+    old_key0 = memory[p, POINT_KEY]
+    old_key1 = memory[p, POINT_KEY + 1]
+    old_force0 = forces[p, POINT_FORCE]
+    old_force1 = forces[p, POINT_FORCE + 1]
+    memory[p, POINT_KEY] = -1
+    memory[p, POINT_KEY + 1] = -1
+    if count == 0:
+        return 0, 0.0
+    ref, inc = (j, i) if (code >> FACE_BITS) == 1 else (i, j)
+    tx = -ny
+    ty = nx
+    slipped = 0.0
+    for q in range(count):
+        px = points[q, 0]
+        py = points[q, 1]
+        depth = points[q, 2]
+        if depth > limit:
+            return count, depth
+        rix = px - pos[inc, 0]
+        riy = py - pos[inc, 1]
+        rrx = px - pos[ref, 0]
+        rry = py - pos[ref, 1]
+        # velocity of the incident body's material point relative to the reference body's, at the point
+        rvx = (vel[inc, 0] - vel[inc, 2] * riy) - (vel[ref, 0] - vel[ref, 2] * rry)
+        rvy = (vel[inc, 1] + vel[inc, 2] * rix) - (vel[ref, 1] + vel[ref, 2] * rrx)
+        m_n = effective_mass(nx, ny, rix, riy, inv_mass[inc], inv_inertia[inc], rrx, rry, inv_mass[ref],
+                             inv_inertia[ref])
+        c_n = dashpot(constants[p, C_N], zeta_n, constants[p, K_N], m_n)
+        fn = normal_force(depth, -(rvx * nx + rvy * ny), constants[p, K_N], c_n)
+        v_t = rvx * tx + rvy * ty
+        key = keys[q]
+        elastic = old_force0 if old_key0 == key else (old_force1 if old_key1 == key else 0.0)
+        m_t = effective_mass(tx, ty, rix, riy, inv_mass[inc], inv_inertia[inc], rrx, rry, inv_mass[ref],
+                             inv_inertia[ref])
+        c_t = dashpot(constants[p, C_T], zeta_t, constants[p, K_T], m_t)
+        ft, elastic, slip = tangential_force(elastic, v_t, dt, constants[p, K_T], c_t, constants[p, MU] * fn)
+        if slip:
+            slipped = max(slipped, abs(v_t) * dt)
+        memory[p, POINT_KEY + q] = key
+        forces[p, POINT_FORCE + q] = elastic
+        fx = fn * nx + ft * tx
+        fy = fn * ny + ft * ty
+        _push(force, inc, fx, fy, px, py, pos, 0.0)
+        _push(force, ref, -fx, -fy, px, py, pos, 0.0)
+    _add_slip(p, ids, forces, interface_slip, slipped)
+    return count, 0.0
+
+
+@nb.njit(cache=True, inline="always")
+def overlap_pair(p, ids, constants, forces, interface_slip, pos, vel, force, wx, wy, vstart, limits, dt, ox, oy,
+                 clip_scratch):
+    """Overlap-area-law forces of candidate pair ``p`` added to ``force``.
+
+    limits : (nb,) m^2, the largest overlap of each body a stable run can have (the pair's is the
+    smaller).  ox, oy, clip_scratch : clipping scratch.  Returns ``(1 if the pair overlaps else 0,
+    overlap past the limit or 0)``.
+    """
+    i = ids[p, PAIR_I]
+    j = ids[p, PAIR_J]
+    m = clip_convex(wx, wy, vstart[i], vstart[i + 1] - vstart[i], wx, wy, vstart[j], vstart[j + 1] - vstart[j],
+                    ox, oy, clip_scratch)
+    a = 0.0
+    cx = cy = sxx = syy = sxy = 0.0
+    if m >= 3:
+        a, cx, cy, sxx, syy, sxy = polygon_moments(ox, oy, m)
+    if a <= 0.0:
+        forces[p, POINT_FORCE] = 0.0
+        return 0, 0.0
+    if a > min(limits[i], limits[j]):
+        return 1, a
+    tx, ty, nx, ny = contact_frame(sxx, syy, sxy, cx, cy, pos[i, 0], pos[i, 1])
+    rvx = (vel[j, 0] - vel[j, 2] * (cy - pos[j, 1])) - (vel[i, 0] - vel[i, 2] * (cy - pos[i, 1]))
+    rvy = (vel[j, 1] + vel[j, 2] * (cx - pos[j, 0])) - (vel[i, 1] + vel[i, 2] * (cx - pos[i, 0]))
+    fn = normal_force(a, -(rvx * nx + rvy * ny), constants[p, K_N], constants[p, C_N])
+    v_t = rvx * tx + rvy * ty
+    ft, elastic, slip = tangential_force(forces[p, POINT_FORCE], v_t, dt, constants[p, K_T], constants[p, C_T],
+                                         constants[p, MU] * fn)
+    forces[p, POINT_FORCE] = elastic
+    if slip:
+        _add_slip(p, ids, forces, interface_slip, abs(v_t) * dt)
+    couple = 0.0
+    if fn > 0.0:  # the dashpot spread evenly along the contact length l resists relative rotation
+        s_min = math.inf
+        s_max = -math.inf
+        for q in range(m):
+            s = ox[q] * tx + oy[q] * ty
+            s_min = min(s_min, s)
+            s_max = max(s_max, s)
+        length = s_max - s_min
+        couple = -constants[p, C_R] * length * length / 12.0 * (vel[j, 2] - vel[i, 2])
+    fx = fn * nx + ft * tx
+    fy = fn * ny + ft * ty
+    _push(force, j, fx, fy, cx, cy, pos, couple)
+    _push(force, i, -fx, -fy, cx, cy, pos, -couple)
+    return 1, 0.0
+
+
+@nb.njit(cache=True, inline="always")
+def move(pos, vel, force, inv_mass, inv_inertia, gx, gy, dt):
+    """Central-difference update of every free body under ``force`` and the load (gx, gy) per unit mass."""
+    for b in range(1, pos.shape[0]):
+        vel[b, 0] += dt * (force[b, 0] * inv_mass[b] + gx)
+        vel[b, 1] += dt * (force[b, 1] * inv_mass[b] + gy)
+        vel[b, 2] += dt * force[b, 2] * inv_inertia[b]
+        pos[b, 0] += dt * vel[b, 0]
+        pos[b, 1] += dt * vel[b, 1]
+        pos[b, 2] += dt * vel[b, 2]
+
+
+@nb.njit(cache=True, inline="always")
+def _needs_relist(pos, radius, built_at, half_skin):
+    for b in range(pos.shape[0]):
+        moved = (math.hypot(pos[b, 0] - built_at[b, 0], pos[b, 1] - built_at[b, 1])
+                 + abs(pos[b, 2] - built_at[b, 2]) * radius[b])
+        if not moved <= half_skin:
+            return True
+    return False
+
+
+@nb.njit(cache=True, inline="always")
+def _write_output(pos, interface_slip, counters, out_pos, out_slip, out_step):
+    k = counters[OUTPUTS]
+    for b in range(pos.shape[0]):
+        for d in range(3):
+            out_pos[k, b, d] = pos[b, d]
+    for m in range(interface_slip.shape[0]):
+        out_slip[k, m] = interface_slip[m]
+    out_step[k] = counters[STEP]
+    counters[OUTPUTS] = k + 1
+
+
+@nb.njit(cache=True)
+def advance(model, run, pos, vel, contacts, retired, tracking, ground, n_steps, out_pos, out_slip, out_step):
+    """Take up to ``n_steps`` steps from the state (``pos``, ``vel``, ``contacts``, ``retired``,
+    ``tracking``), in place.
+
+    model : :class:`~dem_core.engine.model.Model`.  run : :class:`~dem_core.engine.simulation.RunSettings`
+    (dt, output stride, last step, limits).  ground : (6, n_steps + 1) for these steps: inertial load
+    per unit mass x, y (m/s^2, entries ``[:n_steps]``), base position x, y (m) at each step and base
+    velocity x, y (m/s) at the half step before it.  out_pos (n_out, nb, 3), out_slip (n_out, n_if),
+    out_step (n_out,) take the outputs (the state every ``run.stride`` steps and at ``run.last_step``).
+
+    Returns ``(status, i, j, contacts, retired)``: the status (STATUS_*), the bodies concerned and
+    the contact store and retired slips (new arrays if the list was made again).  The step the run
+    stopped at is ``tracking.counters[STEP]``.
+    """
+    bodies = model.bodies
+    law = model.law
+    local_x, local_y, normal_x, normal_y = bodies.local_x, bodies.local_y, bodies.normal_x, bodies.normal_y
+    vstart, mass, inv_mass, inv_inertia = bodies.vstart, bodies.mass, bodies.inv_mass, bodies.inv_inertia
+    radius = bodies.radius
+    critical_angle, y_start, drop_limit = bodies.critical_angle, bodies.y_start, bodies.drop_limit
+    stack_id, bottom, stack_mass, foot = model.stacks.stack_id, model.stacks.bottom, model.stacks.mass, model.stacks.foot
+    overturn_step, stack_step = tracking.overturn_step, tracking.stack_step
+    counters, ledger, interface_slip = tracking.counters, tracking.ledger, tracking.interface_slip
+    peak_theta, built_at = tracking.peak_theta, tracking.built_at
+    nb_ = pos.shape[0]
+    nv = local_x.shape[0]
+    wx = np.empty(nv)
+    wy = np.empty(nv)
+    wnx = np.empty(nv)
+    wny = np.empty(nv)
+    lo_x = np.empty(nb_)
+    hi_x = np.empty(nb_)
+    lo_y = np.empty(nb_)
+    hi_y = np.empty(nb_)
+    force = np.zeros((nb_, 3))
+    points = np.empty((2, 3))
+    keys = np.empty(2, np.int64)
+    largest = 3
+    for b in range(nb_):
+        largest = max(largest, vstart[b + 1] - vstart[b])
+    ox = np.empty(2 * largest + 2)
+    oy = np.empty(2 * largest + 2)
+    clip_scratch = np.empty((2, 2, 2 * largest + 2))
+    corner = law.law == CORNER
+    # deepest corner contact (m) or largest overlap (m^2) of each body a stable run can have
+    limits = law.max_penetration * (bodies.size if corner else bodies.area)
+    dt = run.dt
+    gravity = model.gravity
+    half_skin = 0.5 * law.skin
+    ids, constants, memory, forces = contacts.ids, contacts.constants, contacts.memory, contacts.forces
+    n_pairs = contacts.count[0]
+
+    for k in range(n_steps + 1):
+        pos[0, 0] = ground[2, k]
+        pos[0, 1] = ground[3, k]
+        vel[0, 0] = ground[4, k]
+        vel[0, 1] = ground[5, k]
+        step = counters[STEP]
+        written = counters[OUTPUTS]
+        if (step % run.stride == 0 or step == run.last_step) and (written == 0 or out_step[written - 1] != step):
+            _write_output(pos, interface_slip, counters, out_pos, out_slip, out_step)
+        if k == n_steps or step >= run.last_step:
+            break
+
+        world_geometry(pos, local_x, local_y, normal_x, normal_y, vstart, wx, wy, wnx, wny)
+        bounding_boxes(wx, wy, vstart, lo_x, hi_x, lo_y, hi_y)
+        if _needs_relist(pos, radius, built_at, half_skin):
+            candidates = candidate_keys(lo_x, hi_x, lo_y, hi_y, half_skin)
+            contacts, retired = relist(bodies, law, model.interface_keys, contacts, retired, candidates)
+            ids, constants, memory, forces = contacts.ids, contacts.constants, contacts.memory, contacts.forces
+            n_pairs = contacts.count[0]
+            built_at[:, :] = pos
+            counters[REBUILDS] += 1
+
+        force[:, :] = 0.0
+        for p in range(n_pairs):
+            i = ids[p, PAIR_I]
+            j = ids[p, PAIR_J]
+            if hi_x[i] < lo_x[j] or hi_x[j] < lo_x[i] or hi_y[i] < lo_y[j] or hi_y[j] < lo_y[i]:
+                memory[p, :] = -1
+                forces[p, POINT_FORCE] = 0.0
+                continue
+            if corner:
+                touching, excess = corner_pair(p, ids, constants, memory, forces, interface_slip, pos, vel, force,
+                                               wx, wy, wnx, wny, vstart, inv_mass, inv_inertia, law.zeta_n, law.zeta_t,
+                                               min(limits[i], limits[j]), dt, points, keys)
+            else:
+                touching, excess = overlap_pair(p, ids, constants, forces, interface_slip, pos, vel, force, wx, wy,
+                                                vstart, limits, dt, ox, oy, clip_scratch)
+            if touching:
+                counters[NARROW] += 1
+            if excess > 0.0:
+                return STATUS_DEEP_OVERLAP, i, j, contacts, retired
+
+        load_x = ground[0, k]
+        load_y = ground[1, k]
+        power = -(force[0, 0] * vel[0, 0] + force[0, 1] * vel[0, 1])
+        for b in range(1, nb_):
+            power += (load_x * vel[b, 0] + load_y * vel[b, 1]) * mass[b]
+        ledger[1] += power * dt
+        ledger[2] += abs(power) * dt
+        move(pos, vel, force, inv_mass, inv_inertia, load_x, load_y - gravity, dt)
+        counters[STEP] = step + 1
+
+        for b in range(1, nb_):
+            if not (math.isfinite(pos[b, 0]) and math.isfinite(pos[b, 1]) and math.isfinite(pos[b, 2])):
+                return STATUS_NONFINITE, b, b, contacts, retired
+            if pos[b, 1] - pos[0, 1] < model.floor - radius[b]:
+                return STATUS_FELL_OFF, b, b, contacts, retired
+            rel_x = vel[b, 0] - vel[0, 0]
+            rel_y = vel[b, 1] - vel[0, 1]
+            spin = vel[b, 2] * radius[b]
+            if rel_x * rel_x + rel_y * rel_y + spin * spin > run.speed_limit * run.speed_limit:
+                return STATUS_RUNAWAY, b, b, contacts, retired
+            peak_theta[b] = max(peak_theta[b], abs(pos[b, 2]))
+        toppled = mark_overturns(pos, critical_angle, y_start, drop_limit, mass, stack_id, bottom, stack_mass, foot,
+                                 overturn_step, stack_step, step + 1)
+        if toppled >= 0 and run.stop_at_overturn:
+            pos[0, 0] = ground[2, k + 1]
+            pos[0, 1] = ground[3, k + 1]
+            _write_output(pos, interface_slip, counters, out_pos, out_slip, out_step)
+            return STATUS_OVERTURNED, toppled, toppled, contacts, retired
+        if step % ENERGY_CHECK_INTERVAL == 0:
+            energy = mechanical_energy(pos, vel, mass, inv_inertia, gravity)
+            if energy - ledger[0] - ledger[1] > run.energy_tolerance * (run.energy_scale + ledger[2]):
+                return STATUS_ENERGY, 0, 0, contacts, retired
+    return STATUS_OK, 0, 0, contacts, retired

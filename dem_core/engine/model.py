@@ -1,0 +1,196 @@
+"""What a scene compiles to: the immutable arrays the kernels read (after MuJoCo's model / data split).
+
+:func:`compile_model` turns a :class:`~dem_core.inputs.scene.Scene` into a :class:`Model`, a few
+named tuples of arrays and scalars; where the bodies are during a run lives apart, in
+:class:`~dem_core.engine.state.State`.  Body 0 is the base, then the scene's blocks in order.
+"""
+
+from typing import NamedTuple
+
+import numpy as np
+
+from . import geometry
+from ._contact_law import CORNER, OVERLAP_AREA
+from .contact import rocking_damping_ratio
+from .stacks import find_stacks
+
+#: a corner-law contact deeper than this fraction of the smaller block's smaller extent stops the run
+MAX_PENETRATION_FRACTION = 0.05
+#: an overlap-area-law overlap larger than this fraction of the smaller block's area stops the run
+MAX_OVERLAP_FRACTION = 0.05
+#: the broad phase lists pairs whose boxes come within this fraction of the smallest block's smaller extent
+SKIN_FRACTION = 0.1
+
+
+class Bodies(NamedTuple):
+    """Per body (``nb`` bodies, base first) and per vertex (``nv`` in all).
+
+    local_x, local_y : (nv,) m, vertices about the centre of mass with the starting angle undone.
+    normal_x, normal_y : (nv,) outward unit normal of edge k (vertex k to k + 1), same frame.
+    vstart : (nb + 1,) int64, where each body's vertices start.
+    mass, inv_mass, inv_inertia : (nb,) kg, 1/kg, 1/(kg m^2); zero for the base.
+    radius : (nb,) m, largest distance from the centre of mass to a vertex.
+    area : (nb,) m^2.  width : (nb,) m, horizontal extent at the start.  size : (nb,) m, the smaller
+    of width and height.  depth : (nb,) m.  friction : (nb,) the blocks' own coefficients.
+    critical_angle : (nb,) rad, atan(b/h) of each block.  y_start : (nb,) m, height of the centre of
+    mass at the start.  drop_limit : (nb,) m, a centre of mass this far below its start has fallen.
+    angle0 : (nb,) rad, starting angles.  centroid0 : (nb, 2) m, starting centres of mass.
+    """
+
+    local_x: np.ndarray
+    local_y: np.ndarray
+    normal_x: np.ndarray
+    normal_y: np.ndarray
+    vstart: np.ndarray
+    mass: np.ndarray
+    inv_mass: np.ndarray
+    inv_inertia: np.ndarray
+    radius: np.ndarray
+    area: np.ndarray
+    width: np.ndarray
+    size: np.ndarray
+    depth: np.ndarray
+    friction: np.ndarray
+    critical_angle: np.ndarray
+    y_start: np.ndarray
+    drop_limit: np.ndarray
+    angle0: np.ndarray
+    centroid0: np.ndarray
+
+
+class Law(NamedTuple):
+    """The contact law and its scene-wide constants (see :mod:`dem_core.engine.contact`).
+
+    law : CORNER or OVERLAP_AREA.  kn : N/m^2 per m depth.  zeta_n, zeta_t, zeta_r : damping ratios.
+    kt_ratio : tangential over normal spring.  cn, cr, kt, ct : explicit values or NaN.
+    friction_keys : (k,) int64 sorted ``i * nb + j`` (i < j) of the interfaces with their own
+    coefficient, friction_values : (k,) those coefficients.
+    max_penetration : fraction of the smaller block's size (corner law) or area (overlap law) past
+    which a contact means the run has lost stability.  skin : m, the broad phase's margin.
+    """
+
+    law: int
+    kn: float
+    zeta_n: float
+    zeta_t: float
+    zeta_r: float
+    kt_ratio: float
+    cn: float
+    cr: float
+    kt: float
+    ct: float
+    friction_keys: np.ndarray
+    friction_values: np.ndarray
+    max_penetration: float
+    skin: float
+
+
+class Stacks(NamedTuple):
+    """The columns (:mod:`dem_core.engine.stacks`) as the kernel checks them.
+
+    stack_id : (nb,) int64, the stack of each body or -1.  bottom : (ns,) int64 bottom body.
+    mass : (ns,) kg.  foot : (ns, 2, 2) m, the ends of the bottom body's base in its own frame.
+    """
+
+    stack_id: np.ndarray
+    bottom: np.ndarray
+    mass: np.ndarray
+    foot: np.ndarray
+
+
+class Model(NamedTuple):
+    """A compiled scene: ``bodies``, ``law``, ``stacks``; ``interface_keys`` (n_if,) int64 sorted
+    ``i * nb + j`` of the interfaces touching at the start, whose slip is recorded over time;
+    ``gravity`` m/s^2; ``floor`` m, top of the base relative to its centre of mass."""
+
+    bodies: Bodies
+    law: Law
+    stacks: Stacks
+    interface_keys: np.ndarray
+    gravity: float
+    floor: float
+
+
+def _edge_normals(v: np.ndarray) -> np.ndarray:
+    edges = np.roll(v, -1, axis=0) - v
+    normals = np.column_stack([edges[:, 1], -edges[:, 0]])
+    return normals / np.hypot(normals[:, 0], normals[:, 1])[:, None]
+
+
+def compile_bodies(scene) -> Bodies:
+    """The :class:`Bodies` of ``scene`` (base first)."""
+    bodies = scene.bodies
+    centroids = np.array([b.centroid for b in bodies])
+    angle0 = np.array([b.angle for b in bodies])
+    local = [geometry.transform(b.vertices - c, -a) for b, c, a in zip(bodies, centroids, angle0)]
+    allv = np.concatenate(local)
+    normals = np.concatenate([_edge_normals(v) for v in local])
+    vstart = np.zeros(len(bodies) + 1, np.int64)
+    vstart[1:] = np.cumsum([len(v) for v in local])
+    mass = np.array([0.0] + [b.mass for b in scene.blocks])
+    inertia = np.array([0.0] + [b.inertia for b in scene.blocks])
+    with np.errstate(divide="ignore"):
+        inv_mass = np.where(mass > 0, 1.0 / np.where(mass > 0, mass, 1.0), 0.0)
+        inv_inertia = np.where(inertia > 0, 1.0 / np.where(inertia > 0, inertia, 1.0), 0.0)
+    size = np.array([min(b.width, b.height) for b in bodies])
+    return Bodies(
+        local_x=np.ascontiguousarray(allv[:, 0]), local_y=np.ascontiguousarray(allv[:, 1]),
+        normal_x=np.ascontiguousarray(normals[:, 0]), normal_y=np.ascontiguousarray(normals[:, 1]),
+        vstart=vstart, mass=mass, inv_mass=inv_mass, inv_inertia=inv_inertia,
+        radius=np.array([b.circumradius for b in bodies]), area=np.array([b.area for b in bodies]),
+        width=np.array([b.width for b in bodies]), size=size, depth=np.array([b.depth for b in bodies]),
+        friction=np.array([b.friction for b in bodies]),
+        critical_angle=np.array([b.critical_angle for b in bodies]), y_start=centroids[:, 1].copy(),
+        drop_limit=0.5 * size, angle0=angle0, centroid0=centroids)
+
+
+def compile_law(scene, bodies: Bodies) -> Law:
+    """The :class:`Law` of ``scene``."""
+    p = scene.contact
+    law = CORNER if p.law == "corner" else OVERLAP_AREA
+    index = {b.name: k for k, b in enumerate(scene.bodies)}
+    n = len(scene.bodies)
+    overrides = sorted((min(index[a], index[b]) * n + max(index[a], index[b]), mu)
+                       for (a, b), mu in scene.interface_friction.items())
+
+    def given(value):
+        return float("nan") if value is None else float(value)
+
+    return Law(
+        law=law, kn=float(p.kn), zeta_n=p.normal_damping_ratio, zeta_t=p.tangential_damping,
+        zeta_r=rocking_damping_ratio(scene), kt_ratio=float(p.tangential_stiffness_ratio),
+        cn=given(p.cn), cr=given(p.cr), kt=given(p.kt), ct=given(p.ct),
+        friction_keys=np.array([k for k, _ in overrides], np.int64),
+        friction_values=np.array([mu for _, mu in overrides], float),
+        max_penetration=MAX_PENETRATION_FRACTION if law == CORNER else MAX_OVERLAP_FRACTION,
+        skin=SKIN_FRACTION * float(bodies.size[1:].min()))
+
+
+def compile_stacks(scene, stacks=None) -> Stacks:
+    """The :class:`Stacks` of ``scene`` (``stacks`` from :func:`~dem_core.engine.stacks.find_stacks`)."""
+    stacks = find_stacks(scene) if stacks is None else stacks
+    stack_id = np.full(len(scene.bodies), -1, np.int64)
+    for k, st in enumerate(stacks):
+        stack_id[np.array(st.blocks) + 1] = k
+    masses = np.array([b.mass for b in scene.blocks])
+    return Stacks(stack_id=stack_id, bottom=np.array([st.blocks[0] + 1 for st in stacks], np.int64),
+                  mass=np.array([masses[list(st.blocks)].sum() for st in stacks], float),
+                  foot=np.array([st.foot_local for st in stacks], float).reshape(len(stacks), 2, 2))
+
+
+def compile_model(scene, touching=None, stacks=None) -> Model:
+    """The :class:`Model` of ``scene``.  ``touching``: its touching pairs ``(i, j, contact)`` if known
+    (:meth:`~dem_core.inputs.scene.Scene.touching_pairs`); ``stacks`` its stacks if known."""
+    bodies = compile_bodies(scene)
+    touching = scene.touching_pairs() if touching is None else touching
+    n = len(scene.bodies)
+    return Model(bodies=bodies, law=compile_law(scene, bodies), stacks=compile_stacks(scene, stacks),
+                 interface_keys=np.array(sorted(i * n + j for i, j, _ in touching), np.int64),
+                 gravity=float(scene.gravity),
+                 floor=float(scene.base.vertices[:, 1].max() - scene.base.centroid[1]))
+
+
+def interface_pairs(model: Model) -> list:
+    """``(i, j)`` body indices of the recorded interfaces, in the order of ``interface_keys``."""
+    n = len(model.bodies.mass)
+    return [(int(k // n), int(k % n)) for k in model.interface_keys]
