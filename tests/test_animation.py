@@ -104,3 +104,12 @@ def test_snapshot_strip_has_a_panel_per_time(colonnade_run):
     figure = animation.snapshot_strip(scene, result, [0.0, 0.5, 1.0])
     assert len(figure.axes) == 3
     assert [a.get_title() for a in figure.axes] == ["t = 0.00 s", "t = 0.52 s", "t = 1.00 s"]
+
+
+def test_clock_tells_time_ground_and_overturn(colonnade_run):
+    _, _, result = colonnade_run
+    assert animation.clock_text(result, 0) == "t =   0.00 s   ground +0.000 m"
+    toppled = dem_core.Result(**{**result.__dict__, "overturn_time": np.full(result.n_blocks, 0.5)})
+    last = len(result.t) - 1
+    assert animation.clock_text(toppled, last).endswith("\noverturned at 0.50 s")
+    assert "overturned" not in animation.clock_text(toppled, 0)

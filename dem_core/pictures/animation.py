@@ -8,9 +8,11 @@ starting pose plus K times its rotation and its displacement relative to the
 moving base since the start, and every frame says so.
 
 Frames are rendered by blitting: the axes, the ground strip and the labels
-are drawn once, and each frame redraws only the blocks, the base, the clock
-and the cursor on a copy of that background.  GIFs are written by Pillow
-with one palette for all frames; MP4s by piping the frames to an ffmpeg
+are drawn once, and each frame redraws only the blocks, the base and the
+cursor on a copy of that background; Pillow writes the clock onto the frame
+(matplotlib would lay out and rasterise that text anew every frame, the
+slowest part of a frame).  GIFs are written by Pillow with one palette for
+all frames; MP4s by piping the frames to an ffmpeg
 program: on the PATH, or the one the ``imageio-ffmpeg`` package ships
 (``pip install dem-colonnade[video]``).
 """
@@ -19,15 +21,13 @@ import shutil
 import subprocess
 from pathlib import Path
 
-import matplotlib
-
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt
 import numpy as np
+from matplotlib import font_manager
 from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.collections import PolyCollection
 from matplotlib.figure import Figure
-from PIL import Image
+from matplotlib.patches import Rectangle
+from PIL import Image, ImageDraw, ImageFont
 from tqdm import tqdm
 
 from ..engine.geometry import transform
@@ -108,7 +108,7 @@ class _Drawing:
     """One axes with the scene drawn at an output index; ``update(k)`` moves it and returns the
     artists that move, ``animated``: left out of ``canvas.draw()`` to be blitted frame by frame."""
 
-    def __init__(self, ax, scene, result, *, clock=True, exaggerate=1.0, animated=False):
+    def __init__(self, ax, scene, result, *, exaggerate=1.0, animated=False):
         self.result = result
         self.outlines = _Outlines(scene, result, exaggerate)
         (x0, x1), (y0, y1) = _view(scene, result, exaggerate)
@@ -118,15 +118,13 @@ class _Drawing:
         ax.set_aspect("equal")
         ax.set_xlabel("x (m)")
         ax.set_facecolor("#f7f7f4")
-        self.base = plt.Rectangle((x0, y0), x1 - x0, -y0, color="#8c8c8c", zorder=1)
+        self.base = Rectangle((x0, y0), x1 - x0, -y0, color="#8c8c8c", zorder=1)
         ax.add_patch(self.base)
         self.blocks = PolyCollection([], facecolors=_colours(scene), edgecolors=EDGE, linewidths=0.6, zorder=2)
         ax.add_collection(self.blocks)
         self.marks = ax.plot([], [], "|", color="k", ms=8, zorder=3)[0]
-        self.clock = ax.text(0.02, 0.96, "", transform=ax.transAxes, va="top", fontsize=9,
-                             family="monospace") if clock else None
         self.x0 = x0
-        self.moving = [self.base, self.blocks, self.marks] + ([self.clock] if clock else [])
+        self.moving = [self.base, self.blocks, self.marks]
         for artist in self.moving:
             artist.set_animated(animated)
 
@@ -137,13 +135,33 @@ class _Drawing:
         self.base.set_width(4 * self.base_half)
         ticks = ground + np.arange(-20, 21) * 1.0
         self.marks.set_data(ticks, np.zeros_like(ticks))
-        if self.clock is not None:
-            t = self.result.t[k]
-            text = f"t = {t:6.2f} s   ground {ground:+.3f} m"
-            if self.result.overturned and t >= self.result.time_of_overturn:
-                text += f"\noverturned at {self.result.time_of_overturn:.2f} s"
-            self.clock.set_text(text)
         return self.moving
+
+
+def clock_text(result, k: int) -> str:
+    """What the clock of frame ``k`` says: the time, the ground displacement and, once it has
+    happened, the overturn."""
+    t = result.t[k]
+    text = f"t = {t:6.2f} s   ground {result.base_x[k]:+.3f} m"
+    if result.overturned and t >= result.time_of_overturn:
+        text += f"\noverturned at {result.time_of_overturn:.2f} s"
+    return text
+
+
+class _Clock:
+    """Writes the clock text onto rendered frames with Pillow, in matplotlib's monospace font at
+    ``fontsize`` points, its top left corner at ``(0.02, 0.96)`` of the axes."""
+
+    def __init__(self, ax, fontsize=9):
+        fig = ax.figure
+        path = font_manager.findfont(font_manager.FontProperties(family="monospace"))
+        self.font = ImageFont.truetype(path, round(fontsize * fig.dpi / 72))
+        x, y = ax.transAxes.transform((0.02, 0.96))
+        self.corner = (round(x), round(fig.bbox.height - y))
+
+    def write(self, image, text):
+        ImageDraw.Draw(image).multiline_text(self.corner, text, font=self.font, fill=(0, 0, 0), spacing=3)
+        return image
 
 
 def frame_indices(result, fps: int, speed: float = 1.0) -> np.ndarray:
@@ -191,12 +209,12 @@ class _GifFrames:
 
     def __init__(self, path, fps, palette_from):
         self.path, self.fps = path, fps
-        sample = Image.fromarray(np.concatenate(palette_from, axis=0))
+        sample = Image.fromarray(np.concatenate([np.asarray(image) for image in palette_from], axis=0))
         self.palette = sample.quantize(colors=256, method=Image.Quantize.MEDIANCUT)
         self.frames = []
 
-    def add(self, rgb):
-        self.frames.append(Image.fromarray(rgb).quantize(palette=self.palette, dither=Image.Dither.NONE))
+    def add(self, image):
+        self.frames.append(image.quantize(palette=self.palette, dither=Image.Dither.NONE))
 
     def close(self):
         first, *rest = self.frames
@@ -214,8 +232,8 @@ class _Mp4Frames:
                    "-c:v", "libx264", "-pix_fmt", "yuv420p", "-movflags", "+faststart", str(path)]
         self.process = subprocess.Popen(command, stdin=subprocess.PIPE, stderr=subprocess.PIPE)
 
-    def add(self, rgb):
-        self.process.stdin.write(rgb.tobytes())
+    def add(self, image):
+        self.process.stdin.write(image.tobytes())
 
     def close(self):
         _, errors = self.process.communicate()
@@ -255,6 +273,7 @@ def animate(scene, result, path, *, excitation=None, fps: int = 25, speed: float
     fig.tight_layout()
     canvas.draw()
     background = canvas.copy_from_bbox(fig.bbox)
+    clock = _Clock(ax)
 
     def render(k):
         canvas.restore_region(background)
@@ -264,7 +283,8 @@ def animate(scene, result, path, *, excitation=None, fps: int = 25, speed: float
             ax.draw_artist(spine)
         cursor.set_xdata([result.t[k], result.t[k]])
         ax_g.draw_artist(cursor)
-        return np.asarray(canvas.buffer_rgba())[:, :, :3].copy()
+        frame = Image.fromarray(np.asarray(canvas.buffer_rgba())[:, :, :3].copy())
+        return clock.write(frame, clock_text(result, k))
 
     frames = frame_indices(result, fps, speed)
     path.parent.mkdir(parents=True, exist_ok=True)
@@ -286,11 +306,12 @@ def snapshot_strip(scene, result, times, *, title: str = "", exaggerate: float =
     times = list(times)
     (x0, x1), (y0, y1) = _view(scene, result, exaggerate)
     panel = 2.6
-    fig, axes = plt.subplots(1, len(times), figsize=(panel * len(times) + 0.6, panel * (y1 - y0) / (x1 - x0) + 1.2),
-                             sharey=True, squeeze=False)
+    fig = Figure(figsize=(panel * len(times) + 0.6, panel * (y1 - y0) / (x1 - x0) + 1.2))
+    FigureCanvasAgg(fig)
+    axes = fig.subplots(1, len(times), sharey=True, squeeze=False)
     for ax, when in zip(axes[0], times):
         k = int(np.clip(np.searchsorted(result.t, when), 0, len(result.t) - 1))
-        _Drawing(ax, scene, result, clock=False, exaggerate=exaggerate).update(k)
+        _Drawing(ax, scene, result, exaggerate=exaggerate).update(k)
         ax.set_title(f"t = {result.t[k]:.2f} s", fontsize=9)
     heading = ", ".join(part for part in (title, exaggeration_note(exaggerate)) if part)
     if heading:
