@@ -283,8 +283,8 @@ def animate(scene, result, path, *, excitation=None, fps: int = 25, speed: float
             ax.draw_artist(spine)
         cursor.set_xdata([result.t[k], result.t[k]])
         ax_g.draw_artist(cursor)
-        frame = Image.fromarray(np.asarray(canvas.buffer_rgba())[:, :, :3].copy())
-        return clock.write(frame, clock_text(result, k))
+        frame = Image.frombuffer("RGBA", canvas.get_width_height(), canvas.buffer_rgba(), "raw", "RGBA", 0, 1)
+        return clock.write(frame.convert("RGB"), clock_text(result, k))
 
     frames = frame_indices(result, fps, speed)
     path.parent.mkdir(parents=True, exist_ok=True)
