@@ -89,7 +89,7 @@ def test_sliding_has_a_line_per_interface_that_slid_and_one_grey_line_for_the_re
     result = hand_result(rocking(1.0, 1.0, 1.0), slip=slip, interfaces=interfaces)
     ax = plots.sliding(result).axes[0]
     assert data_lines(ax)[:2] == ["drum2\u2013drum3", "base\u2013drum1"]  # largest first
-    assert data_lines(ax)[2].startswith("interface, each under 0.0001 m")
+    assert data_lines(ax)[2] == "drum1\u2013drum2, under 0.0001 m"
     assert len(data_lines(ax)) == 3
 
 

@@ -241,9 +241,11 @@ def sliding(result, excitation=None, title="Sliding at the interfaces", *, thres
         a, b = result.interfaces[k]
         ax.plot(result.t[:len(slip)], slip[:, k], lw=1.0, color=colour, label=f"{a}\u2013{b}")
     if rest:
-        others = "interface" if len(rest) == 1 else f"{len(rest)} other interfaces"
-        ax.plot(result.t[:len(slip)], np.nanmax(slip[:, rest], axis=1), lw=1.0, color="0.6",
-                label=f"{others}, each under {threshold:g} m (largest)")
+        if len(rest) == 1:
+            label = "\u2013".join(result.interfaces[rest[0]]) + f", under {threshold:g} m"
+        else:
+            label = f"{len(rest)} other interfaces, each under {threshold:g} m (the largest)"
+        ax.plot(result.t[:len(slip)], np.nanmax(slip[:, rest], axis=1), lw=1.0, color="0.6", label=label)
     if not slid:
         ax.text(0.02, 0.95, f"no interface slid more than {threshold:g} m", transform=ax.transAxes,
                 va="top", fontsize=9)
