@@ -166,6 +166,8 @@ def _run(args) -> int:
     if not args.exaggerate > 0:
         print(f"error: --exaggerate must be positive, got {args.exaggerate:g}", file=sys.stderr)
         return 2
+    if args.exaggerate != 1 and not args.animate:
+        print("note: --exaggerate applies to the animation: add --animate run.gif", file=sys.stderr)
     out = Path(args.out) if args.out else Path("results") / path.stem
     out.mkdir(parents=True, exist_ok=True)
     settings = dict(spec.simulation)

@@ -10,10 +10,9 @@ from matplotlib.text import Text
 from dem_core.analyses.spectra import response_spectrum, spectrum_figure
 from dem_core.engine.result import Result
 from dem_core.engine.stacks import Column
-from dem_core.inputs import excitation
+from dem_core.inputs import excitation, scenes
 from dem_core.pictures import plots
 from dem_core.pictures.animation import snapshot_strip
-from dem_core.inputs import scenes
 
 T = np.linspace(0.0, 10.0, 501)
 COLUMN_ALPHA = 0.2
