@@ -8,6 +8,7 @@ fixed steps around their usual 1e-3 s.
 """
 
 import json
+import sys
 import time
 import warnings
 
@@ -78,11 +79,17 @@ def run_one(case, engine, step, settings, reference) -> list:
 
 
 def run_harness(quick: bool = True, cases=None, engines=ENGINES, progress: bool = True) -> pd.DataFrame:
-    """Run the plan and return the tidy table (references computed once per case)."""
+    """Run the plan and return the tidy table (references computed once per case).
+
+    progress : a bar of the runs with the case and engine at hand and the time left, shown only
+        when stderr is a terminal (not in CI or a log file).
+    """
     runs = plan(quick, cases, engines)
     references = {}
     rows = []
-    for case, engine, step, settings in tqdm(runs, desc="runs", unit="run", disable=not progress):
+    bar = tqdm(runs, desc="runs", unit="run", disable=not (progress and sys.stderr.isatty()))
+    for case, engine, step, settings in bar:
+        bar.set_postfix_str(f"{case.name}, {engine}", refresh=False)
         if case.name not in references:
             references[case.name] = case.reference()
         rows += run_one(case, engine, step, settings, references[case.name])

@@ -23,11 +23,17 @@
   mean |theta|, overturn;
 * ``summary.json``: scene-level measures and run facts (time step and
   stability limit, steps, compile and run wall times);
-* ``rotations.png``, ``displacements.png`` (and ``epistyles.png`` for colonnades).
+* ``rotations.png``, ``displacements.png``, ``sliding.png`` (and ``epistyles.png`` for colonnades).
+
+Accelerations are printed in m/s^2 with g in brackets, ``PGA 2.75 m/s^2 (0.281 g)``; every other
+quantity in SI units.  Long work (frames, the runs of a search) shows a progress bar with an
+estimate of the time left when stderr is a terminal, and nothing otherwise (CI, logs).
 """
 
 import argparse
 import json
+import math
+import re
 import sys
 import time
 from importlib import resources
@@ -36,6 +42,7 @@ from pathlib import Path
 import numpy as np
 
 from .inputs import records
+from .inputs.records import G_STANDARD
 from .inputs.scene_file import SceneFileError, load, read_toml
 from .engine.simulation import SimulationUnstable, simulate
 
@@ -44,6 +51,28 @@ DEFAULT_SCENE = "column_el_centro.toml"
 
 def default_scene_path() -> Path:
     return Path(str(resources.files("dem_core") / "data" / "scenes" / DEFAULT_SCENE))
+
+
+def acceleration_text(value: float, digits: int = 3) -> str:
+    """An acceleration as the command line prints it: ``2.75 m/s^2 (0.281 g)`` (g = 9.80665 m/s^2)."""
+    return f"{value:.{digits}g} m/s^2 ({value / G_STANDARD:.{digits}g} g)"
+
+
+def _interactive() -> bool:
+    """Whether progress bars are wanted: stderr is a terminal, not a log file or a CI pipe."""
+    return sys.stderr.isatty()
+
+
+def _progress(**options):
+    from tqdm import tqdm
+
+    return tqdm(disable=not _interactive(), **options)
+
+
+def _simulate_options(settings: dict) -> dict:
+    """The keyword arguments of every ``simulate`` call the command line makes, directly or through
+    an analysis: the one place where run-wide options (such as in-run progress) are added."""
+    return dict(settings)
 
 
 def main(argv=None) -> int:
@@ -58,6 +87,10 @@ def main(argv=None) -> int:
     run.add_argument("--no-plots", action="store_true", help="skip the figures")
     run.add_argument("--animate", metavar="FILE", help="also write an animation (.gif or .mp4, relative to --out) "
                      "and snapshots.png")
+    run.add_argument("--exaggerate", type=float, default=1.0, metavar="K",
+                     help="draw rotations and displacements K times larger in the animation (default 1)")
+    run.add_argument("--relative-rotations", action="store_true",
+                     help="plot rotations as theta / alpha, alpha the critical angle (column's for drums)")
     sweep = sub.add_parser("sweep", help="run a parametric sweep file; resumes where a previous run stopped")
     sweep.add_argument("spec", help="sweep file: a scene file with a [sweep] table")
     sweep.add_argument("--out", required=True, help="output folder (results.parquet, runs/, histories/)")
@@ -74,6 +107,8 @@ def main(argv=None) -> int:
     threshold.add_argument("--criterion", choices=("overturning", "rocking", "sliding"), default="overturning")
     threshold.add_argument("--tolerance", type=float, default=0.02, help="relative width of the final bracket")
     threshold.add_argument("--scan", type=int, default=6, help="scales tried before bisecting")
+    threshold.add_argument("--duration", type=float, help="simulated time of each run in s (default from the file "
+                           "or the record)")
     ramp = sub.add_parser("ramp", help="rocking, sliding and overturning accelerations under a monotonic ramp")
     ramp.add_argument("scene", help="scene file (its [excitation] is ignored)")
     ramp.add_argument("--rate", type=float, default=0.5, help="m/s^2 per s (default 0.5)")
@@ -81,9 +116,11 @@ def main(argv=None) -> int:
     anim = sub.add_parser("animate", help="run a scene file and write an animation and snapshots")
     anim.add_argument("scene", nargs="?", help=f"scene file; default the bundled {DEFAULT_SCENE}")
     anim.add_argument("--out", default="animation.gif", help="file to write (.gif or .mp4)")
-    anim.add_argument("--duration", type=float)
+    anim.add_argument("--duration", type=float, help="simulated time in s (default from the file or the record)")
     anim.add_argument("--fps", type=int, default=25)
     anim.add_argument("--speed", type=float, default=1.0, help="simulated seconds per second of playback")
+    anim.add_argument("--exaggerate", type=float, default=1.0, metavar="K",
+                      help="draw rotations and displacements relative to the start K times larger (default 1)")
     spectrum = sub.add_parser("spectrum", help="elastic response spectra of records")
     spectrum.add_argument("records", nargs="+", help="bundled record names or record files")
     spectrum.add_argument("--damping", type=float, default=0.05)
@@ -92,16 +129,31 @@ def main(argv=None) -> int:
     stiffness.add_argument("scene", nargs="?", help=f"scene file; default the bundled {DEFAULT_SCENE}")
     stiffness.add_argument("--factors", type=float, nargs="+", default=[1.0, 10.0, 100.0],
                            help="multiples of the scene's K_n (default 1 10 100)")
-    stiffness.add_argument("--duration", type=float)
+    stiffness.add_argument("--duration", type=float, help="simulated time in s (default from the file or the record)")
     sub.add_parser("records", help="list the bundled accelerograms")
     args = parser.parse_args(argv)
     if args.command == "records":
-        for name, entry in records.BUNDLED.items():
-            print(f"{name:18s} {entry.description}")
-        return 0
+        return _records()
     commands = {"run": _run, "sweep": _sweep, "threshold": _threshold, "ramp": _ramp, "animate": _animate,
                 "spectrum": _spectrum, "stiffness": _stiffness}
     return commands[args.command](args)
+
+
+def _records() -> int:
+    from .inputs.excitation import record
+
+    for name, entry in records.BUNDLED.items():
+        horizontal = record(name).horizontal
+        what = re.sub(r"\s*\(PGA [^)]*\)", "", entry.description)
+        print(f"{name:18s} PGA {acceleration_text(horizontal.peak_acceleration)}, {horizontal.end_time:.4g} s "
+              f"every {horizontal.dt:.3g} s: {what}")
+    return 0
+
+
+def _motion_text(motion) -> str:
+    """The ground motion's name and, when it has one, its peak horizontal acceleration."""
+    peak = motion.horizontal.peak_acceleration
+    return f"{motion.name}, PGA {acceleration_text(peak)}" if np.isfinite(peak) and peak > 0 else motion.name
 
 
 def _run(args) -> int:
@@ -111,17 +163,22 @@ def _run(args) -> int:
     except SceneFileError as exc:
         print(f"error: {exc}", file=sys.stderr)
         return 2
+    if not args.exaggerate > 0:
+        print(f"error: --exaggerate must be positive, got {args.exaggerate:g}", file=sys.stderr)
+        return 2
+    if args.exaggerate != 1 and not args.animate:
+        print("note: --exaggerate applies to the animation: add --animate run.gif", file=sys.stderr)
     out = Path(args.out) if args.out else Path("results") / path.stem
     out.mkdir(parents=True, exist_ok=True)
     settings = dict(spec.simulation)
     if args.duration is not None:
         settings["duration"] = args.duration
     fmt = args.format or spec.output.get("format", "csv")
-    print(f"scene {path} ({len(spec.scene.blocks)} blocks), ground motion: {spec.excitation.name}")
+    print(f"scene {path} ({len(spec.scene.blocks)} blocks), ground motion: {_motion_text(spec.excitation)}")
     started = time.perf_counter()
     status = 0
     try:
-        result = simulate(spec.scene, spec.excitation, **settings)
+        result = simulate(spec.scene, spec.excitation, **_simulate_options(settings))
     except SimulationUnstable as exc:
         print(f"error: {exc}", file=sys.stderr)
         result, status = exc.partial, 3
@@ -129,18 +186,21 @@ def _run(args) -> int:
         print(f"error: {path}: {exc}", file=sys.stderr)
         return 2
     wall = time.perf_counter() - started
-    _write(result, out, fmt)
-    if not args.no_plots and spec.output.get("plots", True) and len(result.t) > 1:
-        from .pictures.plots import save_run_figures  # matplotlib loads only when figures are written
-
-        save_run_figures(result, out, spec.excitation, title=path.stem)
-    if args.animate:
-        _write_animation(spec, result, out / args.animate, out / "snapshots.png", path.stem)
     info = result.info
     print(f"dt = {result.dt:.3g} s (stability limit {info.get('stability_limit_s', float('nan')):.3g} s), "
           f"{info.get('steps')} steps, run {info.get('run_time_s', 0):.2f} s, total {wall:.2f} s")
     print(f"peak |theta| {np.max(result.peak_theta):.4g} rad, total sliding {result.total_sliding:.4g} m, "
           f"overturned: {f'yes at t = {result.time_of_overturn:.3f} s' if result.overturned else 'no'}")
+    _write(result, out, fmt)
+    if not args.no_plots and spec.output.get("plots", True) and len(result.t) > 1:
+        from .pictures.plots import save_run_figures  # matplotlib loads only when figures are written
+
+        written = save_run_figures(result, out, spec.excitation, title=path.stem,
+                                   relative_rotations=args.relative_rotations)
+        print(f"figures: {', '.join(p.name for p in written)}")
+    if args.animate:
+        _write_animation(spec, result, out / args.animate, out / "snapshots.png", path.stem,
+                         exaggerate=args.exaggerate)
     print(f"results written to {out}/")
     return status
 
@@ -158,13 +218,19 @@ def _write(result, out: Path, fmt: str):
     (out / "summary.json").write_text(json.dumps(summary, indent=2))
 
 
-def _write_animation(spec, result, movie, strip, title, fps=25, speed=1.0):
-    from .pictures.animation import animate, default_snapshot_times, snapshot_strip
+def _write_animation(spec, result, movie, strip, title, fps=25, speed=1.0, exaggerate=1.0):
+    from .pictures.animation import animate, default_snapshot_times, frame_indices, snapshot_strip
 
-    animate(spec.scene, result, movie, excitation=spec.excitation, fps=fps, speed=speed, title=title)
-    figure = snapshot_strip(spec.scene, result, default_snapshot_times(result), title=title)
+    animate(spec.scene, result, movie, excitation=spec.excitation, fps=fps, speed=speed, title=title,
+            exaggerate=exaggerate, progress=_interactive())
+    figure = snapshot_strip(spec.scene, result, default_snapshot_times(result), title=title, exaggerate=exaggerate)
     figure.savefig(strip, dpi=110)
-    print(f"animation written to {movie}, snapshots to {strip}")
+    frames = len(frame_indices(result, fps, speed))
+    shown = f", rotations and displacements x {exaggerate:g}" if exaggerate != 1 else ""
+    print(f"animation written to {movie} ({frames} frames, {frames / fps:.1f} s at {fps} frames/s{shown}), "
+          f"snapshots to {strip}")
+    if exaggerate != 1 and result.overturned:
+        print(f"note: the collapse at {result.time_of_overturn:.2f} s is exaggerated too: its drawing is not to scale")
 
 
 def _load_or_fail(path):
@@ -195,41 +261,89 @@ def _sweep(args) -> int:
     return 0 if counts.get("failed", 0) == 0 else 1
 
 
+#: excitation kinds whose ``amplitude`` is an acceleration (a harmonic's is a displacement, m)
+PULSES = ("rectangular_pulse", "sine_pulse", "cosine_pulse")
+#: SI units of the [excitation] keys a threshold search can vary (``scale`` and unknown keys: none)
+PARAMETER_UNITS = {"amplitude": "m", "vertical_amplitude": "m", "frequency": "Hz", "duration": "s",
+                   "rate": "m/s^2 per s"}
+
+
+def _parameter_unit(kind, parameter) -> str:
+    """The unit of the [excitation] key ``parameter`` for that ``kind`` of excitation ("" for none)."""
+    if parameter in ("pga", "peak") or (parameter == "amplitude" and kind in PULSES):
+        return "m/s^2"
+    return PARAMETER_UNITS.get(parameter, "")
+
+
+def _parameter_text(value, unit, digits=4) -> str:
+    if unit == "m/s^2":
+        return acceleration_text(value, digits)
+    return f"{value:.{digits}g} {unit}".rstrip()
+
+
+def _bisections(width, above, tolerance) -> int:
+    """Halvings that bring a bracket of ``width`` below ``tolerance`` times ``above`` (an estimate of
+    the runs a search has left, for its progress bar)."""
+    if not (tolerance > 0 and above > 0) or width <= tolerance * above:
+        return 0
+    return math.ceil(math.log2(width / (tolerance * above)))
+
+
 def _threshold(args) -> int:
     from .analyses.sweep import SceneFileBuild
     from .analyses.thresholds import onset_threshold, overturning_threshold
 
     try:
-        build = SceneFileBuild(read_toml(args.scene), str(args.scene))
+        data = read_toml(args.scene)
+        build = SceneFileBuild(data, str(args.scene))
         spec = build({})
     except SceneFileError as exc:
         print(f"error: {exc}", file=sys.stderr)
         return 2
     key = f"excitation.{args.parameter}"
+    unit = _parameter_unit(data.get("excitation", {}).get("kind"), args.parameter)
+    settings = dict(spec.simulation)
+    if args.duration is not None:
+        settings["duration"] = args.duration
 
     def motion_at(value):
         return build({key: value}).excitation
 
+    scan_step = (args.high - args.low) / max(args.scan - 1, 1)
+    bar = _progress(total=args.scan + _bisections(scan_step, args.high, args.tolerance), desc="runs", unit="run")
+
+    def on_run(value, happened):
+        if happened and not any(h for _, h in runs_so_far):
+            bar.total = len(runs_so_far) + 1 + _bisections(scan_step, value, args.tolerance)
+        runs_so_far.append((value, happened))
+        bar.set_postfix_str(f"{args.parameter} = {value:.4g} {unit}".rstrip())
+        bar.update()
+
+    runs_so_far = []
+    options = {"tolerance": args.tolerance, "scan": args.scan, "on_run": on_run, **_simulate_options(settings)}
     try:
         motion_at(args.low)
         if args.criterion == "overturning":
-            found = overturning_threshold(spec.scene, motion_at, args.low, args.high, tolerance=args.tolerance,
-                                          scan=args.scan, **spec.simulation)
+            found = overturning_threshold(spec.scene, motion_at, args.low, args.high, **options)
         else:
-            found = onset_threshold(spec.scene, motion_at, args.low, args.high, criterion=args.criterion,
-                                    tolerance=args.tolerance, scan=args.scan, **spec.simulation)
+            found = onset_threshold(spec.scene, motion_at, args.low, args.high, criterion=args.criterion, **options)
     except (SceneFileError, ValueError) as exc:
         print(f"error: {exc}", file=sys.stderr)
         return 2
+    finally:
+        bar.total = bar.n
+        bar.close()
     for value, happened in found.runs:
-        print(f"  {args.parameter} = {value:.5g}: {args.criterion if happened else 'no ' + args.criterion}")
+        print(f"  {args.parameter} = {_parameter_text(value, unit)}: "
+              f"{args.criterion if happened else 'no ' + args.criterion}")
     if np.isfinite(found.value):
-        print(f"{args.criterion} threshold: {args.parameter} = {found.value:.4g} (between {found.below:.4g} and "
-              f"{found.above:.4g}){'' if found.monotonic else '; not monotonic: see the runs above'}")
+        bracket = f"{found.below:.4g} and {found.above:.4g} {unit}".rstrip()
+        print(f"{args.criterion} threshold: {args.parameter} = {_parameter_text(found.value, unit)}, between "
+              f"{bracket}{'' if found.monotonic else '; not monotonic: see the runs above'}")
     elif found.above is None:
-        print(f"no {args.criterion} up to {args.parameter} = {args.high:g}")
+        print(f"no {args.criterion} up to {args.parameter} = {_parameter_text(args.high, unit)}")
     else:
-        print(f"{args.criterion} already at {args.parameter} = {args.low:g}: lower --low")
+        print(f"{args.criterion} already at {args.parameter} = {_parameter_text(args.low, unit)}: lower --low")
     return 0
 
 
@@ -240,11 +354,12 @@ def _ramp(args) -> int:
     if spec is None:
         return 2
     settings = {k: v for k, v in spec.simulation.items() if k not in ("duration", "output_dt")}
-    found = onset_under_ramp(spec.scene, args.rate, args.duration, **settings)
-    for what, value in (("rocking starts", found.rocking), ("sliding starts", found.sliding),
+    found = onset_under_ramp(spec.scene, args.rate, args.duration, **_simulate_options(settings))
+    print(f"ramp of {args.rate:g} m/s^2 per s, run for {found.result.t[-1]:.4g} s; the ground acceleration when "
+          "the scene")
+    for what, value in (("starts rocking", found.rocking), ("starts sliding", found.sliding),
                         ("overturns", found.overturning)):
-        text = f"{value:.4g} m/s^2 ({value / spec.scene.gravity:.4g} g)" if np.isfinite(value) else "not reached"
-        print(f"{what:15s} {text}")
+        print(f"  {what:15s} {acceleration_text(value, 4) if np.isfinite(value) else 'not reached'}")
     return 0
 
 
@@ -266,15 +381,22 @@ def _animate(args) -> int:
     if loaded is None:
         return 2
     path, spec, settings = loaded
+    if not args.exaggerate > 0:
+        print(f"error: --exaggerate must be positive, got {args.exaggerate:g}", file=sys.stderr)
+        return 2
     settings["output_dt"] = min(settings.get("output_dt", 0.01), args.speed / args.fps)
+    print(f"scene {path} ({len(spec.scene.blocks)} blocks), ground motion: {_motion_text(spec.excitation)}")
     try:
-        result = simulate(spec.scene, spec.excitation, **settings)
+        result = simulate(spec.scene, spec.excitation, **_simulate_options(settings))
     except SimulationUnstable as exc:
         print(f"error: {exc}; animating up to there", file=sys.stderr)
         result = exc.partial
+    except ValueError as exc:
+        print(f"error: {path}: {exc}", file=sys.stderr)
+        return 2
     movie = Path(args.out)
     _write_animation(spec, result, movie, movie.with_name(movie.stem + "_snapshots.png"), path.stem, args.fps,
-                     args.speed)
+                     args.speed, args.exaggerate)
     return 0
 
 
@@ -300,7 +422,8 @@ def _spectrum(args) -> int:
     table.to_csv(out.with_suffix(".csv"), index=False)
     for s in spectra:
         k = int(np.argmax(s.psa))
-        print(f"{s.name}: PGA {s.pga:.3g} m/s^2, peak PSA {s.psa[k]:.3g} m/s^2 at T = {s.periods[k]:.3g} s")
+        print(f"{s.name}: PGA {acceleration_text(s.pga)}, peak PSA {acceleration_text(s.psa[k])} at "
+              f"T = {s.periods[k]:.3g} s, peak SD {np.max(s.sd):.3g} m")
     print(f"written {out} and {out.with_suffix('.csv')}")
     return 0
 
@@ -313,12 +436,24 @@ def _stiffness(args) -> int:
         return 2
     _, spec, settings = loaded
     settings.pop("dt", None)  # each stiffness takes its own automatic step
+    # a run's length grows as the square root of the stiffness (the step shrinks so): the bar counts that
+    bar = _progress(total=sum(math.sqrt(max(f, 0.0)) for f in args.factors), desc="runs",
+                    bar_format="{desc}: {percentage:3.0f}%|{bar}| [{elapsed}<{remaining}{postfix}]")
+
+    def on_run(factor, result):
+        bar.set_postfix_str(f"K_n x {factor:g} done")
+        bar.update(math.sqrt(max(factor, 0.0)))
+
     try:
-        table = stiffness_convergence(spec.scene, spec.excitation, factors=args.factors, **settings)
+        table = stiffness_convergence(spec.scene, spec.excitation, factors=args.factors, on_run=on_run,
+                                      **_simulate_options(settings))
     except (ValueError, SimulationUnstable) as exc:
         print(f"error: {exc}", file=sys.stderr)
         return 2
-    print(table[["factor", "kn", "dt_s", "run_time_s", *MEASURES]].to_string(index=False, float_format="%.4g"))
+    finally:
+        bar.close()
+    shown = table[["factor", "kn", "dt_s", "run_time_s", *MEASURES]].rename(columns={"kn": "kn_N/m^2"})
+    print(shown.to_string(index=False, float_format="%.4g"))
     worst = table.iloc[0][[f"change:{m}" for m in MEASURES[:3]]].abs().max()
     print(f"largest relative change of the first three measures from K_n x {table.factor.iloc[0]:g} to "
           f"x {table.factor.iloc[-1]:g}: {worst:.1%}")

@@ -1,4 +1,7 @@
-"""Drawing runs: block outlines follow the rigid motion, animations and snapshot strips are written."""
+"""Drawing runs: block outlines follow the rigid motion (exaggerated on request), animations and
+snapshot strips are written."""
+
+import sys
 
 import numpy as np
 import pytest
@@ -27,11 +30,64 @@ def test_outlines_start_on_the_scene_and_move_rigidly(colonnade_run):
         np.testing.assert_allclose(np.linalg.norm(moved, axis=1), np.linalg.norm(original, axis=1), rtol=1e-12)
 
 
+def test_exaggeration_moves_and_turns_the_outlines_k_times_as_far(colonnade_run):
+    scene, _, result = colonnade_run
+    k, factor = len(result.t) - 1, 10.0
+    drum = result.index("c1_drum2")
+    rel_x, rel_y = result.x - result.base_x[:, None], result.y - result.base_y[:, None]
+    assert abs(rel_x[k, drum] - rel_x[0, drum]) > 1e-3  # the run moves it enough to tell
+    true = animation.block_outlines(scene, result, k)[drum]
+    drawn = animation.block_outlines(scene, result, k, exaggerate=factor)[drum]
+    start = scene.blocks[drum].vertices
+    centre = geometry.polygon_properties(drawn).centroid - (result.base_x[k], result.base_y[k])
+    true_centre = geometry.polygon_properties(true).centroid - (result.base_x[k], result.base_y[k])
+    first = geometry.polygon_properties(start).centroid - (result.base_x[0], result.base_y[0])
+    np.testing.assert_allclose(centre - first, factor * (true_centre - first), atol=1e-9)
+
+    def edge_angle(outline):
+        return np.arctan2(*(outline[1] - outline[0])[::-1])
+
+    turned = edge_angle(drawn) - edge_angle(start)
+    assert turned == pytest.approx(factor * (edge_angle(true) - edge_angle(start)), abs=1e-9)
+
+
 def test_gif_has_a_frame_per_playback_tick(colonnade_run, tmp_path):
     scene, motion, result = colonnade_run
     path = animation.animate(scene, result, tmp_path / "run.gif", excitation=motion, fps=25, speed=1.0)
     with Image.open(path) as gif:
         assert gif.n_frames == int(result.t[-1] * 25) + 1  # 1 s played at 25 frames per second
+        assert sum(gif.seek(i) or gif.info["duration"] for i in range(gif.n_frames)) == pytest.approx(1040, abs=10)
+    assert len(animation.frame_indices(result, 10, 2.0)) == 6  # 1 s at 5 frames per simulated second
+
+
+def test_exaggerated_frames_say_so_and_differ(colonnade_run, tmp_path):
+    scene, motion, result = colonnade_run
+    frames = {}
+    for factor in (1.0, 20.0):
+        path = animation.animate(scene, result, tmp_path / f"x{factor:g}.gif", excitation=motion, fps=5,
+                                 exaggerate=factor)
+        with Image.open(path) as gif:
+            gif.seek(gif.n_frames - 1)
+            frames[factor] = np.asarray(gif.convert("RGB"))
+    assert frames[1.0].shape != frames[20.0].shape or np.any(frames[1.0] != frames[20.0])
+    assert animation.exaggeration_note(20) == "rotations and displacements \u00d7 20"
+    strip = animation.snapshot_strip(scene, result, [0.0, 1.0], title="run", exaggerate=20)
+    assert strip._suptitle.get_text() == "run, rotations and displacements \u00d7 20"
+    with pytest.raises(ValueError, match="exaggerate"):
+        animation.drawn_poses(result, 0.0)
+
+
+def test_mp4_frames_are_piped_raw_to_ffmpeg(colonnade_run, tmp_path, monkeypatch):
+    scene, motion, result = colonnade_run
+    fake = tmp_path / "ffmpeg"
+    fake.write_text(f"#!{sys.executable}\nimport sys\nopen(sys.argv[-1], 'wb').write(sys.stdin.buffer.read())\n"
+                    "open(sys.argv[-1] + '.args', 'w').write(' '.join(sys.argv[1:]))\n")
+    fake.chmod(0o755)
+    monkeypatch.setattr(animation, "_ffmpeg", lambda: str(fake))
+    path = animation.animate(scene, result, tmp_path / "run.mp4", excitation=motion, fps=10)
+    arguments = (tmp_path / "run.mp4.args").read_text().split()
+    width, height = map(int, arguments[arguments.index("-s") + 1].split("x"))
+    assert path.stat().st_size == 11 * width * height * 3  # 1 s at 10 frames per second, 3 bytes a pixel
 
 
 def test_mp4_without_ffmpeg_says_what_to_do(colonnade_run, tmp_path, monkeypatch):
@@ -48,3 +104,12 @@ def test_snapshot_strip_has_a_panel_per_time(colonnade_run):
     figure = animation.snapshot_strip(scene, result, [0.0, 0.5, 1.0])
     assert len(figure.axes) == 3
     assert [a.get_title() for a in figure.axes] == ["t = 0.00 s", "t = 0.52 s", "t = 1.00 s"]
+
+
+def test_clock_tells_time_ground_and_overturn(colonnade_run):
+    _, _, result = colonnade_run
+    assert animation.clock_text(result, 0) == "t =   0.00 s   ground +0.000 m"
+    toppled = dem_core.Result(**{**result.__dict__, "overturn_time": np.full(result.n_blocks, 0.5)})
+    last = len(result.t) - 1
+    assert animation.clock_text(toppled, last).endswith("\noverturned at 0.50 s")
+    assert "overturned" not in animation.clock_text(toppled, 0)

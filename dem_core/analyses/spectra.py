@@ -92,21 +92,26 @@ def response_spectrum(motion, periods=DEFAULT_PERIODS, damping: float = 0.05, *,
 
 
 def spectrum_figure(spectra, title: str = "Elastic response spectra"):
-    """Figure of PSA (in g) and SD against period for one or more :class:`ResponseSpectrum`."""
+    """Figure of PSA (m/s^2, with g on a second axis) and SD (m) against period for one or more
+    :class:`ResponseSpectrum`."""
     import matplotlib
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
+    from ..inputs.records import G_STANDARD
+
     fig, (ax_a, ax_d) = plt.subplots(1, 2, figsize=(10, 4))
     for s in spectra:
-        label = f"{s.name} (PGA {s.pga / 9.81:.2f} g)"
-        ax_a.plot(s.periods, s.psa / 9.81, label=label)
-        ax_d.plot(s.periods, s.sd * 100.0, label=label)
+        label = f"{s.name}, PGA {s.pga:.3g} m/s$^2$ ({s.pga / G_STANDARD:.3g} g)"
+        ax_a.plot(s.periods, s.psa, label=label)
+        ax_d.plot(s.periods, s.sd, label=label)
     damping = {s.damping for s in spectra}
-    ax_a.set(xlabel="period (s)", ylabel="pseudo-acceleration (g)", xscale="log",
+    ax_a.set(xlabel="period (s)", ylabel="pseudo-acceleration (m/s$^2$)", xscale="log",
              title=f"PSA, damping {', '.join(f'{z:.0%}' for z in damping)}")
-    ax_d.set(xlabel="period (s)", ylabel="displacement (cm)", xscale="log", yscale="log", title="SD")
+    in_g = ax_a.secondary_yaxis("right", functions=(lambda a: a / G_STANDARD, lambda g: g * G_STANDARD))
+    in_g.set_ylabel("(g)")
+    ax_d.set(xlabel="period (s)", ylabel="displacement (m)", xscale="log", yscale="log", title="SD")
     for ax in (ax_a, ax_d):
         ax.grid(True, which="both", alpha=0.3)
     ax_a.legend(fontsize=7)

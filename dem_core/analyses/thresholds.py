@@ -56,12 +56,14 @@ class Threshold:
 
 
 def bracket_and_bisect(happens: Callable[[float], bool], low: float, high: float, *, tolerance: float = 0.02,
-                       scan: int = 6, criterion: str = "") -> Threshold:
+                       scan: int = 6, criterion: str = "",
+                       on_run: Callable[[float, bool], None] | None = None) -> Threshold:
     """Smallest scale in [low, high] for which ``happens(scale)`` is True.
 
     Scans ``scan`` evenly spaced scales upwards, stops at the first with the event, then
     bisects between it and the previous one until the bracket is narrower than
-    ``tolerance`` times its upper end.
+    ``tolerance`` times its upper end.  ``on_run(scale, event happened)`` is called after
+    every run (a progress report).
     """
     if not 0 < low < high:
         raise ValueError(f"need 0 < low < high, got low = {low}, high = {high}")
@@ -72,6 +74,8 @@ def bracket_and_bisect(happens: Callable[[float], bool], low: float, high: float
     def test(scale):
         outcome = bool(happens(scale))
         runs.append((float(scale), outcome))
+        if on_run is not None:
+            on_run(float(scale), outcome)
         return outcome
 
     below = above = None
@@ -144,23 +148,26 @@ def motion_mode(scene: Scene, result, slip: float = SLIP_THRESHOLD) -> str:
 
 
 def overturning_threshold(scene: Scene, motion_at: Callable, low: float, high: float, *, tolerance: float = 0.02,
-                          scan: int = 6, **simulate_options) -> Threshold:
+                          scan: int = 6, on_run: Callable[[float, bool], None] | None = None,
+                          **simulate_options) -> Threshold:
     """Smallest scale at which ``simulate(scene, motion_at(scale))`` overturns a block.
 
     motion_at : scale -> GroundMotion, e.g. ``lambda pga: excitation.record("el_centro_1940", pga=pga)``.
     low, high : the range searched; tolerance : relative width of the final bracket.
+    on_run : called as ``on_run(scale, overturned)`` after every run (a progress report).
     simulate_options : passed to :func:`dem_core.simulate` (duration, dt, ...); runs stop at the
         first overturn.
     """
     def overturns(scale):
         return simulate(scene, motion_at(scale), stop_at_overturn=True, **simulate_options).overturned
 
-    return bracket_and_bisect(overturns, low, high, tolerance=tolerance, scan=scan, criterion="overturning")
+    return bracket_and_bisect(overturns, low, high, tolerance=tolerance, scan=scan, criterion="overturning",
+                              on_run=on_run)
 
 
 def onset_threshold(scene: Scene, motion_at: Callable, low: float, high: float, *, criterion: str = "rocking",
                     tolerance: float = 0.02, scan: int = 6, slip: float = SLIP_THRESHOLD,
-                    **simulate_options) -> Threshold:
+                    on_run: Callable[[float, bool], None] | None = None, **simulate_options) -> Threshold:
     """Smallest scale that starts ``criterion`` ("rocking": theta above theta_cr/30; "sliding": an
     interface slipping more than ``slip`` m).  Arguments as :func:`overturning_threshold`."""
     if criterion not in ("rocking", "sliding"):
@@ -171,7 +178,7 @@ def onset_threshold(scene: Scene, motion_at: Callable, low: float, high: float, 
         result = simulate(scene, motion_at(scale), **simulate_options)
         return rocks(scene, result) if criterion == "rocking" else slides(scene, result, slip)
 
-    return bracket_and_bisect(starts, low, high, tolerance=tolerance, scan=scan, criterion=criterion)
+    return bracket_and_bisect(starts, low, high, tolerance=tolerance, scan=scan, criterion=criterion, on_run=on_run)
 
 
 @dataclass(frozen=True)

@@ -2,28 +2,41 @@
 
 The blocks are drawn from the scene's polygons moved by the result's
 centroid positions and rotations; the base is drawn where the ground is,
-and a strip below shows the ground acceleration with a cursor.  GIFs need
-only Pillow (a matplotlib dependency); MP4 needs an ffmpeg program: on the
-PATH, or the one the ``imageio-ffmpeg`` package ships (``pip install
-dem-colonnade[video]``).
+and a strip below shows the ground acceleration with a cursor.  Small
+motions can be exaggerated: with ``exaggerate=K`` every block is drawn at its
+starting pose plus K times its rotation and its displacement relative to the
+moving base since the start, and every frame says so.
+
+Frames are rendered by blitting: the axes, the ground strip and the labels
+are drawn once, and each frame redraws only the blocks, the base and the
+cursor on a copy of that background; Pillow writes the clock onto the frame
+(matplotlib would lay out and rasterise that text anew every frame, the
+slowest part of a frame).  GIFs are written by Pillow with one palette for
+all frames; MP4s by piping the frames to an ffmpeg
+program: on the PATH, or the one the ``imageio-ffmpeg`` package ships
+(``pip install dem-colonnade[video]``).
 """
 
 import shutil
+import subprocess
 from pathlib import Path
 
-import matplotlib
-
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt
 import numpy as np
-from matplotlib import animation as mpl_animation
+from matplotlib import font_manager
+from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.collections import PolyCollection
+from matplotlib.figure import Figure
+from matplotlib.patches import Rectangle
+from PIL import Image, ImageDraw, ImageFont
+from tqdm import tqdm
 
 from ..engine.geometry import transform
+from ..inputs.records import G_STANDARD
 
 STONE = "#d9cbb0"
 EDGE = "#5b4a36"
 EPISTYLE = "#c9a77c"
+OVERTURN = "crimson"
 
 
 def _local_shapes(scene, result):
@@ -32,62 +45,132 @@ def _local_shapes(scene, result):
             for k, block in enumerate(scene.blocks)]
 
 
-def block_outlines(scene, result, k: int) -> list:
-    """World vertices of every block at output ``k`` of ``result`` (list of (n_i, 2) arrays)."""
-    return [transform(local, result.theta[k, b], (result.x[k, b], result.y[k, b]))
-            for b, local in enumerate(_local_shapes(scene, result))]
+def drawn_poses(result, exaggerate: float = 1.0):
+    """(x, y, theta): each (n, n_blocks), the centroid positions (m) and rotations (rad) at which the
+    blocks are drawn: the starting pose plus ``exaggerate`` times the rotation and the displacement
+    relative to the moving base since the start, placed on the base where it is at each output."""
+    k = float(exaggerate)
+    if not k > 0:
+        raise ValueError(f"exaggerate must be positive, got {exaggerate}")
+    rel_x = result.x - result.base_x[:, None]
+    rel_y = result.y - result.base_y[:, None]
+    x = result.base_x[:, None] + rel_x[0] + k * (rel_x - rel_x[0])
+    y = result.base_y[:, None] + rel_y[0] + k * (rel_y - rel_y[0])
+    theta = result.theta[0] + k * (result.theta - result.theta[0])
+    return x, y, theta
 
 
-def _view(scene, result):
+def block_outlines(scene, result, k: int, exaggerate: float = 1.0) -> list:
+    """World vertices of every block at output ``k`` of ``result`` (list of (n_i, 2) arrays, m), with
+    rotations and displacements relative to the start multiplied by ``exaggerate``."""
+    return _Outlines(scene, result, exaggerate)(k)
+
+
+class _Outlines:
+    """Block outlines at any output index, the local shapes and drawn poses computed once."""
+
+    def __init__(self, scene, result, exaggerate=1.0):
+        self.shapes = _local_shapes(scene, result)
+        self.x, self.y, self.theta = drawn_poses(result, exaggerate)
+
+    def __call__(self, k):
+        return [transform(local, self.theta[k, b], (self.x[k, b], self.y[k, b]))
+                for b, local in enumerate(self.shapes)]
+
+
+def _view(scene, result, exaggerate=1.0):
+    """((x0, x1), (y0, y1)) axis limits, m: the scene with room around it for the ground's travel
+    and for the blocks as drawn (exaggerated motions reach further, up to the scene's size again)."""
     v = np.concatenate([b.vertices for b in scene.blocks])
-    width, height = np.ptp(v[:, 0]), np.ptp(v[:, 1])
-    reach = max(width, height)
-    x0, x1 = v[:, 0].min() - 0.6 * reach, v[:, 0].max() + 0.6 * reach
+    reach = max(np.ptp(v[:, 0]), np.ptp(v[:, 1]))
+    low, high = v.min(axis=0), v.max(axis=0)
+    if exaggerate != 1:
+        x, y, _ = drawn_poses(result, exaggerate)
+        radius = np.array([np.max(np.linalg.norm(s, axis=1)) for s in _local_shapes(scene, result)])
+        centres = np.stack([x - result.base_x[:, None], y - result.base_y[:, None]], axis=-1)
+        low = np.maximum(np.minimum(low, np.min(centres - radius[:, None], axis=(0, 1))), low - reach)
+        high = np.minimum(np.maximum(high, np.max(centres + radius[:, None], axis=(0, 1))), high + reach)
+    x0, x1 = low[0] - 0.6 * reach, high[0] + 0.6 * reach
     drift = np.nanmax(np.abs(result.base_x)) if len(result.base_x) else 0.0
-    return (x0 - drift, x1 + drift), (-0.08 * reach, v[:, 1].max() + 0.15 * reach)
+    return (x0 - drift, x1 + drift), (-0.08 * reach, high[1] + 0.15 * reach)
 
 
 def _colours(scene):
     return [EPISTYLE if "epistyle" in b.name else STONE for b in scene.blocks]
 
 
-class _Drawing:
-    """One axes with the scene drawn at an output index; ``update(k)`` moves it."""
+def exaggeration_note(exaggerate: float) -> str:
+    """What a drawing exaggerated ``exaggerate`` times says about it ("" when drawn true to scale)."""
+    return "" if exaggerate == 1 else f"rotations and displacements \u00d7 {exaggerate:g}"
 
-    def __init__(self, ax, scene, result, *, clock=True):
-        self.scene, self.result = scene, result
-        self.shapes = _local_shapes(scene, result)
-        (x0, x1), (y0, y1) = _view(scene, result)
+
+class _Drawing:
+    """One axes with the scene drawn at an output index; ``update(k)`` moves it and returns the
+    artists that move, ``animated``: left out of ``canvas.draw()`` to be blitted frame by frame."""
+
+    def __init__(self, ax, scene, result, *, exaggerate=1.0, animated=False):
+        self.result = result
+        self.outlines = _Outlines(scene, result, exaggerate)
+        (x0, x1), (y0, y1) = _view(scene, result, exaggerate)
         self.base_half = 0.5 * (x1 - x0) + np.nanmax(np.abs(result.base_x))
         ax.set_xlim(x0, x1)
         ax.set_ylim(y0, y1)
         ax.set_aspect("equal")
         ax.set_xlabel("x (m)")
         ax.set_facecolor("#f7f7f4")
-        self.base = plt.Rectangle((x0, y0), x1 - x0, -y0, color="#8c8c8c", zorder=1)
+        self.base = Rectangle((x0, y0), x1 - x0, -y0, color="#8c8c8c", zorder=1)
         ax.add_patch(self.base)
         self.blocks = PolyCollection([], facecolors=_colours(scene), edgecolors=EDGE, linewidths=0.6, zorder=2)
         ax.add_collection(self.blocks)
         self.marks = ax.plot([], [], "|", color="k", ms=8, zorder=3)[0]
-        self.clock = ax.text(0.02, 0.96, "", transform=ax.transAxes, va="top", fontsize=9,
-                             family="monospace") if clock else None
         self.x0 = x0
+        self.moving = [self.base, self.blocks, self.marks]
+        for artist in self.moving:
+            artist.set_animated(animated)
 
     def update(self, k):
-        self.blocks.set_verts(block_outlines(self.scene, self.result, k))
+        self.blocks.set_verts(self.outlines(k))
         ground = self.result.base_x[k]
         self.base.set_x(self.x0 - self.base_half + ground)
         self.base.set_width(4 * self.base_half)
         ticks = ground + np.arange(-20, 21) * 1.0
         self.marks.set_data(ticks, np.zeros_like(ticks))
-        if self.clock is not None:
-            self.clock.set_text(f"t = {self.result.t[k]:6.2f} s   ground {ground * 100:+6.1f} cm")
-        return [self.blocks, self.base, self.marks] + ([self.clock] if self.clock is not None else [])
+        return self.moving
 
 
-def _frame_indices(result, fps, speed):
+def clock_text(result, k: int) -> str:
+    """What the clock of frame ``k`` says: the time, the ground displacement and, once it has
+    happened, the overturn."""
+    t = result.t[k]
+    text = f"t = {t:6.2f} s   ground {result.base_x[k]:+.3f} m"
+    if result.overturned and t >= result.time_of_overturn:
+        text += f"\noverturned at {result.time_of_overturn:.2f} s"
+    return text
+
+
+class _Clock:
+    """Writes the clock text onto rendered frames with Pillow, in matplotlib's monospace font at
+    ``fontsize`` points, its top left corner at ``(0.02, 0.96)`` of the axes."""
+
+    def __init__(self, ax, fontsize=9):
+        fig = ax.figure
+        path = font_manager.findfont(font_manager.FontProperties(family="monospace"))
+        self.font = ImageFont.truetype(path, round(fontsize * fig.dpi / 72))
+        x, y = ax.transAxes.transform((0.02, 0.96))
+        self.corner = (round(x), round(fig.bbox.height - y))
+
+    def write(self, image, text):
+        ImageDraw.Draw(image).multiline_text(self.corner, text, font=self.font, fill=(0, 0, 0), spacing=3)
+        return image
+
+
+def frame_indices(result, fps: int, speed: float = 1.0) -> np.ndarray:
+    """Output indices of ``result`` shown by the frames of an animation at ``fps`` frames per second
+    and ``speed`` simulated seconds per second of playback (one frame per tick from the first output
+    to the last, which ends the animation in any case)."""
     times = np.arange(result.t[0], result.t[-1] + 1e-12, speed / fps)
-    return np.unique(np.clip(np.searchsorted(result.t, times), 0, len(result.t) - 1))
+    ticks = np.clip(np.searchsorted(result.t, times), 0, len(result.t) - 1)
+    return np.unique(np.append(ticks, len(result.t) - 1))
 
 
 def _ffmpeg():
@@ -101,66 +184,138 @@ def _ffmpeg():
     return imageio_ffmpeg.get_ffmpeg_exe()
 
 
+def _ground_strip(ax, result, excitation):
+    """The ground motion over the run (acceleration in m/s^2 and g, else displacement in m), an
+    overturn marker, and the cursor (returned) that follows the clock."""
+    if excitation is not None:
+        ax.plot(result.t, excitation.acceleration(result.t)[0], color="0.35", lw=0.8)
+        ax.set_ylabel("ground acc.\n(m/s$^2$)", fontsize=8)
+        in_g = ax.secondary_yaxis("right", functions=(lambda a: a / G_STANDARD, lambda g: g * G_STANDARD))
+        in_g.set_ylabel("(g)", fontsize=8)
+        in_g.tick_params(labelsize=8)
+    else:
+        ax.plot(result.t, result.base_x, color="0.35", lw=0.8)
+        ax.set_ylabel("ground disp.\n(m)", fontsize=8)
+    ax.set(xlabel="time (s)", xlim=(result.t[0], result.t[-1]))
+    ax.tick_params(labelsize=8)
+    ax.grid(alpha=0.3)
+    if result.overturned:
+        ax.axvline(result.time_of_overturn, color=OVERTURN, ls="--", lw=0.8)
+    return ax.axvline(result.t[0], color="crimson", lw=1, animated=True)
+
+
+class _GifFrames:
+    """Frames collected as palette images of one shared palette, written by Pillow at the end."""
+
+    def __init__(self, path, fps, palette_from):
+        self.path, self.fps = path, fps
+        sample = Image.fromarray(np.concatenate([np.asarray(image) for image in palette_from], axis=0))
+        self.palette = sample.quantize(colors=256, method=Image.Quantize.MEDIANCUT)
+        self.frames = []
+
+    def add(self, image):
+        self.frames.append(image.quantize(palette=self.palette, dither=Image.Dither.NONE))
+
+    def close(self):
+        first, *rest = self.frames
+        first.save(self.path, save_all=True, append_images=rest, duration=1000.0 / self.fps, loop=0)
+
+
+class _Mp4Frames:
+    """Frames piped as raw RGB to an ffmpeg process encoding H.264."""
+
+    def __init__(self, path, fps, size, ffmpeg):
+        width, height = size
+        command = [ffmpeg, "-y", "-loglevel", "error", "-f", "rawvideo", "-pix_fmt", "rgb24",
+                   "-s", f"{width}x{height}", "-r", str(fps), "-i", "-",
+                   "-vf", "pad=ceil(iw/2)*2:ceil(ih/2)*2",  # H.264 in yuv420p needs even sides
+                   "-c:v", "libx264", "-pix_fmt", "yuv420p", "-movflags", "+faststart", str(path)]
+        self.process = subprocess.Popen(command, stdin=subprocess.PIPE, stderr=subprocess.PIPE)
+
+    def add(self, image):
+        self.process.stdin.write(image.tobytes())
+
+    def close(self):
+        _, errors = self.process.communicate()
+        if self.process.returncode != 0:
+            raise RuntimeError(f"ffmpeg failed ({self.process.returncode}): {errors.decode(errors='replace')}")
+
+
 def animate(scene, result, path, *, excitation=None, fps: int = 25, speed: float = 1.0, title: str = "",
-            dpi: int = 90) -> Path:
+            dpi: int = 90, exaggerate: float = 1.0, progress: bool = False) -> Path:
     """Write an animation of ``result`` (a run of ``scene``) to ``path`` (.gif or .mp4).
 
     fps : frames per second of the file; speed : simulated seconds per second of playback.
     excitation : the ground motion, to draw its acceleration under the scene (else the base displacement).
+    exaggerate : rotations and displacements relative to the start, measured from the moving base,
+        are drawn this many times larger (each frame says so when it is not 1).
+    progress : show a progress bar of the frames rendered (on stderr).
     Returns the path written.
     """
     path = Path(path)
     suffix = path.suffix.lower()
     if suffix not in (".gif", ".mp4"):
         raise ValueError(f"animation file must end in .gif or .mp4, got {path.name!r}")
-    if suffix == ".mp4":
-        ffmpeg = _ffmpeg()
-        if ffmpeg is None:
-            raise RuntimeError("writing MP4 needs ffmpeg: install it, or pip install imageio-ffmpeg, or write a .gif")
-        matplotlib.rcParams["animation.ffmpeg_path"] = ffmpeg
-    fig, (ax, ax_g) = plt.subplots(2, 1, figsize=(7, 6.2), gridspec_kw={"height_ratios": [5, 1]})
-    drawing = _Drawing(ax, scene, result)
+    ffmpeg = _ffmpeg() if suffix == ".mp4" else None
+    if suffix == ".mp4" and ffmpeg is None:
+        raise RuntimeError("writing MP4 needs ffmpeg: install it, or pip install imageio-ffmpeg, or write a .gif")
+    (x0, x1), (y0, y1) = _view(scene, result, exaggerate)
+    scene_height = float(np.clip(6.0 * (y1 - y0) / (x1 - x0), 2.0, 4.4))  # inches, for 6 in of width
+    fig = Figure(figsize=(7, scene_height + 1.9), dpi=dpi)
+    canvas = FigureCanvasAgg(fig)
+    ax, ax_g = fig.subplots(2, 1, gridspec_kw={"height_ratios": [scene_height, 1.1]})
+    drawing = _Drawing(ax, scene, result, exaggerate=exaggerate, animated=True)
     ax.set_title(title or "", fontsize=10)
-    if excitation is not None:
-        ground, label = excitation.acceleration(result.t)[0], "ground acc. (m/s$^2$)"
-    else:
-        ground, label = result.base_x, "ground disp. (m)"
-    ax_g.plot(result.t, ground, color="0.35", lw=0.8)
-    cursor = ax_g.axvline(result.t[0], color="crimson", lw=1)
-    ax_g.set(xlabel="time (s)", ylabel=label, xlim=(result.t[0], result.t[-1]))
-    ax_g.yaxis.label.set_size(8)
-    ax_g.grid(alpha=0.3)
-    if result.overturned:
-        ax_g.axvline(result.time_of_overturn, color="k", ls="--", lw=0.8)
+    note = exaggeration_note(exaggerate)
+    if note:
+        ax.text(0.98, 0.96, note, transform=ax.transAxes, ha="right", va="top", fontsize=9, color=OVERTURN)
+    cursor = _ground_strip(ax_g, result, excitation)
     fig.tight_layout()
-    frames = _frame_indices(result, fps, speed)
+    canvas.draw()
+    background = canvas.copy_from_bbox(fig.bbox)
+    clock = _Clock(ax)
 
-    def draw(k):
+    def render(k):
+        canvas.restore_region(background)
+        for artist in drawing.update(k):
+            ax.draw_artist(artist)
+        for spine in ax.spines.values():  # the moving base is drawn over the bottom of the frame
+            ax.draw_artist(spine)
         cursor.set_xdata([result.t[k], result.t[k]])
-        return [*drawing.update(k), cursor]
+        ax_g.draw_artist(cursor)
+        frame = Image.frombuffer("RGBA", canvas.get_width_height(), canvas.buffer_rgba(), "raw", "RGBA", 0, 1)
+        return clock.write(frame.convert("RGB"), clock_text(result, k))
 
-    movie = mpl_animation.FuncAnimation(fig, draw, frames=frames, blit=False)
-    writer = (mpl_animation.PillowWriter(fps=fps) if suffix == ".gif"
-              else mpl_animation.FFMpegWriter(fps=fps, bitrate=1800))
+    frames = frame_indices(result, fps, speed)
     path.parent.mkdir(parents=True, exist_ok=True)
-    movie.save(path, writer=writer, dpi=dpi)
-    plt.close(fig)
+    if suffix == ".gif":
+        writer = _GifFrames(path, fps, [render(frames[0]), render(frames[-1])])
+    else:
+        writer = _Mp4Frames(path, fps, canvas.get_width_height(), ffmpeg)
+    try:
+        for k in tqdm(frames, desc="frames", unit="frame", disable=not progress):
+            writer.add(render(k))
+    finally:
+        writer.close()
     return path
 
 
-def snapshot_strip(scene, result, times, *, title: str = ""):
-    """Figure: the scene drawn at each of ``times`` (s; the nearest outputs) side by side."""
+def snapshot_strip(scene, result, times, *, title: str = "", exaggerate: float = 1.0):
+    """Figure: the scene drawn at each of ``times`` (s; the nearest outputs) side by side, rotations
+    and displacements relative to the start multiplied by ``exaggerate`` (said in the title)."""
     times = list(times)
-    (x0, x1), (y0, y1) = _view(scene, result)
+    (x0, x1), (y0, y1) = _view(scene, result, exaggerate)
     panel = 2.6
-    fig, axes = plt.subplots(1, len(times), figsize=(panel * len(times) + 0.6, panel * (y1 - y0) / (x1 - x0) + 1.2),
-                             sharey=True, squeeze=False)
+    fig = Figure(figsize=(panel * len(times) + 0.6, panel * (y1 - y0) / (x1 - x0) + 1.2))
+    FigureCanvasAgg(fig)
+    axes = fig.subplots(1, len(times), sharey=True, squeeze=False)
     for ax, when in zip(axes[0], times):
         k = int(np.clip(np.searchsorted(result.t, when), 0, len(result.t) - 1))
-        _Drawing(ax, scene, result, clock=False).update(k)
+        _Drawing(ax, scene, result, exaggerate=exaggerate).update(k)
         ax.set_title(f"t = {result.t[k]:.2f} s", fontsize=9)
-    if title:
-        fig.suptitle(title, fontsize=10)
+    heading = ", ".join(part for part in (title, exaggeration_note(exaggerate)) if part)
+    if heading:
+        fig.suptitle(heading, fontsize=10)
     fig.tight_layout()
     return fig
 

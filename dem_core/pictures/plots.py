@@ -1,4 +1,11 @@
-"""Figures of a run: block rotations, displacements and epistyle motion over time, with the ground motion."""
+"""Figures of a run over time, with the ground motion below: block rotations, displacements,
+epistyle motion and the sliding accumulated at each interface.
+
+A column's drums are drawn as one line where they move together: consecutive drums whose
+values stay within :data:`DRUM_AGREEMENT` of the column's peak of each other at every output
+share one line (their mean) and a shaded band (from the lowest to the highest of them); a drum
+that moves differently gets its own line.
+"""
 
 from pathlib import Path
 
@@ -8,53 +15,188 @@ matplotlib.use("Agg")  # files only: the command line and CI have no screen
 import matplotlib.pyplot as plt
 import numpy as np
 
+from ..analyses.thresholds import SLIP_THRESHOLD
+from ..inputs.records import G_STANDARD
+
+#: drums within this fraction of their column's peak |value| of each other at all times share a line
+DRUM_AGREEMENT = 0.05
+#: interfaces whose accumulated slip stays below this (m) are drawn together as one grey line
+SLID = SLIP_THRESHOLD
+OVERTURN = "crimson"
+
 
 def _ground_panel(ax, result, excitation):
     if excitation is not None:
         a_x, _ = excitation.acceleration(result.t)
         ax.plot(result.t, a_x, color="0.3", lw=0.8)
         ax.set_ylabel("ground acc.\n(m/s$^2$)")
+        in_g = ax.secondary_yaxis("right", functions=(lambda a: a / G_STANDARD, lambda g: g * G_STANDARD))
+        in_g.set_ylabel("(g)")
     else:
         ax.plot(result.t, result.base_x, color="0.3", lw=0.8)
         ax.set_ylabel("ground disp.\n(m)")
     ax.grid(alpha=0.3)
 
 
+def _first_to_overturn(result) -> str:
+    first = [n for n, t in zip(result.names, result.overturn_time) if t == result.time_of_overturn]
+    for column in result.columns:
+        if set(column.blocks) == set(first):
+            return f"column {column.blocks[0]}\u2013{column.blocks[-1]}"
+    return ", ".join(first) if len(first) <= 3 else f"{first[0]} and {len(first) - 1} more"
+
+
 def _finish(fig, axes, result, title):
+    """Overturn marker on every panel and its label inside the top one, the title, a tight layout."""
     axes[-1].set_xlabel("time (s)")
     if result.overturned:
+        when = result.time_of_overturn
         for ax in axes:
-            ax.axvline(result.time_of_overturn, color="crimson", ls="--", lw=1)
-        axes[0].annotate(f"overturn at {result.time_of_overturn:.2f} s", (result.time_of_overturn, 1.0),
-                         xycoords=("data", "axes fraction"), color="crimson", ha="right", va="top", fontsize=8)
+            ax.axvline(when, color=OVERTURN, ls="--", lw=1)
+        x0, x1 = axes[0].get_xlim()
+        right_half = when > 0.5 * (x0 + x1)
+        axes[0].annotate(f"{_first_to_overturn(result)} overturns at {when:.2f} s", (when, 0.99),
+                         xycoords=("data", "axes fraction"), xytext=(-4 if right_half else 4, 0),
+                         textcoords="offset points", ha="right" if right_half else "left", va="top",
+                         color=OVERTURN, fontsize=8, bbox={"fc": "white", "ec": "none", "alpha": 0.8, "pad": 1})
     fig.suptitle(title, fontsize=10)
     fig.tight_layout()
     return fig
 
 
-def _history_figure(result, values, ylabel, colour_map, excitation, title):
-    """Figure: one line per block of ``values`` (n, n_blocks) over time, the ground motion below."""
-    fig, axes = plt.subplots(2, 1, sharex=True, figsize=(9, 6), gridspec_kw={"height_ratios": [3, 1]})
-    colours = colour_map(np.linspace(0, 0.9, result.n_blocks))
+def _legend(ax, **options):
+    """The legend to the right of the axes, where it hides no line."""
+    ax.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0), borderaxespad=0.0, alignment="left",
+              **options)
+
+
+def block_groups(result, values, tolerance: float = DRUM_AGREEMENT) -> list:
+    """Blocks drawn as one line, as tuples of indices in scene order: runs of consecutive drums of a
+    column (``result.columns``) whose ``values`` (n, n_blocks) stay within ``tolerance`` times the
+    column's peak |value| of each other at every output; every other block alone."""
+    groups, done = [], set()
+    members = {name: column for column in result.columns for name in column.blocks}
     for k, name in enumerate(result.names):
-        axes[0].plot(result.t, values[:, k], lw=0.9, color=colours[k], label=name)
+        if k in done:
+            continue
+        if name not in members:
+            groups.append((k,))
+            continue
+        drums = [result.index(n) for n in members[name].blocks]
+        allowed = tolerance * np.nanmax(np.abs(values[:, drums]))
+        run = [drums[0]]
+        for drum in drums[1:]:
+            joined = values[:, run + [drum]]
+            if np.nanmax(joined.max(axis=1) - joined.min(axis=1)) <= allowed:
+                run.append(drum)
+            else:
+                groups.append(tuple(run))
+                run = [drum]
+        groups.append(tuple(run))
+        done.update(drums)
+    return groups
+
+
+def _group_label(result, group) -> str:
+    if len(group) == 1:
+        return result.names[group[0]]
+    return f"{result.names[group[0]]}\u2013{result.names[group[-1]]}"
+
+
+def _draw_groups(ax, result, values, groups, colour_map):
+    """One line per group (the mean of its blocks) and, for groups of several drums, their spread."""
+    colours = colour_map(np.linspace(0, 0.9, len(groups)))
+    for group, colour in zip(groups, colours):
+        part = values[:, list(group)]
+        ax.plot(result.t, part.mean(axis=1), lw=0.9, color=colour, label=_group_label(result, group))
+        if len(group) > 1:
+            ax.fill_between(result.t, part.min(axis=1), part.max(axis=1), color=colour, alpha=0.3, lw=0)
+
+
+def _spread_note(groups) -> str:
+    if all(len(g) == 1 for g in groups):
+        return ""
+    return (f"drums within {DRUM_AGREEMENT:.0%} of their column's\npeak of each other: one line (mean),"
+            "\nshaded from the lowest to the highest")
+
+
+def _history_figure(result, values, ylabel, colour_map, excitation, title):
+    """Figure: ``values`` (n, n_blocks) over time, a line per group of :func:`block_groups`, the
+    ground motion below; returns the figure, its axes and the groups."""
+    fig, axes = plt.subplots(2, 1, sharex=True, figsize=(10, 6), gridspec_kw={"height_ratios": [3, 1]})
+    groups = block_groups(result, values)
+    _draw_groups(axes[0], result, values, groups, colour_map)
     axes[0].set_ylabel(ylabel)
     axes[0].grid(alpha=0.3)
-    if result.n_blocks <= 12:
-        axes[0].legend(fontsize=7, ncol=min(4, result.n_blocks), loc="upper left")
     _ground_panel(axes[1], result, excitation)
+    return fig, axes, groups
+
+
+def critical_angles(result) -> np.ndarray:
+    """(n_blocks,) rad: the rotation at which each block is judged to overturn: for a column's
+    drums the column's critical angle, for every other block its own."""
+    if result.critical_angle is None:
+        raise ValueError("the result carries no critical angles (an engine that does not report them)")
+    alpha = np.array(result.critical_angle, dtype=float)
+    for column in result.columns:
+        for name in column.blocks:
+            alpha[result.index(name)] = column.critical_angle
+    return alpha
+
+
+def _holders(result, groups, alpha, value) -> str:
+    """Who has critical angle ``value``: the columns, or the blocks by name."""
+    labels = [_group_label(result, g) for g in groups if np.isclose(alpha[g[0]], value)]
+    column_drums = {n for c in result.columns for n in c.blocks}
+    if all(result.names[g[0]] in column_drums for g in groups if np.isclose(alpha[g[0]], value)):
+        return "columns" if len(result.columns) > 1 else "column"
+    return ", ".join(labels) if len(labels) <= 3 else f"{len(labels)} blocks"
+
+
+def rotations(result, excitation=None, title="Block rotations", *, relative: bool = False):
+    """Figure: rotation of every block over time, and the ground motion below.
+
+    relative : plot theta / alpha (alpha the critical angle: a column's for its drums, a block's own
+        otherwise), with dashed lines at +-1; else theta in rad with dashed lines at +-alpha (an
+        alpha far beyond the motion is named in the legend instead).
+    Drums that move together share a line (:func:`block_groups`).
+    """
+    has_alpha = result.critical_angle is not None
+    if relative and not has_alpha:
+        raise ValueError("cannot plot theta / alpha: the result carries no critical angles")
+    alpha = critical_angles(result) if has_alpha else None
+    values = result.theta / alpha if relative else result.theta
+    ylabel = "rotation / critical angle, $\\theta/\\alpha$" if relative else "rotation $\\theta$ (rad)"
+    fig, axes, groups = _history_figure(result, values, ylabel, plt.cm.viridis, excitation, title)
+    ax = axes[0]
+    reach = np.nanmax(np.abs(values)) if values.size else 0.0
+    if relative:
+        ax.axhline(1.0, color="0.2", ls="--", lw=0.9, label="critical angle, $\\theta/\\alpha = \\pm 1$")
+        ax.axhline(-1.0, color="0.2", ls="--", lw=0.9)
+        reach = max(reach, 1.0)
+    elif has_alpha:
+        levels = sorted({float(alpha[g[0]]) for g in groups})
+        reach = max(reach, levels[0])
+        for value in levels:
+            holders = _holders(result, groups, alpha, value)
+            if value <= 1.05 * reach:
+                ax.axhline(value, color="0.2", ls="--", lw=0.9,
+                           label=f"critical angle $\\pm\\alpha$ = {value:.3g} rad ({holders})")
+                ax.axhline(-value, color="0.2", ls="--", lw=0.9)
+            else:
+                ax.plot([], [], " ", label=f"{holders}: $\\alpha$ = {value:.3g} rad, off the axis")
+    ax.set_ylim(-1.1 * reach, 1.1 * reach)
+    _legend(ax, title=_spread_note(groups) or None, title_fontsize=7)
     return _finish(fig, axes, result, title)
 
 
-def rotations(result, excitation=None, title="Block rotations"):
-    """Figure: rotation theta(t) of every block (rad), and the ground motion below."""
-    return _history_figure(result, result.theta, "rotation (rad)", plt.cm.viridis, excitation, title)
-
-
 def displacements(result, excitation=None, title="Block displacements relative to the base"):
-    """Figure: horizontal displacement of every block relative to the base (m), and the ground motion."""
-    return _history_figure(result, result.relative_x - result.relative_x[0], "displacement (m)", plt.cm.plasma,
-                           excitation, title)
+    """Figure: horizontal displacement of every block relative to the base since the start (m),
+    and the ground motion below; drums that move together share a line."""
+    values = result.relative_x - result.relative_x[0]
+    fig, axes, groups = _history_figure(result, values, "displacement (m)", plt.cm.plasma, excitation, title)
+    _legend(axes[0], title=_spread_note(groups) or None, title_fontsize=7)
+    return _finish(fig, axes, result, title)
 
 
 def epistyle_names(result) -> list:
@@ -68,27 +210,68 @@ def epistyles(result, excitation=None, title="Epistyles"):
     if not names:
         raise ValueError("the run has no block named like an epistyle")
     index = [result.names.index(n) for n in names]
-    fig, axes = plt.subplots(3, 1, sharex=True, figsize=(9, 7), gridspec_kw={"height_ratios": [2, 2, 1]})
+    fig, axes = plt.subplots(3, 1, sharex=True, figsize=(10, 7), gridspec_kw={"height_ratios": [2, 2, 1]})
     rel = result.relative_x - result.relative_x[0]
     for k, name in zip(index, names):
         axes[0].plot(result.t, rel[:, k], lw=0.9, label=name)
         axes[1].plot(result.t, result.theta[:, k], lw=0.9, label=name)
     axes[0].set_ylabel("displacement (m)")
-    axes[1].set_ylabel("rotation (rad)")
+    axes[1].set_ylabel("rotation $\\theta$ (rad)")
     for ax in axes[:2]:
         ax.grid(alpha=0.3)
-    axes[0].legend(fontsize=7)
+    _legend(axes[0])
     _ground_panel(axes[2], result, excitation)
     return _finish(fig, axes, result, title)
 
 
-def save_run_figures(result, out_dir, excitation=None, title=""):
-    """Write rotations.png, displacements.png (and epistyles.png if the scene has epistyles)
-    into ``out_dir``; returns their paths."""
+def sliding(result, excitation=None, title="Sliding at the interfaces", *, threshold: float = SLID):
+    """Figure: slip accumulated at each interface over time (m), from ``result.slip_history``: a line
+    per interface whose slip passed ``threshold`` m, the others as one grey line (the largest of
+    them at each output); the ground motion below."""
+    if result.slip_history is None:
+        raise ValueError("the result carries no slip history (an engine that does not measure it)")
+    slip = np.asarray(result.slip_history, dtype=float)
+    total = np.nanmax(slip, axis=0, initial=0.0) if len(slip) else np.zeros(len(result.interfaces))
+    slid = [k for k in np.argsort(-total) if total[k] > threshold]
+    rest = [k for k in range(len(result.interfaces)) if k not in slid]
+    fig, axes = plt.subplots(2, 1, sharex=True, figsize=(10, 6), gridspec_kw={"height_ratios": [3, 1]})
+    ax = axes[0]
+    colours = plt.cm.tab10(np.arange(len(slid)) % 10)
+    for k, colour in zip(slid, colours):
+        a, b = result.interfaces[k]
+        ax.plot(result.t[:len(slip)], slip[:, k], lw=1.0, color=colour, label=f"{a}\u2013{b}")
+    if rest:
+        if len(rest) == 1:
+            label = "\u2013".join(result.interfaces[rest[0]]) + f", under {threshold:g} m"
+        else:
+            label = f"{len(rest)} other interfaces, each under {threshold:g} m (the largest)"
+        ax.plot(result.t[:len(slip)], np.nanmax(slip[:, rest], axis=1), lw=1.0, color="0.6", label=label)
+    if not slid:
+        ax.text(0.02, 0.95, f"no interface slid more than {threshold:g} m", transform=ax.transAxes,
+                va="top", fontsize=9)
+    ax.set_ylabel("accumulated sliding (m)")
+    ax.set_ylim(bottom=0.0)
+    ax.grid(alpha=0.3)
+    if len(result.interfaces):
+        _legend(ax)
+    _ground_panel(axes[1], result, excitation)
+    return _finish(fig, axes, result, title)
+
+
+def save_run_figures(result, out_dir, excitation=None, title="", *, relative_rotations: bool = False):
+    """Write rotations.png, displacements.png, sliding.png (when the result has a slip history) and
+    epistyles.png (when the scene has epistyles) into ``out_dir``; returns their paths.
+    relative_rotations : rotations as theta / alpha (see :func:`rotations`)."""
     out_dir = Path(out_dir)
     paths = []
-    figures = [("rotations.png", rotations, "block rotations"),
+
+    def rotation_figure(result, excitation, title):
+        return rotations(result, excitation, title, relative=relative_rotations)
+
+    figures = [("rotations.png", rotation_figure, "block rotations"),
                ("displacements.png", displacements, "displacements relative to the base")]
+    if result.slip_history is not None and len(result.interfaces):
+        figures.append(("sliding.png", sliding, "sliding at the interfaces"))
     if epistyle_names(result):
         figures.append(("epistyles.png", epistyles, "epistyles"))
     for name, make, what in figures:

@@ -1,0 +1,160 @@
+"""Figures of a run: drums that move together share a line, the critical angle is drawn, sliding per
+interface, and no label falls outside its figure."""
+
+import numpy as np
+import pytest
+from matplotlib.axes import Axes
+from matplotlib.collections import PolyCollection
+from matplotlib.text import Text
+
+from dem_core.analyses.spectra import response_spectrum, spectrum_figure
+from dem_core.engine.result import Result
+from dem_core.engine.stacks import Column
+from dem_core.inputs import excitation, scenes
+from dem_core.pictures import plots
+from dem_core.pictures.animation import snapshot_strip
+
+T = np.linspace(0.0, 10.0, 501)
+COLUMN_ALPHA = 0.2
+DRUM_ALPHA = 0.5
+EPISTYLE_ALPHA = 1.3
+
+
+def hand_result(theta, names=("drum1", "drum2", "drum3"), *, columns=None, slip=None, interfaces=(),
+                overturn_at=np.nan, critical=None):
+    """A Result of len(names) blocks with rotations ``theta`` (n, n_blocks), drums 0.5 m apart up a column."""
+    n, nb = theta.shape
+    x = 3.0 * theta * np.arange(1, nb + 1)
+    y = np.tile(0.25 + 0.5 * np.arange(nb), (n, 1))
+    columns = (Column(tuple(names[:3]), COLUMN_ALPHA),) if columns is None else columns
+    critical = np.full(nb, DRUM_ALPHA) if critical is None else critical
+    return Result(T[:n], x, y, theta, np.zeros(n), np.zeros(n), tuple(names), np.max(np.abs(theta), axis=0),
+                  np.full(nb, overturn_at), {}, 1e-4, interfaces=interfaces, slip_history=slip,
+                  critical_angle=np.asarray(critical, float), columns=columns)
+
+
+def data_lines(ax):
+    return [line.get_label() for line in ax.get_lines() if len(line.get_xdata()) == len(T)]
+
+
+def rocking(*amplitudes):
+    return np.column_stack([a * 0.05 * np.sin(2 * np.pi * 0.5 * T) for a in amplitudes])
+
+
+def test_drums_that_agree_are_one_line_with_their_spread():
+    result = hand_result(rocking(1.0, 1.01, 1.02))  # within 2% of the column's peak of each other
+    fig = plots.rotations(result)
+    ax = fig.axes[0]
+    assert data_lines(ax) == ["drum1\u2013drum3"]
+    assert sum(isinstance(c, PolyCollection) for c in ax.collections) == 1  # the band
+    np.testing.assert_allclose(ax.get_lines()[0].get_ydata(), result.theta.mean(axis=1))
+
+
+def test_drums_that_differ_get_a_line_each():
+    result = hand_result(rocking(1.0, 1.3, 1.6))
+    fig = plots.rotations(result)
+    assert data_lines(fig.axes[0]) == ["drum1", "drum2", "drum3"]
+    assert not any(isinstance(c, PolyCollection) for c in fig.axes[0].collections)
+
+
+def test_only_the_drum_that_differs_is_drawn_apart():
+    result = hand_result(rocking(0.5, 1.0, 1.02))
+    assert plots.block_groups(result, result.theta) == [(0,), (1, 2)]
+    assert data_lines(plots.rotations(result).axes[0]) == ["drum1", "drum2\u2013drum3"]
+
+
+def test_critical_angles_are_the_columns_for_drums_and_their_own_for_other_blocks():
+    names = ("drum1", "drum2", "drum3", "epistyle1")
+    result = hand_result(rocking(1.0, 1.0, 1.0, 0.2), names,
+                         critical=[DRUM_ALPHA, DRUM_ALPHA, DRUM_ALPHA, EPISTYLE_ALPHA])
+    np.testing.assert_allclose(plots.critical_angles(result), [COLUMN_ALPHA] * 3 + [EPISTYLE_ALPHA])
+    ax = plots.rotations(result).axes[0]
+    levels = {round(float(line.get_ydata()[0]), 6) for line in ax.get_lines() if len(line.get_xdata()) == 2}
+    assert levels == {COLUMN_ALPHA, -COLUMN_ALPHA}  # the epistyle's 1.3 rad is named, not drawn
+    assert any("off the axis" in text.get_text() for text in ax.get_legend().get_texts())
+
+
+def test_relative_rotations_are_theta_over_alpha_with_lines_at_one():
+    result = hand_result(rocking(1.0, 1.0, 1.0))
+    ax = plots.rotations(result, relative=True).axes[0]
+    np.testing.assert_allclose(ax.get_lines()[0].get_ydata(), result.theta[:, 0] / COLUMN_ALPHA)
+    levels = {float(line.get_ydata()[0]) for line in ax.get_lines() if len(line.get_xdata()) == 2}
+    assert levels == {1.0, -1.0}
+
+
+def test_sliding_has_a_line_per_interface_that_slid_and_one_grey_line_for_the_rest():
+    interfaces = (("base", "drum1"), ("drum1", "drum2"), ("drum2", "drum3"))
+    slip = np.column_stack([0.002 * T / T[-1], 1e-6 * T / T[-1], 0.01 * T / T[-1]])
+    result = hand_result(rocking(1.0, 1.0, 1.0), slip=slip, interfaces=interfaces)
+    ax = plots.sliding(result).axes[0]
+    assert data_lines(ax)[:2] == ["drum2\u2013drum3", "base\u2013drum1"]  # largest first
+    assert data_lines(ax)[2] == "drum1\u2013drum2, under 0.0001 m"
+    assert len(data_lines(ax)) == 3
+
+
+def test_sliding_figure_is_skipped_without_a_slip_history(tmp_path):
+    result = hand_result(rocking(1.0, 1.0, 1.0))
+    with pytest.raises(ValueError, match="slip history"):
+        plots.sliding(result)
+    written = plots.save_run_figures(result, tmp_path)
+    assert [p.name for p in written] == ["rotations.png", "displacements.png"]
+
+
+def undrawn_tick_labels(fig) -> set:
+    """Tick labels matplotlib keeps but does not draw: those of ticks outside the axis' view."""
+    hidden = set()
+    for ax in fig.findobj(Axes):
+        for axis in (ax.xaxis, ax.yaxis):
+            low, high = sorted(axis.get_view_interval())
+            slack = 1e-9 * (high - low)
+            for tick in axis.get_major_ticks() + axis.get_minor_ticks():
+                if not low - slack <= tick.get_loc() <= high + slack:
+                    hidden.update({id(tick.label1), id(tick.label2)})
+    return hidden
+
+
+def assert_text_inside(fig, dpi=130):
+    """Every text drawn in ``fig`` at ``dpi`` lies inside the figure (1 pixel of slack)."""
+    fig.set_dpi(dpi)
+    fig.canvas.draw()
+    renderer = fig.canvas.get_renderer()
+    box = fig.bbox
+    hidden = undrawn_tick_labels(fig)
+    for text in fig.findobj(Text):
+        if not text.get_visible() or not text.get_text() or id(text) in hidden:
+            continue
+        extent = text.get_window_extent(renderer)
+        assert (extent.x0 >= box.x0 - 1 and extent.x1 <= box.x1 + 1 and extent.y0 >= box.y0 - 1
+                and extent.y1 <= box.y1 + 1), f"{text.get_text()!r} at {extent} outside the figure {box}"
+
+
+def overturning_colonnade_result():
+    names = ("drum1", "drum2", "drum3", "epistyle1")
+    theta = rocking(1.0, 1.0, 1.0, 0.3)
+    interfaces = (("base", "drum1"), ("drum3", "epistyle1"))
+    slip = np.column_stack([0.003 * T / T[-1], 0.02 * T / T[-1]])
+    overturn = np.array([9.9, 9.9, 9.9, np.nan])
+    result = hand_result(theta, names, slip=slip, interfaces=interfaces,
+                         critical=[DRUM_ALPHA] * 3 + [EPISTYLE_ALPHA])
+    return Result(**{**result.__dict__, "overturn_time": overturn})
+
+
+@pytest.mark.parametrize("figure", [plots.rotations, plots.displacements, plots.sliding, plots.epistyles])
+def test_labels_of_run_figures_lie_inside_the_figure(figure):
+    result = overturning_colonnade_result()
+    fig = figure(result, excitation.harmonic(pga=2.0, frequency=0.5), title="a long title: " + "x" * 40)
+    assert_text_inside(fig)
+    ax = fig.axes[0]
+    label = next(t for t in ax.texts if "overturns" in t.get_text())
+    assert label.get_text() == "column drum1\u2013drum3 overturns at 9.90 s"
+    extent = label.get_window_extent()
+    marker = ax.transData.transform((9.9, 0.0))[0]
+    assert ax.bbox.x0 < extent.x0 and extent.x1 < marker - 2 and extent.y1 <= ax.bbox.y1  # clear of the line
+
+
+def test_labels_of_the_spectrum_and_the_snapshots_lie_inside_their_figures():
+    spectra = [response_spectrum(excitation.sine_pulse(3.0, 0.5), duration=3.0)]
+    assert_text_inside(spectrum_figure(spectra))
+    scene = scenes.column(3)
+    result = hand_result(rocking(1.0, 1.0, 1.0))
+    assert_text_inside(snapshot_strip(scene, result, [0.0, 5.0], title="column", exaggerate=10), dpi=110)
