@@ -15,6 +15,13 @@ from ..engine import geometry
 from ..engine.contact import ContactParameters
 
 STANDARD_GRAVITY = 9.81  # m/s^2, the value FORMULATION's onset figures use (g b/h = 1.635 for 1 x 6 m)
+#: an overlap of two blocks smaller than this times the product of their sizes is round-off, not
+#: penetration: coordinates carry a relative error of about 1e-16, so faces that meet (a tilted stack's
+#: joints) can cross by slivers of order 1e-16 L^2, whose area over their tiny length is no depth at all
+OVERLAP_ROUNDOFF = 1e-12
+#: a block rests on another when the gap between them is at most this fraction of the smaller extent
+#: of the two: what a block is dropped from within it is a settling, not a fall
+SUPPORT_GAP = 0.01
 
 
 class SceneError(ValueError):
@@ -136,6 +143,10 @@ class Scene:
         column, not one drum); sets the default contact damping
         (:func:`dem_core.engine.contact.housner_damping_ratio`).  The builders set
         it; None takes atan(width/height) of the blocks' bounding box.
+    allow_free_blocks : accept blocks that start out of contact with the base and
+        with every block resting on it (they fall from t = 0).  By default such a
+        scene is refused, naming the blocks: a free fall is rarely meant and ends
+        in results that read as an overturn.
     """
 
     blocks: tuple
@@ -145,6 +156,7 @@ class Scene:
     gravity: float = STANDARD_GRAVITY
     overlap_tolerance: float = 1e-4
     slenderness: float | None = None
+    allow_free_blocks: bool = False
 
     def __post_init__(self):
         blocks = tuple(self.blocks)
@@ -177,7 +189,7 @@ class Scene:
             raise SceneError(f"gravity must be >= 0, got {self.gravity}")
         if self.slenderness is not None and not 0 < self.slenderness < np.pi / 2:
             raise SceneError(f"slenderness must be an angle in (0, pi/2) rad, got {self.slenderness}")
-        self._check_initial_overlaps()
+        self._check_start()
 
     @property
     def rocking_slenderness(self) -> float:
@@ -231,26 +243,85 @@ class Scene:
                 pairs.append((i, j, touch))
         return pairs
 
-    def _pairs_within_reach(self):
-        """``(i, j, body_i, body_j, centroid offset)`` of the pairs whose bounding circles meet."""
+    def _pairs_within_reach(self, slack: float = 0.0):
+        """``(i, j, body_i, body_j, centroid offset)`` of the pairs whose bounding circles meet once
+        grown by ``slack`` times the smaller extent of the two."""
         bodies = self.bodies
-        for i in range(len(bodies)):
-            for j in range(i + 1, len(bodies)):
-                p, q = bodies[i], bodies[j]
-                offset = q.centroid - p.centroid
-                if np.hypot(*offset) <= p.circumradius + q.circumradius:
-                    yield i, j, p, q, offset
+        centroids = np.array([b.centroid for b in bodies])
+        radii = np.array([b.circumradius for b in bodies])
+        extents = np.array([min(b.width, b.height) for b in bodies])
+        offsets = centroids[None, :, :] - centroids[:, None, :]
+        reach = radii[:, None] + radii[None, :] + slack * np.minimum(extents[:, None], extents[None, :])
+        for i, j in np.argwhere(np.triu(np.hypot(offsets[..., 0], offsets[..., 1]) <= reach, k=1)):
+            yield int(i), int(j), bodies[i], bodies[j], offsets[i, j]
 
-    def _check_initial_overlaps(self):
-        for _, _, p, q, _ in self._pairs_within_reach():
-            contact = geometry.contact_geometry(p.vertices, q.vertices)
-            if contact is None:
+    def _check_start(self):
+        """Refuse blocks that start overlapping (beyond round-off) or, unless allowed, out of contact."""
+        neighbours = {k: set() for k in range(len(self.bodies))}
+        for i, j, p, q, _ in self._pairs_within_reach(SUPPORT_GAP):
+            apart = np.max(np.maximum(p.vertices.min(axis=0) - q.vertices.max(axis=0),
+                                      q.vertices.min(axis=0) - p.vertices.max(axis=0)))
+            if apart > SUPPORT_GAP * _smaller_extent(p, q):  # their bounding boxes are that far apart
                 continue
-            depth = contact.area / max(contact.length, 1e-300)
-            allowed = self.overlap_tolerance * min(p.width, p.height, q.width, q.height)
-            if depth > allowed:
-                raise SceneError(
-                    f"blocks '{p.name}' and '{q.name}' overlap at the start "
-                    f"(area {contact.area:.3e} m^2, mean penetration {depth:.3e} m > tolerance {allowed:.3e} m)"
-                )
+            contact = geometry.contact_geometry(p.vertices, q.vertices)
+            if contact is not None and contact.area > OVERLAP_ROUNDOFF * _size(p) * _size(q):
+                depth = contact.area / max(contact.length, 1e-300)
+                allowed = self.overlap_tolerance * _smaller_extent(p, q)
+                if depth > allowed:
+                    raise SceneError(
+                        f"blocks '{p.name}' and '{q.name}' overlap at the start "
+                        f"(area {contact.area:.3e} m^2, mean penetration {depth:.3e} m > tolerance {allowed:.3e} m)"
+                    )
+            if contact is not None or _distance(p.vertices, q.vertices) <= SUPPORT_GAP * _smaller_extent(p, q):
+                neighbours[i].add(j)
+                neighbours[j].add(i)
+        if not self.allow_free_blocks:
+            self._check_supported(neighbours)
 
+    def _check_supported(self, neighbours):
+        supported, frontier = {0}, [0]
+        while frontier:
+            for k in neighbours[frontier.pop()] - supported:
+                supported.add(k)
+                frontier.append(k)
+        free = [k for k in range(1, len(self.bodies)) if k not in supported]
+        if not free:
+            return
+        bodies = self.bodies
+        gaps = []
+        for k in free[:3]:
+            gap, nearest = min((_distance(bodies[k].vertices, bodies[s].vertices), s) for s in supported)
+            gaps.append(f"'{bodies[k].name}' is {gap:.4g} m from '{bodies[nearest].name}'")
+        names = ", ".join(f"'{bodies[k].name}'" for k in free[:3]) + (f" and {len(free) - 3} more" if len(free) > 3
+                                                                        else "")
+        one = len(free) == 1
+        raise SceneError(
+            f"block{'' if one else 's'} {names} start{'s' if one else ''} out of contact with the base and with every "
+            f"block resting on it ({'; '.join(gaps)}): {'it' if one else 'they'} would fall freely from t = 0. "
+            f"Move {'it' if one else 'them'} onto {'its' if one else 'their'} support, or allow free blocks: "
+            f"Scene(..., allow_free_blocks=True), or allow_free_blocks = true in a scene file's [scene] table"
+        )
+
+
+def _size(block: Block) -> float:
+    """Larger extent of a block at the start, m."""
+    return max(block.width, block.height)
+
+
+def _smaller_extent(p: Block, q: Block) -> float:
+    """Smallest of the widths and heights of two blocks at the start, m."""
+    return min(p.width, p.height, q.width, q.height)
+
+
+def _distance(p, q) -> float:
+    """Distance between convex polygons ``p`` and ``q`` (vertices (n, 2), m) that do not overlap: the
+    shortest from a vertex of one to an edge of the other."""
+    return min(_vertices_to_edges(p, q), _vertices_to_edges(q, p))
+
+
+def _vertices_to_edges(points, polygon) -> float:
+    start = polygon
+    edge = np.roll(polygon, -1, axis=0) - start
+    offset = points[:, None, :] - start[None, :, :]
+    along = np.clip(np.sum(offset * edge, axis=2) / np.sum(edge * edge, axis=1), 0.0, 1.0)
+    return float(np.sqrt(np.min(np.sum((offset - along[:, :, None] * edge) ** 2, axis=2))))
