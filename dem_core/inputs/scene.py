@@ -243,26 +243,33 @@ class Scene:
                 pairs.append((i, j, touch))
         return pairs
 
-    def _pairs_within_reach(self, slack: float = 0.0):
-        """``(i, j, body_i, body_j, centroid offset)`` of the pairs whose bounding circles meet once
-        grown by ``slack`` times the smaller extent of the two."""
+    def _pairs_within_reach(self):
+        """``(i, j, body_i, body_j, centroid offset)`` of the pairs whose bounding circles meet."""
         bodies = self.bodies
-        centroids = np.array([b.centroid for b in bodies])
-        radii = np.array([b.circumradius for b in bodies])
-        extents = np.array([min(b.width, b.height) for b in bodies])
-        offsets = centroids[None, :, :] - centroids[:, None, :]
-        reach = radii[:, None] + radii[None, :] + slack * np.minimum(extents[:, None], extents[None, :])
-        for i, j in np.argwhere(np.triu(np.hypot(offsets[..., 0], offsets[..., 1]) <= reach, k=1)):
-            yield int(i), int(j), bodies[i], bodies[j], offsets[i, j]
+        for i in range(len(bodies)):
+            for j in range(i + 1, len(bodies)):
+                p, q = bodies[i], bodies[j]
+                offset = q.centroid - p.centroid
+                if np.hypot(*offset) <= p.circumradius + q.circumradius:
+                    yield i, j, p, q, offset
+
+    def _pairs_near(self, slack: float):
+        """``(i, j)`` of the pairs whose bounding boxes are at most ``slack`` times the smaller extent
+        of the two apart."""
+        low = np.array([b.vertices.min(axis=0) for b in self.bodies])
+        high = np.array([b.vertices.max(axis=0) for b in self.bodies])
+        extents = np.min(high - low, axis=1)
+        for i in range(len(low) - 1):
+            apart = np.max(np.maximum(low[i + 1:] - high[i], low[i] - high[i + 1:]), axis=1)
+            for j in np.flatnonzero(apart <= slack * np.minimum(extents[i], extents[i + 1:])):
+                yield i, i + 1 + int(j)
 
     def _check_start(self):
         """Refuse blocks that start overlapping (beyond round-off) or, unless allowed, out of contact."""
-        neighbours = {k: set() for k in range(len(self.bodies))}
-        for i, j, p, q, _ in self._pairs_within_reach(SUPPORT_GAP):
-            apart = np.max(np.maximum(p.vertices.min(axis=0) - q.vertices.max(axis=0),
-                                      q.vertices.min(axis=0) - p.vertices.max(axis=0)))
-            if apart > SUPPORT_GAP * _smaller_extent(p, q):  # their bounding boxes are that far apart
-                continue
+        bodies = self.bodies
+        neighbours = {k: set() for k in range(len(bodies))}
+        for i, j in self._pairs_near(SUPPORT_GAP):
+            p, q = bodies[i], bodies[j]
             contact = geometry.contact_geometry(p.vertices, q.vertices)
             if contact is not None and contact.area > OVERLAP_ROUNDOFF * _size(p) * _size(q):
                 depth = contact.area / max(contact.length, 1e-300)
