@@ -3,15 +3,20 @@
 Each test is one mistake a new user made; the old behaviour is in its docstring.
 """
 
+import copy
 import math
 
 import numpy as np
 import pytest
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
 
 from dem_core import excitation, scenes
 from dem_core.engine.geometry import rectangle
 from dem_core.inputs.records import RecordError
+from dem_core.inputs import scene_file
 from dem_core.inputs.scene import Block, Scene, SceneError
+from dem_core.inputs.scene_file import SceneFileError
 
 AT2 = "HEAD\nEVENT\nACCELERATION TIME SERIES IN UNITS OF G\nNPTS=    4, DT= {dt} SEC\n .1 .2\n -.1 .05\n"
 
@@ -140,3 +145,155 @@ def test_blocks_floating_together_are_refused_and_a_settling_gap_is_not():
 def test_builders_name_the_argument_of_the_wrong_type(make, message):
     with pytest.raises(SceneError, match=message):
         make()
+
+
+# --- scene files -------------------------------------------------------------------------------------
+
+BLOCK_FILE = '[scene]\nbuilder = "block"\nwidth = 1.0\nheight = 2.0\n'
+
+
+def load_text(tmp_path, text):
+    path = tmp_path / "broken.toml"
+    path.write_text(text)
+    return scene_file.load(path)
+
+
+@pytest.mark.parametrize("text, message", [
+    (BLOCK_FILE + '[simulation]\nduration = "0.1"\n',
+     r"\[simulation\] duration: expected a finite number, got the string '0\.1' \(write numbers without quotes\)"),
+    (BLOCK_FILE + '[simulation]\noutput_dt = "0.01"\n',
+     r"\[simulation\] output_dt: expected a finite number, got the string '0\.01'"),
+    ('scene = "column"\n', r"scene must be a table .*got the string 'column'"),
+    ('[scene]\nbuilder = "column"\nwidth = "1.0"\n', r"\[scene\] width: expected a finite number, got the string '1\.0'"),
+    ('[scene]\nbuilder = "column"\n[contact]\nkn = "2e10"\n',
+     r"\[contact\] kn: expected a finite number, got the string '2e10'"),
+    ('[scene]\nbuilder = "column"\nn_drums = true\n', r"\[scene\] n_drums: expected an integer, got true \(a boolean\)"),
+    ('[scene]\nbuilder = "column"\nn_drums = 2.5\n', r"\[scene\] n_drums: expected an integer, got the number 2\.5"),
+    (BLOCK_FILE + '[output]\nplots = "false"\n', r"\[output\] plots: expected true or false, got the string 'false' "
+                                                 r"\(write true or false without quotes\)"),
+    (BLOCK_FILE + "[simulation]\nduration = nan\n", r"\[simulation\] duration: expected a finite number, got the number nan"),
+    ('[scene]\nbuilder = "column"\ncapital = [1.2]\n', r"\[scene\] capital: expected a pair of numbers"),
+    ('[scene]\nbuilder = "column"\ninterface_friction = [{between = ["base", 1], mu = 0.1}]\n',
+     r"interface_friction entry 1 between: expected two block names"),
+    ('[scene]\nbuilder = "block"\nwidth = 1.0\n', r"\[scene\] builder 'block' needs height"),
+    (BLOCK_FILE + '[excitation]\nkind = "sine_pulse"\nduration = 0.5\n', r"\[excitation\] kind 'sine_pulse' needs amplitude"),
+    (BLOCK_FILE + '[excitation]\nkind = "ramp"\nrate = 0.0\n', r"\[excitation\]: ramp rate must not be zero"),
+    (BLOCK_FILE + '[excitation]\nkind = "record"\nsource = "el_centro_1940"\npga = "3"\n',
+     r"\[excitation\] pga: expected a finite number, got the string '3'"),
+    ('[scene]\nbuilder = "blocks"\n[[block]]\nname = "stone"\nvertices = [[0, 2], [1, 2], [1, 3]]\n'
+     '[base]\nvertices = [[-5, -1], [5, -1], [5, 0], [-5, 0]]\n', r"block 'stone' starts out of contact"),
+    ('[scene]\nbuilder = "blocks"\n[[block]]\nname = "stone"\nvertices = [[0, 0], [1, 0], ["1", 1]]\n'
+     '[base]\nvertices = [[-5, -1], [5, -1], [5, 0], [-5, 0]]\n',
+     r"\[\[block\]\] number 1 \(stone\) vertices: expected a list of \[x, y\] points"),
+])
+def test_scene_file_mistakes_name_file_table_key_type_and_value(tmp_path, text, message):
+    """Were raw TypeErrors, numpy's "ufunc 'isfinite' not supported", or accepted (n_drums = true)."""
+    with pytest.raises(SceneFileError, match=message) as info:
+        load_text(tmp_path, text)
+    assert str(info.value).startswith(str(tmp_path / "broken.toml"))
+
+
+def test_scene_file_may_allow_free_blocks(tmp_path):
+    spec = load_text(tmp_path, '[scene]\nbuilder = "blocks"\nallow_free_blocks = true\n[[block]]\nname = "stone"\n'
+                               'vertices = [[0, 2], [1, 2], [1, 3]]\n[base]\nvertices = [[-5, -1], [5, -1], [5, 0], [-5, 0]]\n')
+    assert spec.scene.allow_free_blocks and spec.scene.block_names == ["stone"]
+
+
+def test_every_key_a_scene_file_accepts_has_a_type():
+    """The type tables cover every keyword of the builders, excitations, contact and simulation."""
+    import inspect
+    from dataclasses import fields
+
+    import dem_core
+
+    for builder in scene_file.BUILDERS.values():
+        assert set(inspect.signature(builder).parameters) - {"contact", "interface_friction"} <= set(scene_file.SCENE_TYPES)
+    for function in scene_file.EXCITATIONS.values():
+        assert set(inspect.signature(function).parameters) <= set(scene_file.EXCITATION_TYPES)
+    assert {f.name for f in fields(dem_core.ContactParameters)} == set(scene_file.CONTACT_TYPES)
+    assert set(scene_file.SIMULATION_TYPES) <= set(inspect.signature(dem_core.simulate).parameters)
+
+
+# --- fuzzing: whatever goes into a scene file or a record, the answer is a result or the toolkit's error ----
+
+VALID_FILES = [
+    {"scene": {"builder": "column", "n_drums": 3, "width": 1.0, "height": 6.0, "capital": [1.2, 0.4],
+               "interface_friction": [{"between": ["base", "drum1"], "mu": 0.1}]},
+     "contact": {"kn": 2e10}, "excitation": {"kind": "record", "source": "kalamata_1986", "pga": 3.0},
+     "simulation": {"duration": 1.0, "output_dt": 0.01}, "output": {"format": "csv", "plots": False}},
+    {"scene": {"builder": "colonnade", "n_columns": 3, "n_drums": 2, "epistyle": "b", "spacing": 2.5},
+     "excitation": {"kind": "harmonic", "pga": 2.0, "frequency": 1.0}, "simulation": {"stop_at_overturn": False}},
+    {"scene": {"builder": "blocks"},
+     "block": [{"name": "stone", "vertices": [[-0.5, 0.0], [0.5, 0.0], [0.3, 1.0]], "density": 2500.0}],
+     "base": {"vertices": [[-5.0, -1.0], [5.0, -1.0], [5.0, 0.0], [-5.0, 0.0]], "friction": 0.6},
+     "excitation": {"kind": "ramp", "rate": 0.5, "peak": 3.0}},
+]
+toml_values = st.recursive(
+    st.one_of(st.text(max_size=8), st.integers(), st.floats(), st.booleans(), st.datetimes(), st.dates(), st.times()),
+    lambda inner: st.lists(inner, max_size=3) | st.dictionaries(st.text(max_size=6), inner, max_size=3),
+    max_leaves=6)
+
+
+def _places(data):
+    """(table, key) places of a scene file's tables where a value can go, top-level tables included."""
+    places = [(None, name) for name in ("scene", "contact", "excitation", "simulation", "output", "block", "base")]
+    for table, types in (("scene", scene_file.SCENE_TYPES), ("contact", scene_file.CONTACT_TYPES),
+                         ("excitation", scene_file.EXCITATION_TYPES), ("simulation", scene_file.SIMULATION_TYPES),
+                         ("output", scene_file.OUTPUT_TYPES), ("base", scene_file.BASE_TYPES)):
+        places += [(table, key) for key in [*types, "interface_friction"] if table in data or table == "scene"]
+    return places
+
+
+@settings(max_examples=60, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture])
+@given(template=st.sampled_from(VALID_FILES), choice=st.data(), value=toml_values)
+def test_fuzzed_scene_files_give_a_scene_or_a_scene_file_error(tmp_path, template, choice, value):
+    data = copy.deepcopy(template)
+    table, key = choice.draw(st.sampled_from(_places(data)))
+    if table is None:
+        data[key] = value
+    elif table == "block":
+        data["block"][0][key] = value
+    else:
+        data.setdefault(table, {})[key] = value
+    path = tmp_path / "fuzzed.toml"
+    try:
+        scene_file.from_dict(data, path)
+    except SceneFileError as exc:
+        assert str(exc).startswith(str(path))
+
+
+numbers = st.floats(-10.0, 10.0).map(lambda x: f"{x:.4g}")
+junk = st.one_of(st.sampled_from(["nan", "inf", "1e400", "x", "1,2", ";", "#", "NPTS= 3, DT= 0", "DT=.01.0", "1e-300",
+                                  "", "3.0.0", "0x1p-3"]), st.text(max_size=4))
+tokens = st.one_of(numbers, numbers, numbers, numbers, junk)
+
+
+@st.composite
+def junk_lines(draw):
+    """Lines of 1 to 3 columns, mostly numbers, the first column sometimes a time column, some lines broken."""
+    columns = draw(st.integers(1, 3))
+    timed = draw(st.booleans())
+    lines = []
+    for k in range(draw(st.integers(0, 12))):
+        row = draw(st.lists(tokens, min_size=columns, max_size=columns))
+        if timed:
+            row[0] = f"{0.01 * k + draw(st.sampled_from([0.0, 0.0, 0.0, -0.02, 0.005])):.3f}"
+        lines.append(" ".join(row))
+    return lines
+
+
+@settings(max_examples=60, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture])
+@given(lines=junk_lines(), header=st.booleans(), dt=st.sampled_from([None, 0.01, 0.0, float("nan")]))
+def test_fuzzed_records_give_a_motion_or_a_record_error(tmp_path, lines, header, dt):
+    if header:
+        path = tmp_path / "fuzzed.AT2"
+        lines = ["HEAD", "EVENT", "ACCELERATION TIME SERIES IN UNITS OF G", *lines]
+    else:
+        path = tmp_path / "fuzzed.txt"
+    path.write_text("\n".join(lines) + "\n", encoding="utf-8", errors="surrogatepass")
+    try:
+        motion = excitation.record(path, dt=dt)
+    except RecordError as exc:
+        assert str(path) in str(exc)
+    else:
+        assert np.all(np.isfinite(motion.horizontal.samples))

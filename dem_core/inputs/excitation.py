@@ -59,6 +59,11 @@ class Harmonic(Component):
     amplitude: float
     frequency: float
 
+    def __post_init__(self):
+        _finite(self.amplitude, "harmonic amplitude (m)")
+        if not _finite(self.frequency, "frequency (Hz)") > 0:
+            raise ValueError(f"frequency must be positive, got {self.frequency}")
+
     @property
     def _omega(self):
         return 2.0 * np.pi * self.frequency
@@ -90,7 +95,8 @@ class Pulse(Component):
     shape: str = "rectangular"
 
     def __post_init__(self):
-        if self.duration <= 0:
+        _finite(self.amplitude, "pulse amplitude (m/s^2)")
+        if not _finite(self.duration, "pulse duration (s)") > 0:
             raise ValueError(f"pulse duration must be positive, got {self.duration}")
         if self.shape not in ("rectangular", "sine", "cosine"):
             raise ValueError(f"unknown pulse shape {self.shape!r}")
@@ -145,6 +151,12 @@ class Ramp(Component):
 
     rate: float
     peak: float | None = None
+
+    def __post_init__(self):
+        if _finite(self.rate, "ramp rate (m/s^3)") == 0:
+            raise ValueError("ramp rate must not be zero")
+        if self.peak is not None:
+            _finite(self.peak, "ramp peak (m/s^2)")
 
     def _t_hold(self):
         return np.inf if self.peak is None else abs(self.peak / self.rate)
@@ -297,12 +309,12 @@ def harmonic(amplitude: float | None = None, frequency: float = 1.0, *, pga: flo
     frequency : f in Hz.
     vertical_amplitude : m, a vertical component in phase with the horizontal.
     """
-    if frequency <= 0:
+    if not _finite(frequency, "frequency (Hz)") > 0:
         raise ValueError(f"frequency must be positive, got {frequency}")
     if (amplitude is None) == (pga is None):
         raise ValueError("give exactly one of amplitude and pga")
     if amplitude is None:
-        amplitude = pga / (2.0 * np.pi * frequency) ** 2
+        amplitude = _finite(pga, "pga (m/s^2)") / (2.0 * np.pi * frequency) ** 2
     vertical = Harmonic(vertical_amplitude, frequency) if vertical_amplitude else Still()
     return GroundMotion(Harmonic(amplitude, frequency), vertical, name=f"harmonic {amplitude:g} m at {frequency:g} Hz")
 
@@ -370,13 +382,13 @@ def record(source, dt: float | None = None, scale: float = 1.0, pga: float | Non
         n = max(len(horizontal), len(vert))
         horizontal = np.pad(horizontal, (0, n - len(horizontal)))
         vert = np.pad(vert, (0, n - len(vert)))
-    for samples, which in ((horizontal, name), (vert, name + " (vertical)")):
+    for samples, which in ((horizontal, where), (vert, f"{where} (vertical)")):
         if samples is not None and len(samples) < 2:
             raise records.RecordError(f"{which}: a record needs at least 2 samples, found {len(samples)}")
     peak = float(np.max(np.abs(horizontal)))
     if pga is not None:
         if peak == 0:
-            raise records.RecordError(f"{name}: cannot scale to pga={pga}: the record is zero throughout")
+            raise records.RecordError(f"{where}: cannot scale to pga={pga}: the record is zero throughout")
         scale = pga / peak
     if baseline:
         horizontal = baseline_correct(horizontal, dt)
@@ -409,6 +421,13 @@ def _load(source, dt, units, component):
     if dt is None:
         raise records.RecordError(f"{name}: an array record needs dt (s)")
     return a, dt, name, None
+
+
+def _finite(value, what: str) -> float:
+    """``value`` as a float if it is a finite number; else ValueError naming ``what``."""
+    if isinstance(value, bool) or not isinstance(value, numbers.Real) or not math.isfinite(value):
+        raise ValueError(f"{what} must be a finite number, got {value!r}")
+    return float(value)
 
 
 def _source_name(source) -> str:
