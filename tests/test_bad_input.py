@@ -4,13 +4,17 @@ Each test is one mistake a new user made; the old behaviour is in its docstring.
 """
 
 import copy
+import inspect
 import math
+import signal
+from dataclasses import fields
 
 import numpy as np
 import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
+import dem_core
 from dem_core import excitation, scenes
 from dem_core.engine.geometry import rectangle
 from dem_core.inputs.records import RecordError
@@ -201,11 +205,6 @@ def test_scene_file_may_allow_free_blocks(tmp_path):
 
 def test_every_key_a_scene_file_accepts_has_a_type():
     """The type tables cover every keyword of the builders, excitations, contact and simulation."""
-    import inspect
-    from dataclasses import fields
-
-    import dem_core
-
     for builder in scene_file.BUILDERS.values():
         assert set(inspect.signature(builder).parameters) - {"contact", "interface_friction"} <= set(scene_file.SCENE_TYPES)
     for function in scene_file.EXCITATIONS.values():
@@ -235,12 +234,24 @@ toml_values = st.recursive(
 
 
 def _places(data):
-    """(table, key) places of a scene file's tables where a value can go, top-level tables included."""
-    places = [(None, name) for name in ("scene", "contact", "excitation", "simulation", "output", "block", "base")]
-    for table, types in (("scene", scene_file.SCENE_TYPES), ("contact", scene_file.CONTACT_TYPES),
-                         ("excitation", scene_file.EXCITATION_TYPES), ("simulation", scene_file.SIMULATION_TYPES),
-                         ("output", scene_file.OUTPUT_TYPES), ("base", scene_file.BASE_TYPES)):
-        places += [(table, key) for key in [*types, "interface_friction"] if table in data or table == "scene"]
+    """(table, key) places of a scene file where a value can go: every table, and every keyword of the
+    builders, excitations, contact parameters and ``simulate`` (accepted or not)."""
+    def keywords(*functions):
+        return {name for function in functions for name in inspect.signature(function).parameters}
+
+    keys = {
+        "scene": keywords(*scene_file.BUILDERS.values()) | {"builder", "allow_free_blocks", "slenderness"},
+        "contact": {f.name for f in fields(dem_core.ContactParameters)},
+        "excitation": keywords(*scene_file.EXCITATIONS.values()) | {"kind"},
+        "simulation": keywords(dem_core.simulate) - {"scene", "excitation"},
+        "output": {"format", "plots"},
+        "base": {"vertices", "friction", "depth"},
+        "block": {"name", "vertices", "density", "friction", "depth", "angle"},
+    }
+    places = [(None, table) for table in keys]
+    for table, names in keys.items():
+        if table in data or table in ("contact", "simulation", "output"):
+            places += [(table, name) for name in sorted(names)]
     return places
 
 
@@ -297,3 +308,18 @@ def test_fuzzed_records_give_a_motion_or_a_record_error(tmp_path, lines, header,
         assert str(path) in str(exc)
     else:
         assert np.all(np.isfinite(motion.horizontal.samples))
+
+
+def test_a_count_that_is_surely_a_typo_is_refused_before_building():
+    """Was: a builder looping over 10**12 drums (stopped here after 5 s)."""
+    def give_up(signum, frame):
+        raise TimeoutError("still building after 5 s")
+
+    previous = signal.signal(signal.SIGALRM, give_up)
+    signal.alarm(5)
+    try:
+        with pytest.raises(SceneError, match=r"n_drums = 1000000000000 would make 1000000000000 blocks"):
+            scenes.column(10**12)
+    finally:
+        signal.alarm(0)
+        signal.signal(signal.SIGALRM, previous)

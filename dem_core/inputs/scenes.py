@@ -23,6 +23,8 @@ from ..engine.geometry import rectangle, transform
 from .scene import Block, Scene, SceneError
 
 BASE_HEIGHT = 1.0  # m; the base is kinematic, its thickness only places its centroid
+#: most blocks a builder makes: past this, a count is surely a typo (a real colonnade has hundreds)
+MAX_BLOCKS = 10_000
 
 
 def _base(width: float, friction: float, depth: float) -> Block:
@@ -66,6 +68,11 @@ def _count(name: str, value, minimum: int) -> int:
     return int(value)
 
 
+def _not_too_many(count: int, what: str) -> None:
+    if count > MAX_BLOCKS:
+        raise SceneError(f"{what} would make {count} blocks; more than {MAX_BLOCKS} is surely a typo")
+
+
 def _materials(density, friction, depth):
     """Type checks of the material keywords every builder takes (their ranges are the blocks' to check)."""
     for name, value in (("density", density), ("friction", friction), ("depth", depth)):
@@ -104,6 +111,7 @@ def stack(sizes, tilt: float = 0.0, *, density: float = 2700.0, friction: float 
     """
     if isinstance(sizes, (str, bytes)) or not len(sizes):
         raise SceneError("a stack needs at least one block: sizes = ((width, height), ...)")
+    _not_too_many(len(sizes), "sizes")
     for k, size in enumerate(sizes):
         if isinstance(size, (str, bytes)) or np.shape(size) != (2,):
             raise SceneError(f"size of block{k + 1} must be a (width, height) pair, got {size!r}")
@@ -176,6 +184,7 @@ def column(n_drums: int = 8, width: float = 1.0, height: float = 6.0, *, taper: 
     capital : (width, height) in m of a block on top, or None.
     """
     n_drums = _check_column(n_drums, width, height, taper, capital)
+    _not_too_many(n_drums, f"n_drums = {n_drums}")
     _materials(density, friction, depth)
     blocks, top = _column_blocks(n_drums, width, height, taper, capital, 0.0, 0.0, density, friction, depth, "")
     return _scene(blocks, base_width, friction, depth, contact, interface_friction, np.arctan2(width, top))
@@ -220,6 +229,7 @@ def colonnade(n_columns: int = 3, n_drums: int = 3, spacing: float = 2.5, *, epi
     """
     n_columns = _count("n_columns", n_columns, 2)
     n_drums = _check_column(n_drums, width, height, taper, capital)
+    _not_too_many(n_columns * n_drums, f"n_columns = {n_columns} columns of n_drums = {n_drums}")
     _materials(density, friction, depth)
     _positive(spacing=spacing, epistyle_height=epistyle_height, epistyle_density=epistyle_density)
     top_width = capital[0] if capital is not None else width * (1.0 - taper) / (1.0 - taper / 2.0)
@@ -250,6 +260,8 @@ def two_tier_colonnade(n_columns: int = 3, spacing: float = 2.5, *, lower_drums:
     n_columns = _count("n_columns", n_columns, 2)
     lower_drums = _check_column(lower_drums, lower_width, lower_height, tier="lower_")
     upper_drums = _check_column(upper_drums, upper_width, upper_height, tier="upper_")
+    _not_too_many(n_columns * (lower_drums + upper_drums), f"n_columns = {n_columns} columns of "
+                  f"lower_drums = {lower_drums} and upper_drums = {upper_drums}")
     _materials(density, friction, depth)
     _positive(spacing=spacing, epistyle_height=epistyle_height, epistyle_density=epistyle_density)
     if spacing < max(lower_width, upper_width):
