@@ -168,19 +168,23 @@ def load_text(tmp_path, text):
     (BLOCK_FILE + '[simulation]\noutput_dt = "0.01"\n',
      r"\[simulation\] output_dt: expected a finite number, got the string '0\.01'"),
     ('scene = "column"\n', r"scene must be a table .*got the string 'column'"),
-    ('[scene]\nbuilder = "column"\nwidth = "1.0"\n', r"\[scene\] width: expected a finite number, got the string '1\.0'"),
+    ('[scene]\nbuilder = "column"\nwidth = "1.0"\n',
+     r"\[scene\] width: expected a finite number, got the string '1\.0'"),
     ('[scene]\nbuilder = "column"\n[contact]\nkn = "2e10"\n',
      r"\[contact\] kn: expected a finite number, got the string '2e10'"),
-    ('[scene]\nbuilder = "column"\nn_drums = true\n', r"\[scene\] n_drums: expected an integer, got true \(a boolean\)"),
+    ('[scene]\nbuilder = "column"\nn_drums = true\n',
+     r"\[scene\] n_drums: expected an integer, got true \(a boolean\)"),
     ('[scene]\nbuilder = "column"\nn_drums = 2.5\n', r"\[scene\] n_drums: expected an integer, got the number 2\.5"),
     (BLOCK_FILE + '[output]\nplots = "false"\n', r"\[output\] plots: expected true or false, got the string 'false' "
                                                  r"\(write true or false without quotes\)"),
-    (BLOCK_FILE + "[simulation]\nduration = nan\n", r"\[simulation\] duration: expected a finite number, got the number nan"),
+    (BLOCK_FILE + "[simulation]\nduration = nan\n",
+     r"\[simulation\] duration: expected a finite number, got the number nan"),
     ('[scene]\nbuilder = "column"\ncapital = [1.2]\n', r"\[scene\] capital: expected a pair of numbers"),
     ('[scene]\nbuilder = "column"\ninterface_friction = [{between = ["base", 1], mu = 0.1}]\n',
      r"interface_friction entry 1 between: expected two block names"),
     ('[scene]\nbuilder = "block"\nwidth = 1.0\n', r"\[scene\] builder 'block' needs height"),
-    (BLOCK_FILE + '[excitation]\nkind = "sine_pulse"\nduration = 0.5\n', r"\[excitation\] kind 'sine_pulse' needs amplitude"),
+    (BLOCK_FILE + '[excitation]\nkind = "sine_pulse"\nduration = 0.5\n',
+     r"\[excitation\] kind 'sine_pulse' needs amplitude"),
     (BLOCK_FILE + '[excitation]\nkind = "ramp"\nrate = 0.0\n', r"\[excitation\]: ramp rate must not be zero"),
     (BLOCK_FILE + '[excitation]\nkind = "record"\nsource = "el_centro_1940"\npga = "3"\n',
      r"\[excitation\] pga: expected a finite number, got the string '3'"),
@@ -198,15 +202,17 @@ def test_scene_file_mistakes_name_file_table_key_type_and_value(tmp_path, text, 
 
 
 def test_scene_file_may_allow_free_blocks(tmp_path):
-    spec = load_text(tmp_path, '[scene]\nbuilder = "blocks"\nallow_free_blocks = true\n[[block]]\nname = "stone"\n'
-                               'vertices = [[0, 2], [1, 2], [1, 3]]\n[base]\nvertices = [[-5, -1], [5, -1], [5, 0], [-5, 0]]\n')
+    spec = load_text(tmp_path, '[scene]\nbuilder = "blocks"\nallow_free_blocks = true\n'
+                               '[[block]]\nname = "stone"\nvertices = [[0, 2], [1, 2], [1, 3]]\n'
+                               '[base]\nvertices = [[-5, -1], [5, -1], [5, 0], [-5, 0]]\n')
     assert spec.scene.allow_free_blocks and spec.scene.block_names == ["stone"]
 
 
 def test_every_key_a_scene_file_accepts_has_a_type():
     """The type tables cover every keyword of the builders, excitations, contact and simulation."""
     for builder in scene_file.BUILDERS.values():
-        assert set(inspect.signature(builder).parameters) - {"contact", "interface_friction"} <= set(scene_file.SCENE_TYPES)
+        keywords = set(inspect.signature(builder).parameters) - {"contact", "interface_friction"}
+        assert keywords <= set(scene_file.SCENE_TYPES)
     for function in scene_file.EXCITATIONS.values():
         assert set(inspect.signature(function).parameters) <= set(scene_file.EXCITATION_TYPES)
     assert {f.name for f in fields(dem_core.ContactParameters)} == set(scene_file.CONTACT_TYPES)

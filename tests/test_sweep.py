@@ -282,7 +282,7 @@ def test_a_dead_worker_fails_only_its_own_run_after_one_retry(tmp_path):
     sweep = Sweep(SometimesKillsItsWorker(str(tmp_path)), {"case": ["ok", "dies", "dies_once", "also_ok"]})
     table = run_sweep(sweep, tmp_path / "out", workers=2, progress=False)
     assert list(table.case) == ["ok", "dies", "dies_once", "also_ok"]
-    assert list(table.status) == ["ok", "failed", "ok", "ok"]
+    assert list(table.status) == ["ok", "failed", "ok", "ok"] and list(table.attempts) == [1, 2, 2, 1]
     assert "killed by SIGKILL on each of 2 attempts" in table.error[1]
     assert len(pd.read_parquet(tmp_path / "out" / "results.parquet")) == 4
 

@@ -405,7 +405,7 @@ def run_sweep(sweep: Sweep, out, *, workers: int | None = None, scheduler=None, 
         of another sweep in ``out`` raise :class:`SweepError` and those of this sweep are resumed.
     Returns the table also written to ``out/results.parquet``: one row per point with its
     parameters, ``status`` ("ok", "unstable", "failed"), ``error`` and the measures of
-    :func:`measures`, ``wall_time_s``.
+    :func:`measures`, ``wall_time_s``, and (local runs) ``attempts``: 2 when the first worker died.
     """
     out = Path(out)
     points = _plan(sweep)
@@ -435,11 +435,10 @@ def _run(points: list, history_dir, workers, scheduler):
     by_id = {p.run_id: p for p in points}
     if scheduler is None:
         tasks = [(p.run_id, run_point, (p.spec, p.params, p.run_id, history_dir)) for p in points]
-        for run, outcome in run_tasks(tasks, workers or os.cpu_count() or 1, retries=WORKER_RETRIES):
+        for run, outcome, attempts in run_tasks(tasks, workers or os.cpu_count() or 1, retries=WORKER_RETRIES):
             if isinstance(outcome, (WorkerDied, TaskFailed)):
-                yield _failed_row(by_id[run], f"{type(outcome).__name__}: {outcome}")
-            else:
-                yield outcome
+                outcome = _failed_row(by_id[run], f"{type(outcome).__name__}: {outcome}")
+            yield {**outcome, "attempts": attempts}
         return
     try:
         from distributed import Client

@@ -1,7 +1,7 @@
 """Worker processes that outlive the death of one of them and die with the process that started them.
 
 :func:`run_tasks` runs ``function(*arguments)`` for each task on a few worker processes, one task at a
-time per process, and yields ``(key, outcome)`` as tasks finish.  A worker killed or crashed while it
+time per process, and yields ``(key, outcome, attempts)`` as tasks finish.  A worker killed or crashed while it
 runs a task (``kill -9``, the out-of-memory killer, a crash in compiled code) fails only that task: the
 task is started again on a new worker up to ``retries`` times and then yielded as a
 :class:`WorkerDied`; the other tasks go on.  (``concurrent.futures.ProcessPoolExecutor`` instead
@@ -34,10 +34,11 @@ class TaskFailed(RuntimeError):
 
 def run_tasks(tasks, workers: int, retries: int = 1):
     """Run ``tasks`` (an iterable of ``(key, function, arguments)``; function and arguments picklable)
-    on ``workers`` processes; yield ``(key, outcome)`` in the order tasks finish.
+    on ``workers`` processes; yield ``(key, outcome, attempts)`` in the order tasks finish.
 
     outcome : the function's return value, a :class:`TaskFailed` if it raised, or a
         :class:`WorkerDied` if its worker died on each of ``1 + retries`` attempts.
+    attempts : how many workers the task was started on (more than 1 after a worker died).
     Closing the generator (or an exception in the caller, Ctrl-C) stops every worker.
     """
     queue = deque(tasks)
@@ -57,7 +58,7 @@ def run_tasks(tasks, workers: int, retries: int = 1):
                     continue
                 except Exception as exc:  # noqa: BLE001 - a task that cannot be pickled fails alone
                     idle.append(worker)
-                    yield task[0], TaskFailed(f"cannot send it to a worker process: {type(exc).__name__}: {exc}")
+                    yield task[0], TaskFailed(f"cannot send it to a worker process: {type(exc).__name__}: {exc}"), 0
                     continue
                 attempts[task[0]] += 1
                 busy[worker] = task
@@ -73,11 +74,11 @@ def run_tasks(tasks, workers: int, retries: int = 1):
                         queue.appendleft(task)
                     else:
                         yield key, WorkerDied(f"the worker process running it {_death(worker.process.exitcode)} on "
-                                              f"each of {attempts[key]} attempts")
+                                              f"each of {attempts[key]} attempts"), attempts[key]
                     continue
                 del busy[worker]
                 idle.append(worker)
-                yield key, outcome
+                yield key, outcome, attempts[key]
     finally:
         for worker in [*busy, *idle]:
             worker.stop(now=worker in busy)
