@@ -147,7 +147,8 @@ class SceneFileBuild:
         data.pop("sweep", None)
         for name, value in params.items():
             table, key = name.split(".", 1)
-            data.setdefault(table, {})[key] = value
+            if isinstance(data.setdefault(table, {}), dict):  # a value where a table belongs: check() says so
+                data[table][key] = value
         return data
 
     def __call__(self, params: dict) -> RunSpec:
