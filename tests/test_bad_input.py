@@ -193,6 +193,8 @@ def load_text(tmp_path, text):
     ('[scene]\nbuilder = "blocks"\n[[block]]\nname = "stone"\nvertices = [[0, 0], [1, 0], ["1", 1]]\n'
      '[base]\nvertices = [[-5, -1], [5, -1], [5, 0], [-5, 0]]\n',
      r"\[\[block\]\] number 1 \(stone\) vertices: expected a list of \[x, y\] points"),
+    ('[scene]\nbuilder = "column"\n[[block]]\nname = "stone"\nvertices = [[0, 0], [1, 0], [1, 1]]\n',
+     r"\[\[block\]\] and \[base\] tables describe a scene block by block, with builder = \"blocks\""),
 ])
 def test_scene_file_mistakes_name_file_table_key_type_and_value(tmp_path, text, message):
     """Were raw TypeErrors, numpy's "ufunc 'isfinite' not supported", or accepted (n_drums = true)."""

@@ -47,7 +47,7 @@ from typing import Any, Callable, NamedTuple
 from . import excitation as excitation_module
 from . import scenes
 from ..engine.contact import ContactParameters
-from .scene import Block, Scene, SceneError
+from .scene import Block, Scene
 
 
 class SceneFileError(ValueError):
@@ -230,6 +230,9 @@ def check(data: dict, path=Path("<scene>")) -> dict:
         raise SceneFileError(f"{path}: [scene] needs a builder ({', '.join([*BUILDERS, 'blocks'])})")
     if builder == "blocks":
         scene_keys = EXPLICIT_BLOCKS_KEYS
+    elif blocks or "base" in data:
+        raise SceneFileError(f"{path}: [[block]] and [base] tables describe a scene block by block, with "
+                             f"builder = \"blocks\"; builder {builder!r} makes its own blocks")
     elif builder in BUILDERS:
         scene_keys = {"builder", "interface_friction",
                       *(set(inspect.signature(BUILDERS[builder]).parameters) - {"contact", "interface_friction"})}
