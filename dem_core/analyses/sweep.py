@@ -44,6 +44,7 @@ table whose sub-tables name the table and key to vary::
 
 Parameter names in the results are ``table.key`` (``excitation.frequency``).
 """
+
 import copy
 import itertools
 import json
