@@ -61,7 +61,7 @@ def bundled_path(name: str) -> Path:
 
 
 def _bundled_hint(name: str) -> str:
-    """"; did you mean ...? bundled records: ..." for a record name or path that was not found."""
+    """The close matches among the bundled names and their list, for a record name or path not found."""
     close = difflib.get_close_matches(Path(name).name, BUNDLED, n=3, cutoff=0.6)
     guess = f"; did you mean the bundled {' or '.join(repr(c) for c in close)}?" if close else ""
     return f"{guess} (bundled records: {', '.join(BUNDLED)})"

@@ -327,6 +327,7 @@ def _distance(p, q) -> float:
 
 
 def _vertices_to_edges(points, polygon) -> float:
+    """Shortest distance from any of ``points`` (n, 2) to the outline of ``polygon`` (m, 2), m."""
     start = polygon
     edge = np.roll(polygon, -1, axis=0) - start
     offset = points[:, None, :] - start[None, :, :]
