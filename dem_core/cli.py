@@ -97,6 +97,8 @@ def main(argv=None) -> int:
     sweep.add_argument("--workers", type=int, help="processes on this machine (default: one per core)")
     sweep.add_argument("--scheduler", help="address of a running Dask scheduler, e.g. tcp://10.0.0.5:8786")
     sweep.add_argument("--retry-failed", action="store_true", help="run again the points that failed before")
+    sweep.add_argument("--overwrite", action="store_true", help="delete the results already in --out and run every "
+                       "point (without it, another sweep's results there are refused)")
     sweep.add_argument("--no-progress", action="store_true")
     threshold = sub.add_parser("threshold", help="smallest excitation scale that overturns the scene (or starts "
                                "rocking or sliding), by a scan and bisection")
@@ -252,8 +254,12 @@ def _sweep(args) -> int:
     points = len(sweep.points())
     where = f"Dask scheduler {args.scheduler}" if args.scheduler else f"{args.workers or 'all'} local worker(s)"
     print(f"sweep {args.spec}: {points} runs over {', '.join(sweep.parameters)} on {where}")
-    table = run_sweep(sweep, args.out, workers=args.workers, scheduler=args.scheduler,
-                      progress=not args.no_progress, retry_failed=args.retry_failed)
+    try:
+        table = run_sweep(sweep, args.out, workers=args.workers, scheduler=args.scheduler,
+                          progress=not args.no_progress, retry_failed=args.retry_failed, overwrite=args.overwrite)
+    except SweepError as exc:
+        print(f"error: {exc}", file=sys.stderr)
+        return 2
     counts = table.status.value_counts().to_dict()
     print(f"{len(table)} runs in {args.out}/results.parquet: {counts}")
     for _, row in table[table.status != "ok"].head(5).iterrows():

@@ -1,6 +1,14 @@
 """Parametric sweeps: points, sweep files, parallel runs that resume, record failures, and run on Dask."""
 
+import json
+import os
+import signal
+import subprocess
+import sys
 import textwrap
+import time
+from dataclasses import dataclass
+from pathlib import Path
 
 import numpy as np
 import pandas as pd
@@ -9,6 +17,7 @@ import pytest
 import dem_core
 from dem_core import excitation, scenes
 from dem_core.analyses.sweep import RunSpec, Sweep, SweepError, load_sweep, run_id, run_sweep
+from dem_core.inputs.excitation import Component, GroundMotion
 
 SPEC = """
 [scene]
@@ -42,7 +51,14 @@ def test_grid_and_zip_points():
     assert zipped.points() == [{"a": 1, "b": 10}, {"a": 2, "b": 20}]
     with pytest.raises(SweepError, match="as many values"):
         Sweep(block_under_pulse, {"a": [1, 2], "b": [10]}, mode="zip")
-    assert run_id({"a": np.float64(1.0).item(), "b": 2}) == run_id({"b": 2, "a": 1.0})
+
+
+def test_run_id_is_the_whole_run_not_the_varied_values():
+    one = block_under_pulse({"mu": 0.7, "amplitude": np.float64(2.0)})
+    assert run_id(one) == run_id(block_under_pulse({"amplitude": 2.0, "mu": 0.7}))
+    shorter = RunSpec(one.scene, one.excitation, {**one.simulation, "duration": 0.5})
+    stiffer = RunSpec(one.scene.replace(contact=dem_core.ContactParameters(kn=4e10)), one.excitation, one.simulation)
+    assert len({run_id(one), run_id(shorter), run_id(stiffer)}) == 3
 
 
 def test_sweep_file_values_and_errors(tmp_path):
@@ -81,11 +97,12 @@ def test_failing_point_is_recorded_and_the_sweep_goes_on(tmp_path):
 
 
 def test_restarted_sweep_skips_finished_runs(tmp_path):
-    first = Sweep(block_under_pulse, {"mu": [0.7], "amplitude": [2.0, 8.0]})
-    run_sweep(first, tmp_path, workers=1, progress=False)
-    done = {p.name: p.stat().st_mtime_ns for p in (tmp_path / "runs").glob("*.parquet")}
-    # as if the first sweep had been killed after two of its six runs
     whole = Sweep(block_under_pulse, {"mu": [0.7, 0.3], "amplitude": [2.0, 8.0, 12.0]})
+    run_sweep(whole, tmp_path, workers=2, progress=False)
+    runs = sorted((tmp_path / "runs").glob("*.parquet"))
+    for lost in runs[2:]:  # as if the sweep had been killed after two of its six runs
+        lost.unlink()
+    done = {p.name: p.stat().st_mtime_ns for p in runs[:2]}
     table = run_sweep(whole, tmp_path, workers=2, progress=False)
     assert len(table) == 6 and set(table.status) == {"ok"}
     for name, mtime in done.items():
@@ -150,3 +167,170 @@ def test_sweep_killed_midway_resumes_without_losing_runs(tmp_path):
     assert len(table) == 12 and table.run_id.is_unique and set(table.status) == {"ok"}
     for name, mtime in before.items():
         assert (out / "runs" / name).stat().st_mtime_ns == mtime
+
+
+# --- stale and mixed results ---------------------------------------------------------------------
+
+QUIET_SPEC = SPEC.replace("time_histories = true", "time_histories = false").replace("pga = [3.0, 6.0]",
+                                                                                    "pga = [0.5, 1.0]")
+
+
+def test_rerun_after_editing_the_base_file_is_refused_then_overwritten(tmp_path):
+    """Was: every run skipped as done, results.parquet still reporting the old duration."""
+    path = tmp_path / "spec.toml"
+    path.write_text(QUIET_SPEC.replace("duration = 1.0", "duration = 2.0"))
+    first = run_sweep(load_sweep(path), tmp_path / "out", workers=1, progress=False)
+    assert first.end_time_s.round(2).tolist() == [2.0] * 4
+    path.write_text(QUIET_SPEC)
+    with pytest.raises(SweepError, match=r"holds the results of another sweep \(the same parameter values, but "
+                                         r"\[simulation\] duration: 2\.0 -> 1\.0 changed since\).*--overwrite"):
+        run_sweep(load_sweep(path), tmp_path / "out", workers=1, progress=False)
+    table = run_sweep(load_sweep(path), tmp_path / "out", workers=1, progress=False, overwrite=True)
+    assert table.end_time_s.round(2).tolist() == [1.0] * 4
+    assert pd.read_parquet(tmp_path / "out" / "results.parquet").end_time_s.round(2).tolist() == [1.0] * 4
+    spec = json.loads((tmp_path / "out" / "sweep.json").read_text())
+    assert spec["tables"]["simulation"]["duration"] == 1.0 and len(spec["runs"]) == 4
+
+
+def test_another_sweep_into_the_same_folder_is_refused_not_mixed(tmp_path):
+    """Was: 12 old rows mixed with 3 new ones in results.parquet."""
+    first = Sweep(block_under_pulse, {"mu": [0.7, 0.5], "amplitude": [1.0, 2.0]})
+    run_sweep(first, tmp_path, workers=2, progress=False)
+    other = Sweep(block_under_pulse, {"mu": [0.6], "amplitude": [1.0, 2.0, 3.0]})
+    with pytest.raises(SweepError, match=r"another sweep \(4 runs over mu = \[0\.7, 0\.5\]; amplitude = "
+                                         r"\[1\.0, 2\.0\], where this sweep has 3 over mu = \[0\.6\]"):
+        run_sweep(other, tmp_path, workers=2, progress=False)
+    table = run_sweep(other, tmp_path, workers=2, progress=False, overwrite=True)
+    assert len(table) == 3 and len(pd.read_parquet(tmp_path / "results.parquet")) == 3
+    assert len(list((tmp_path / "runs").glob("*.parquet"))) == 3
+
+
+def test_cli_refuses_a_folder_of_another_sweep(tmp_path, capsys):
+    from dem_core.cli import main
+
+    path = tmp_path / "spec.toml"
+    path.write_text(QUIET_SPEC)
+    command = ["sweep", str(path), "--out", str(tmp_path / "out"), "--workers", "1", "--no-progress"]
+    assert main(command) == 0
+    path.write_text(QUIET_SPEC.replace("pga = [0.5, 1.0]", "pga = [0.5]"))
+    assert main(command) == 2
+    assert "holds the results of another sweep" in capsys.readouterr().err
+    assert main([*command, "--overwrite"]) == 0
+    assert len(pd.read_parquet(tmp_path / "out" / "results.parquet")) == 2
+
+
+# --- failures ------------------------------------------------------------------------------------
+
+def test_failing_first_point_of_a_sweep_file_is_a_failed_row(tmp_path):
+    """Was: the whole sweep refused, although failures are recorded and the rest go on."""
+    path = tmp_path / "spec.toml"
+    path.write_text(QUIET_SPEC.replace("[sweep.excitation]", "[sweep.scene]\nfriction = [-0.1, 0.7]\n"
+                                                             "[sweep.excitation]"))
+    table = run_sweep(load_sweep(path), tmp_path / "out", workers=2, progress=False)
+    assert len(table) == 8
+    failed = table[table["scene.friction"] == -0.1]
+    assert set(failed.status) == {"failed"} and failed.error.str.contains("friction must be >= 0").all()
+    assert set(table[table["scene.friction"] == 0.7].status) == {"ok"}
+
+
+def test_sweep_file_with_a_value_of_the_wrong_type_is_refused_at_once(tmp_path):
+    path = tmp_path / "spec.toml"
+    path.write_text(QUIET_SPEC.replace("pga = [0.5, 1.0]", 'pga = [0.5, "1.0"]'))
+    with pytest.raises(SweepError, match=r"spec\.toml: \[excitation\] pga: expected a finite number, got the string "
+                                         r"'1\.0'.*at the point"):
+        load_sweep(path)
+
+
+@dataclass(frozen=True, eq=False)
+class KillsItsWorker(Component):
+    """Ground motion whose evaluation SIGKILLs the process running the simulation: always, or only
+    while the file ``once`` does not exist (it is created first)."""
+
+    once: str = ""
+    end_time = 0.2
+    peak_acceleration = 0.0
+
+    def acceleration(self, t):
+        if not self.once or not os.path.exists(self.once):
+            if self.once:
+                Path(self.once).touch()
+            os.kill(os.getpid(), signal.SIGKILL)
+        return np.zeros_like(np.asarray(t, dtype=float))
+
+    velocity = displacement = acceleration
+
+
+@dataclass(frozen=True)
+class SometimesKillsItsWorker:
+    """Sweep build: case "dies" kills its worker on every attempt, "dies_once" on the first only."""
+
+    folder: str
+
+    def __call__(self, params):
+        case = params["case"]
+        if case == "dies":
+            motion = GroundMotion(KillsItsWorker())
+        elif case == "dies_once":
+            motion = GroundMotion(KillsItsWorker(str(Path(self.folder) / "killed_once")))
+        else:
+            motion = excitation.harmonic(pga=0.5 if case == "ok" else 0.6, frequency=1.0)
+        return RunSpec(scenes.block(0.5, 2.0), motion, {"duration": 0.2})
+
+
+def test_a_dead_worker_fails_only_its_own_run_after_one_retry(tmp_path):
+    """Was: a raw BrokenProcessPool traceback, the whole sweep aborted and no results.parquet."""
+    sweep = Sweep(SometimesKillsItsWorker(str(tmp_path)), {"case": ["ok", "dies", "dies_once", "also_ok"]})
+    table = run_sweep(sweep, tmp_path / "out", workers=2, progress=False)
+    assert list(table.case) == ["ok", "dies", "dies_once", "also_ok"]
+    assert list(table.status) == ["ok", "failed", "ok", "ok"] and list(table.attempts) == [1, 2, 2, 1]
+    assert "killed by SIGKILL on each of 2 attempts" in table.error[1]
+    assert len(pd.read_parquet(tmp_path / "out" / "results.parquet")) == 4
+
+
+def _children(pid: int) -> list:
+    """Live (not zombie) processes whose parent is ``pid``."""
+    found = []
+    for stat in Path("/proc").glob("[0-9]*/stat"):
+        try:
+            fields = stat.read_text().rsplit(")", 1)[1].split()
+        except OSError:
+            continue
+        if int(fields[1]) == pid and fields[0] != "Z":
+            found.append(int(stat.parent.name))
+    return found
+
+
+def _alive(pid: int) -> bool:
+    try:
+        return Path(f"/proc/{pid}/stat").read_text().rsplit(")", 1)[1].split()[0] != "Z"
+    except OSError:
+        return False
+
+
+@pytest.mark.skipif(not Path("/proc/self/stat").exists(), reason="reads /proc")
+def test_killing_the_sweep_ends_its_workers(tmp_path):
+    """Was: the workers of a SIGKILLed sweep lived on."""
+    spec = tmp_path / "spec.toml"
+    spec.write_text(QUIET_SPEC.replace("duration = 1.0", "duration = 60.0")
+                    .replace("frequency = {start = 1.0, stop = 2.0, num = 2}", "frequency = [1.0, 1.5, 2.0, 2.5]"))
+    command = [sys.executable, "-m", "dem_core", "sweep", str(spec), "--out", str(tmp_path / "out"), "--workers", "2",
+               "--no-progress"]
+    process = subprocess.Popen(command, start_new_session=True, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    try:
+        deadline = time.time() + 60
+        while len(_children(process.pid)) < 2 and time.time() < deadline and process.poll() is None:
+            time.sleep(0.05)
+        workers = _children(process.pid)
+        assert len(workers) == 2
+        os.kill(process.pid, signal.SIGKILL)  # the parent only
+        process.wait()
+        deadline = time.time() + 10
+        while any(_alive(w) for w in workers) and time.time() < deadline:
+            time.sleep(0.05)
+        assert not any(_alive(w) for w in workers)
+    finally:
+        for pid in [process.pid, *_children(process.pid)]:
+            try:
+                os.kill(pid, signal.SIGKILL)
+            except ProcessLookupError:
+                pass

@@ -2,14 +2,23 @@
 
 A :class:`Sweep` is a ``build(params) -> RunSpec`` function and the values of
 each parameter; its points are their grid (every combination) or their zip.
-:func:`run_sweep` runs the points on this machine's cores
-(``concurrent.futures.ProcessPoolExecutor``) or on a Dask distributed cluster
-(``scheduler="tcp://host:8786"``, through the cluster's own ``concurrent.futures``
-executor: the same code path).  Each finished run is written at once to
+:func:`run_sweep` builds every point in this process and names each run by a
+digest of everything it runs (:mod:`dem_core.analyses.run_identity`: scene,
+ground motion, simulation settings, contact parameters, dem_core version), then
+runs the points on this machine's cores (:mod:`dem_core.analyses.worker_pool`:
+a worker that dies fails only its own run, which is tried once more; killing the
+sweep ends its workers) or on a Dask distributed cluster
+(``scheduler="tcp://host:8786"``).  Each finished run is written at once to
 ``OUT/runs/<run_id>.parquet`` (one row: parameters, status, measures), so a
 sweep that is killed and started again skips what is done and loses nothing;
-a failing run is recorded with its error and the sweep goes on.  At the end the
-rows are gathered into ``OUT/results.parquet``.
+a failing point, first or last, is recorded with its error and the sweep goes
+on.  At the end the rows of this sweep's points are gathered into
+``OUT/results.parquet``.
+
+``OUT/sweep.json`` holds the sweep's spec (its parameters, its runs and, for a
+sweep file, the file's tables).  A folder holding another sweep's results is
+refused, so that results of two sweeps are never mixed nor stale: give a new
+folder, or ``overwrite=True`` (``--overwrite``) to delete them first.
 
 Sweep files are scene files (:mod:`dem_core.inputs.scene_file`) with a ``[sweep]``
 table whose sub-tables name the table and key to vary::
@@ -37,14 +46,13 @@ Parameter names in the results are ``table.key`` (``excitation.frequency``).
 """
 
 import copy
-import hashlib
 import itertools
 import json
 import os
 import time
 import traceback
 from collections.abc import Callable
-from concurrent.futures import ProcessPoolExecutor, as_completed
+from concurrent.futures import as_completed
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -52,13 +60,19 @@ import numpy as np
 import pandas as pd
 from tqdm import tqdm
 
+from ..engine.simulation import SimulationUnstable, simulate
 from ..inputs import scene_file
 from ..inputs.excitation import GroundMotion
 from ..inputs.scene import Scene
-from ..engine.simulation import SimulationUnstable, simulate
+from . import run_identity
+from .worker_pool import TaskFailed, WorkerDied, run_tasks
 
 RESULTS = "results.parquet"
+SPEC = "sweep.json"
 MODES = ("grid", "zip")
+SECTIONS = ("scene", "contact", "excitation", "simulation")
+#: times a run is started again on a fresh worker after its worker process died
+WORKER_RETRIES = 1
 
 
 class SweepError(ValueError):
@@ -78,8 +92,7 @@ class RunSpec:
 class Sweep:
     """A parametric study.
 
-    build : ``params -> RunSpec``; must be picklable (a module-level function or object)
-        to run in worker processes.
+    build : ``params -> RunSpec``; called in this process for every point (the runs go to workers).
     parameters : {name: sequence of values}.
     mode : "grid" (every combination, the first parameter varying slowest) or "zip".
     time_histories : also write each run's time history (Result.to_frame()).
@@ -115,10 +128,9 @@ def _plain(value):
     return value.item() if isinstance(value, np.generic) else value
 
 
-def run_id(params: dict) -> str:
-    """A stable identifier of a parameter set (12 hex digits)."""
-    text = json.dumps(params, sort_keys=True, default=str)
-    return hashlib.sha1(text.encode()).hexdigest()[:12]
+def run_id(spec: RunSpec) -> str:
+    """The identifier of a run: a digest of everything it runs (see :mod:`dem_core.analyses.run_identity`)."""
+    return run_identity.run_digest(spec.scene, spec.excitation, spec.simulation)
 
 
 # --- sweep files ---------------------------------------------------------------------------------
@@ -130,56 +142,114 @@ class SceneFileBuild:
     data: dict
     path: str
 
-    def __call__(self, params: dict) -> RunSpec:
+    def tables(self, params: dict) -> dict:
+        """The scene file's tables with the point's values put in (``[sweep]`` left out)."""
         data = copy.deepcopy(self.data)
         data.pop("sweep", None)
         for name, value in params.items():
             table, key = name.split(".", 1)
-            data.setdefault(table, {})[key] = value
-        loaded = scene_file.from_dict(data, self.path)
+            if isinstance(data.setdefault(table, {}), dict):  # a value where a table belongs: check() says so
+                data[table][key] = value
+        return data
+
+    def __call__(self, params: dict) -> RunSpec:
+        loaded = scene_file.from_dict(self.tables(params), self.path)
         return RunSpec(loaded.scene, loaded.excitation, loaded.simulation)
 
 
 def _values(spec, where):
-    if isinstance(spec, list):
+    if isinstance(spec, list) and spec:
         return spec
-    if isinstance(spec, dict) and "values" in spec and len(spec) == 1:
+    if isinstance(spec, dict) and set(spec) == {"values"} and isinstance(spec["values"], list) and spec["values"]:
         return list(spec["values"])
-    if isinstance(spec, dict) and {"start", "stop", "num"} == set(spec):
-        return [float(v) for v in np.linspace(spec["start"], spec["stop"], int(spec["num"]))]
-    if isinstance(spec, dict) and {"start", "stop", "step"} == set(spec):
-        n = int(np.floor((spec["stop"] - spec["start"]) / spec["step"] + 1e-9)) + 1
-        return [float(spec["start"] + k * spec["step"]) for k in range(n)]
-    raise SweepError(f"{where}: give a list, {{values = [...]}}, {{start, stop, num}} or {{start, stop, step}}; "
-                     f"got {spec!r}")
+    if isinstance(spec, dict) and set(spec) in ({"start", "stop", "num"}, {"start", "stop", "step"}):
+        start, stop = (_sweep_number(spec[k], f"{where} {k}") for k in ("start", "stop"))
+        if "num" in spec:
+            num = spec["num"]
+            if isinstance(num, bool) or not isinstance(num, int) or num < 1:
+                raise SweepError(f"{where}: num must be a positive integer, got {num!r}")
+            return [float(v) for v in np.linspace(start, stop, num)]
+        step = _sweep_number(spec["step"], f"{where} step")
+        if step == 0 or (stop - start) / step < 0:
+            raise SweepError(f"{where}: step {step:g} does not lead from {start:g} to {stop:g}")
+        n = int(np.floor((stop - start) / step + 1e-9)) + 1
+        return [float(start + k * step) for k in range(n)]
+    raise SweepError(f"{where}: give a non-empty list, {{values = [...]}}, {{start, stop, num}} or "
+                     f"{{start, stop, step}}; got {spec!r}")
+
+
+def _sweep_number(value, where) -> float:
+    if isinstance(value, bool) or not isinstance(value, (int, float)) or not np.isfinite(value):
+        raise SweepError(f"{where}: expected a finite number, got {value!r}")
+    return float(value)
 
 
 def load_sweep(path) -> Sweep:
-    """Read a sweep file (a scene file with a ``[sweep]`` table); errors name the file and key."""
+    """Read a sweep file (a scene file with a ``[sweep]`` table).
+
+    Every point's tables are checked for names and types here (a misspelt key or a value of the
+    wrong type refuses the sweep, naming the file and the key); values a builder refuses (a negative
+    friction) are failed runs, recorded when the sweep runs.
+    """
     path = Path(path)
     data = scene_file.read_toml(path, SweepError, "sweep file")
-    table = dict(data.get("sweep", {}))
-    if not table:
+    table = data.get("sweep", {})
+    if not isinstance(table, dict) or not table:
         raise SweepError(f"{path}: no [sweep] table: nothing to vary")
+    table = dict(table)
     mode = table.pop("mode", "grid")
-    histories = bool(table.pop("time_histories", False))
+    histories = table.pop("time_histories", False)
+    if not isinstance(histories, bool):
+        raise SweepError(f"{path}: [sweep] time_histories: expected true or false, got {histories!r}")
     parameters = {}
     for section, entries in table.items():
-        if section not in ("scene", "contact", "excitation", "simulation") or not isinstance(entries, dict):
-            raise SweepError(f"{path}: [sweep.{section}] is not a table of scene, contact, excitation or simulation "
-                             f"keys")
+        if section not in SECTIONS or not isinstance(entries, dict):
+            raise SweepError(f"{path}: [sweep.{section}] is not a table of {', '.join(SECTIONS)} keys")
         for key, spec in entries.items():
             parameters[f"{section}.{key}"] = _values(spec, f"{path}: [sweep.{section}] {key}")
     build = SceneFileBuild(data, str(path))
     sweep = Sweep(build, parameters, mode, histories)
-    try:  # build the first point now: a misspelt key fails here, not in every worker
-        build(sweep.points()[0])
-    except scene_file.SceneFileError as exc:
-        raise SweepError(f"{exc} (with the first point of [sweep])") from None
+    for point in sweep.points():
+        try:
+            scene_file.check(build.tables(point), path)
+        except scene_file.SceneFileError as exc:
+            raise SweepError(f"{exc} (at the point {point} of [sweep])") from None
     return sweep
 
 
-# --- running ---------------------------------------------------------------------------------------
+# --- points and their runs -------------------------------------------------------------------------
+
+@dataclass(frozen=True)
+class _Point:
+    """A point of a sweep as built here: its run, or why it could not be built."""
+
+    params: dict
+    run_id: str
+    spec: RunSpec | None
+    error: str = ""
+
+
+def _plan(sweep: Sweep) -> list:
+    """Every point built here, in order: its run and run id, or why it cannot be built (its id then
+    digests the build and the point's values)."""
+    points = []
+    for params in sweep.points():
+        try:
+            spec = sweep.build(params)
+            points.append(_Point(params, run_id(spec), spec))
+        except Exception as exc:  # noqa: BLE001 - a point that cannot be built is a failed run
+            unbuilt = {"build": run_identity.describe(sweep.build), "params": run_identity.describe(params),
+                       "dem_core": run_identity.package_version(), "code": run_identity.code_digest()}
+            points.append(_Point(params, run_identity.digest(unbuilt), None,
+                                 f"{type(exc).__name__}: {exc}\n{traceback.format_exc(limit=3)}"))
+    seen = {}
+    for point in points:
+        if point.run_id in seen:
+            raise SweepError(f"the points {seen[point.run_id]} and {point.params} run the same thing: the values "
+                             f"varied between them make no difference to the run")
+        seen[point.run_id] = point.params
+    return points
+
 
 def measures(result) -> dict:
     """The scene-level measures of a run (those of ``Result.summary`` that are numbers), its end time,
@@ -193,12 +263,11 @@ def measures(result) -> dict:
     return row
 
 
-def run_point(build, params: dict, history_dir: str | None = None) -> dict:
+def run_point(spec: RunSpec, params: dict, run: str, history_dir: str | None = None) -> dict:
     """Run one point and return its row; any error becomes the row's ``status``, never an exception."""
-    row = {"run_id": run_id(params), **params}
+    row = {"run_id": run, **params}
     start = time.perf_counter()
     try:
-        spec = build(params)
         result = simulate(spec.scene, spec.excitation, **spec.simulation)
         row.update(status="ok", error="", **measures(result))
     except SimulationUnstable as exc:
@@ -212,8 +281,13 @@ def run_point(build, params: dict, history_dir: str | None = None) -> dict:
     row["wall_time_s"] = time.perf_counter() - start
     row["worker"] = f"{os.uname().nodename}:{os.getpid()}"
     if history_dir is not None and result is not None:
-        _write_atomic(result.to_frame(), Path(history_dir) / f"{row['run_id']}.parquet")
+        _write_atomic(result.to_frame(), Path(history_dir) / f"{run}.parquet")
     return row
+
+
+def _failed_row(point: _Point, error: str) -> dict:
+    return {"run_id": point.run_id, **point.params, "status": "failed", "error": error, "wall_time_s": 0.0,
+            "worker": ""}
 
 
 def _write_atomic(frame: pd.DataFrame, path: Path) -> None:
@@ -222,83 +296,182 @@ def _write_atomic(frame: pd.DataFrame, path: Path) -> None:
     os.replace(tmp, path)
 
 
-def _finished(runs_dir: Path, retry_failed: bool) -> set:
+def _finished(runs_dir: Path, ids, retry_failed: bool) -> set:
     done = set()
-    for part in runs_dir.glob("*.parquet"):
-        if retry_failed:
-            status = pd.read_parquet(part, columns=["status"]).status.iloc[0]
-            if status != "ok":
-                continue
-        done.add(part.stem)
+    for run in ids:
+        part = runs_dir / f"{run}.parquet"
+        if not part.is_file():
+            continue
+        if retry_failed and pd.read_parquet(part, columns=["status"]).status.iloc[0] != "ok":
+            continue
+        done.add(run)
     return done
 
 
-def _executor(workers, scheduler):
-    if scheduler is not None:
-        try:
-            from distributed import Client
-        except ImportError:
-            raise SweepError("running on a Dask cluster needs dask.distributed: pip install 'dask[distributed]'") from None
-        client = scheduler if isinstance(scheduler, Client) else Client(scheduler)
-        return client.get_executor(), (None if client is scheduler else client)
-    return ProcessPoolExecutor(max_workers=workers or os.cpu_count()), None
+# --- the output folder -----------------------------------------------------------------------------
 
+def _spec(sweep: Sweep, points: list) -> dict:
+    """What ``OUT/sweep.json`` holds; ``"sweep"`` is the digest that tells sweeps apart."""
+    runs = [{"run_id": p.run_id, "parameters": p.params} for p in points]
+    spec = {"sweep": run_identity.digest({"runs": runs, "time_histories": sweep.time_histories}),
+            "dem_core": run_identity.package_version(), "code": run_identity.code_digest(), "mode": sweep.mode,
+            "time_histories": sweep.time_histories,
+            "parameters": {k: [_plain(v) for v in values] for k, values in sweep.parameters.items()}, "runs": runs}
+    if isinstance(sweep.build, SceneFileBuild):
+        spec.update(file=sweep.build.path, tables=sweep.build.data)
+    else:
+        spec.update(build=run_identity.describe(sweep.build))
+    return spec
+
+
+def _claim(out: Path, spec: dict, overwrite: bool) -> None:
+    """Make ``out`` this sweep's folder and write its spec: with ``overwrite`` delete whatever results
+    it holds; otherwise resume the same sweep, and refuse another sweep's results."""
+    if out.exists() and not out.is_dir():
+        raise SweepError(f"{out}: is a file, not a folder for the sweep's results")
+    out.mkdir(parents=True, exist_ok=True)
+    spec_path = out / SPEC
+    results = [*(out / "runs").glob("*.parquet"), *(out / "histories").glob("*.parquet"), out / RESULTS]
+    if overwrite:
+        for path in [*results, *(out / "runs").glob("*.tmp"), *(out / "histories").glob("*.tmp"), spec_path]:
+            path.unlink(missing_ok=True)
+    elif spec_path.is_file():
+        try:
+            previous = json.loads(spec_path.read_text())
+        except (OSError, ValueError):
+            previous = {}
+        if previous.get("sweep") == spec["sweep"]:
+            return
+        raise SweepError(_refusal(out, _difference(previous, spec)))
+    elif any(p.is_file() for p in results):
+        raise SweepError(_refusal(out, _difference(None, spec)))
+    _write_spec(spec_path, spec)
+
+
+def _refusal(out: Path, difference: str) -> str:
+    return (f"{out} holds the results of another sweep ({difference}); the results of two sweeps are not mixed. "
+            f"Give a new output folder, or --overwrite (overwrite=True) to delete them and run this sweep")
+
+
+def _write_spec(path: Path, spec: dict) -> None:
+    tmp = path.with_name(path.name + ".tmp")
+    tmp.write_text(json.dumps(spec, indent=1, default=str))
+    os.replace(tmp, path)
+
+
+def _difference(previous: dict | None, spec: dict) -> str:
+    """How the sweep whose spec is ``previous`` differs from this one, in words."""
+    if not previous:
+        return f"written without a readable {SPEC}: by an older dem_core, or by hand"
+    if previous.get("parameters") != json.loads(json.dumps(spec["parameters"], default=str)):
+        def listed(s):
+            return "; ".join(f"{k} = {v}" for k, v in s.get("parameters", {}).items())
+        return (f"{len(previous.get('runs', []))} runs over {listed(previous)}, where this sweep has "
+                f"{len(spec['runs'])} over {listed(spec)}")
+    changed = _changed_keys(previous.get("tables"), json.loads(json.dumps(spec.get("tables"), default=str)))
+    if changed:
+        return f"the same parameter values, but {', '.join(changed[:5])} changed since"
+    if previous.get("dem_core") != spec["dem_core"]:
+        return f"the same parameter values, run by dem_core {previous.get('dem_core')} (this is {spec['dem_core']})"
+    if previous.get("code") != spec["code"]:
+        return "the same parameter values, run by other dem_core code (its source files changed since)"
+    return "the same parameter values, but the runs differ: the scene, ground motion or settings they build changed"
+
+
+def _changed_keys(old, new) -> list:
+    """``[table] key: old -> new`` for the keys of two scene files' tables that differ."""
+    if not isinstance(old, dict) or not isinstance(new, dict):
+        return []
+    changed = []
+    for table in sorted(set(old) | set(new)):
+        a, b = old.get(table, {}), new.get(table, {})
+        if not isinstance(a, dict) or not isinstance(b, dict):
+            if a != b:
+                changed.append(f"[{table}]")
+            continue
+        changed += [f"[{table}] {key}: {a.get(key, '(none)')!r} -> {b.get(key, '(none)')!r}"
+                    for key in sorted(set(a) | set(b)) if a.get(key) != b.get(key)]
+    return changed
+
+
+# --- running ---------------------------------------------------------------------------------------
 
 def run_sweep(sweep: Sweep, out, *, workers: int | None = None, scheduler=None, progress: bool = True,
-              retry_failed: bool = False) -> pd.DataFrame:
-    """Run every point not already in ``out`` and return all rows (finished before or now).
+              retry_failed: bool = False, overwrite: bool = False) -> pd.DataFrame:
+    """Run every point of ``sweep`` not already finished in ``out`` and return the sweep's rows.
 
     workers : processes on this machine (default: one per core); ignored with a scheduler.
     scheduler : address of a running Dask scheduler, or a ``distributed.Client``.
     retry_failed : run again the points recorded as failed or unstable.
+    overwrite : delete whatever results ``out`` holds and run every point; without it, the results
+        of another sweep in ``out`` raise :class:`SweepError` and those of this sweep are resumed.
     Returns the table also written to ``out/results.parquet``: one row per point with its
     parameters, ``status`` ("ok", "unstable", "failed"), ``error`` and the measures of
-    :func:`measures`, ``wall_time_s``.
+    :func:`measures`, ``wall_time_s``, and (local runs) ``attempts``: 2 when the first worker died.
     """
     out = Path(out)
+    points = _plan(sweep)
+    _claim(out, _spec(sweep, points), overwrite)
     runs_dir = out / "runs"
-    runs_dir.mkdir(parents=True, exist_ok=True)
+    runs_dir.mkdir(exist_ok=True)
     history_dir = out / "histories" if sweep.time_histories else None
     if history_dir is not None:
         history_dir.mkdir(exist_ok=True)
-    points = sweep.points()
-    ids = [run_id(p) for p in points]
-    if len(set(ids)) != len(ids):
-        raise SweepError("the sweep has repeated points; give each parameter distinct values")
-    done = _finished(runs_dir, retry_failed)
-    todo = [p for p, i in zip(points, ids) if i not in done]
-    if todo:
-        executor, own_client = _executor(workers, scheduler)
-        try:
-            futures = [executor.submit(run_point, sweep.build, p, None if history_dir is None else str(history_dir))
-                       for p in todo]
-            with tqdm(total=len(points), initial=len(points) - len(todo), unit="run", desc="sweep",
-                      disable=not progress, smoothing=0.1) as bar:
-                for future in as_completed(futures):
-                    row = future.result()
-                    _write_atomic(pd.DataFrame([row]), runs_dir / f"{row['run_id']}.parquet")
-                    bar.update()
-        finally:
-            if isinstance(executor, ProcessPoolExecutor):
-                executor.shutdown(wait=True, cancel_futures=True)
-            else:  # Dask's executor: on an interruption, do not wait for the cluster
-                executor.shutdown(wait=False)
-            if own_client is not None:
-                own_client.close()
-    return collect(out, order=ids)
+    done = _finished(runs_dir, [p.run_id for p in points], retry_failed)
+    todo = [p for p in points if p.run_id not in done]
+    for point in [p for p in todo if p.spec is None]:
+        _write_atomic(pd.DataFrame([_failed_row(point, point.error)]), runs_dir / f"{point.run_id}.parquet")
+    todo = [p for p in todo if p.spec is not None]
+    with tqdm(total=len(points), initial=len(points) - len(todo), unit="run", desc="sweep",
+              disable=not progress, smoothing=0.1) as bar:
+        for row in _run(todo, None if history_dir is None else str(history_dir), workers, scheduler):
+            _write_atomic(pd.DataFrame([row]), runs_dir / f"{row['run_id']}.parquet")
+            bar.update()
+    return collect(out, order=[p.run_id for p in points])
+
+
+def _run(points: list, history_dir, workers, scheduler):
+    """The rows of ``points`` as their runs finish, on local worker processes or a Dask cluster."""
+    if not points:
+        return
+    by_id = {p.run_id: p for p in points}
+    if scheduler is None:
+        tasks = [(p.run_id, run_point, (p.spec, p.params, p.run_id, history_dir)) for p in points]
+        for run, outcome, attempts in run_tasks(tasks, workers or os.cpu_count() or 1, retries=WORKER_RETRIES):
+            if isinstance(outcome, (WorkerDied, TaskFailed)):
+                outcome = _failed_row(by_id[run], f"{type(outcome).__name__}: {outcome}")
+            yield {**outcome, "attempts": attempts}
+        return
+    try:
+        from distributed import Client
+    except ImportError:
+        raise SweepError("running on a Dask cluster needs dask.distributed: pip install 'dask[distributed]'") from None
+    client = scheduler if isinstance(scheduler, Client) else Client(scheduler)
+    executor = client.get_executor()
+    try:
+        futures = {executor.submit(run_point, p.spec, p.params, p.run_id, history_dir): p for p in points}
+        for future in as_completed(futures):
+            try:
+                yield future.result()
+            except Exception as exc:  # noqa: BLE001 - a run lost on the cluster (KilledWorker) fails alone
+                yield _failed_row(futures[future], f"{type(exc).__name__}: {exc}")
+    finally:
+        executor.shutdown(wait=False)  # on an interruption, do not wait for the cluster
+        if client is not scheduler:
+            client.close()
 
 
 def collect(out, order=None) -> pd.DataFrame:
-    """Gather ``out/runs/*.parquet`` into one table (in ``order`` of run ids if given) and write
-    ``out/results.parquet``."""
+    """Gather the rows of ``out/runs/`` into one table and write ``out/results.parquet``: the runs of
+    ``order`` (run ids), in that order, or every run found."""
     out = Path(out)
-    parts = [pd.read_parquet(p) for p in sorted((out / "runs").glob("*.parquet"))]
+    if order is None:
+        paths = sorted((out / "runs").glob("*.parquet"))
+    else:
+        paths = [p for p in (out / "runs" / f"{run}.parquet" for run in order) if p.is_file()]
+    parts = [pd.read_parquet(p) for p in paths]
     if not parts:
         return pd.DataFrame()
     table = pd.concat(parts, ignore_index=True)
-    if order is not None:
-        rank = {i: k for k, i in enumerate(order)}
-        table = table.assign(_rank=table.run_id.map(rank)).sort_values("_rank").drop(columns="_rank")
-        table = table.reset_index(drop=True)
     _write_atomic(table, out / RESULTS)
     return table

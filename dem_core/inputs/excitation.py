@@ -9,6 +9,8 @@ ground at rest at ``t = 0`` except for harmonic motion, whose velocity starts
 at ``A omega`` (the blocks then start at rest relative to the ground).
 """
 
+import math
+import numbers
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -57,6 +59,11 @@ class Harmonic(Component):
     amplitude: float
     frequency: float
 
+    def __post_init__(self):
+        _finite(self.amplitude, "harmonic amplitude (m)")
+        if not _finite(self.frequency, "frequency (Hz)") > 0:
+            raise ValueError(f"frequency must be positive, got {self.frequency}")
+
     @property
     def _omega(self):
         return 2.0 * np.pi * self.frequency
@@ -88,7 +95,8 @@ class Pulse(Component):
     shape: str = "rectangular"
 
     def __post_init__(self):
-        if self.duration <= 0:
+        _finite(self.amplitude, "pulse amplitude (m/s^2)")
+        if not _finite(self.duration, "pulse duration (s)") > 0:
             raise ValueError(f"pulse duration must be positive, got {self.duration}")
         if self.shape not in ("rectangular", "sine", "cosine"):
             raise ValueError(f"unknown pulse shape {self.shape!r}")
@@ -144,6 +152,12 @@ class Ramp(Component):
     rate: float
     peak: float | None = None
 
+    def __post_init__(self):
+        if _finite(self.rate, "ramp rate (m/s^3)") == 0:
+            raise ValueError("ramp rate must not be zero")
+        if self.peak is not None:
+            _finite(self.peak, "ramp peak (m/s^2)")
+
     def _t_hold(self):
         return np.inf if self.peak is None else abs(self.peak / self.rate)
 
@@ -190,11 +204,8 @@ class Sampled(Component):
         a = np.array(self.samples, dtype=float)
         if a.ndim != 1 or len(a) < 2:
             raise ValueError(f"{self.name}: a record needs a 1-D array of at least 2 accelerations")
-        if not np.all(np.isfinite(a)):
-            bad = int(np.argmax(~np.isfinite(a)))
-            raise ValueError(f"{self.name}: sample {bad} is not finite")
-        if not self.dt > 0:
-            raise ValueError(f"{self.name}: dt must be positive, got {self.dt}")
+        _check_finite(a, self.name)
+        object.__setattr__(self, "dt", records.check_dt(self.dt, self.name))
         a.flags.writeable = False
         object.__setattr__(self, "samples", a)
         v, u = _integrate_piecewise_linear(a, self.dt)
@@ -256,9 +267,10 @@ def baseline_correct(a, dt):
     a = np.asarray(a, dtype=float)
     t_end = (len(a) - 1) * dt
     v, u = _integrate_piecewise_linear(a, dt)
-    system = np.array([[t_end, t_end**2 / 2.0], [t_end**2 / 2.0, t_end**3 / 6.0]])
-    c0, c1 = np.linalg.solve(system, [v[-1], u[-1]])
-    return a - (c0 + c1 * np.arange(len(a)) * dt)
+    # c0 + c1 t with s = t / t_end: c0 + s (c1 t_end); in those unknowns the system does not depend on t_end
+    system = np.array([[1.0, 1.0 / 2.0], [1.0 / 2.0, 1.0 / 6.0]])
+    c0, c1_t_end = np.linalg.solve(system, [v[-1] / t_end, u[-1] / t_end**2])
+    return a - (c0 + c1_t_end * np.arange(len(a)) / (len(a) - 1))
 
 
 @dataclass(frozen=True, eq=False)
@@ -297,12 +309,12 @@ def harmonic(amplitude: float | None = None, frequency: float = 1.0, *, pga: flo
     frequency : f in Hz.
     vertical_amplitude : m, a vertical component in phase with the horizontal.
     """
-    if frequency <= 0:
+    if not _finite(frequency, "frequency (Hz)") > 0:
         raise ValueError(f"frequency must be positive, got {frequency}")
     if (amplitude is None) == (pga is None):
         raise ValueError("give exactly one of amplitude and pga")
     if amplitude is None:
-        amplitude = pga / (2.0 * np.pi * frequency) ** 2
+        amplitude = _finite(pga, "pga (m/s^2)") / (2.0 * np.pi * frequency) ** 2
     vertical = Harmonic(vertical_amplitude, frequency) if vertical_amplitude else Still()
     return GroundMotion(Harmonic(amplitude, frequency), vertical, name=f"harmonic {amplitude:g} m at {frequency:g} Hz")
 
@@ -336,8 +348,9 @@ def record(source, dt: float | None = None, scale: float = 1.0, pga: float | Non
         bundled record (see :data:`dem_core.inputs.records.BUNDLED`), or an array of
         accelerations in m/s^2 (then ``dt`` is required).
     dt : s, sampling interval; read from the file when it has a time column or header.
-    scale : factor applied to both components; ignored when ``pga`` is given.
-    pga : m/s^2, scale the horizontal component to this peak (the vertical by the same factor).
+    scale : finite positive factor applied to both components; ignored when ``pga`` is given.
+    pga : m/s^2, finite and positive: scale the horizontal component to this peak (the vertical by
+        the same factor).
     vertical : None, a 1-based component index of the same file, another
         source (path or array, same dt), or a bundled record's own vertical with ``True``.
     units : of a text file (``"m/s^2"``, ``"g"``, ``"cm/s^2"``); AT2 files state theirs.
@@ -346,6 +359,12 @@ def record(source, dt: float | None = None, scale: float = 1.0, pga: float | Non
     baseline : subtract the linear baseline that brings the ground back to rest at the end
         (see :func:`baseline_correct`).
     """
+    where = _source_name(source)
+    scale = _positive_factor(scale, "scale", where)
+    if pga is not None:
+        pga = _positive_factor(pga, "pga (m/s^2)", where)
+    if dt is not None:
+        dt = records.check_dt(dt, where)
     horizontal, dt, name, bundled = _load(source, dt, units, component)
     if vertical is True:
         if bundled is None or bundled.vertical_component is None:
@@ -363,10 +382,13 @@ def record(source, dt: float | None = None, scale: float = 1.0, pga: float | Non
         n = max(len(horizontal), len(vert))
         horizontal = np.pad(horizontal, (0, n - len(horizontal)))
         vert = np.pad(vert, (0, n - len(vert)))
+    for samples, which in ((horizontal, where), (vert, f"{where} (vertical)")):
+        if samples is not None and len(samples) < 2:
+            raise records.RecordError(f"{which}: a record needs at least 2 samples, found {len(samples)}")
     peak = float(np.max(np.abs(horizontal)))
     if pga is not None:
-        if pga < 0 or peak == 0:
-            raise ValueError(f"{name}: cannot scale to pga={pga} (record peak {peak})")
+        if peak == 0:
+            raise records.RecordError(f"{where}: cannot scale to pga={pga}: the record is zero throughout")
         scale = pga / peak
     if baseline:
         horizontal = baseline_correct(horizontal, dt)
@@ -387,10 +409,43 @@ def _load(source, dt, units, component):
         path = Path(source)
         a, step = _read_file(path, dt, units, component or 1)
         return a, step, path.stem, None
-    a = np.asarray(source, dtype=float)
+    name = "array record"
+    try:
+        a = np.asarray(source, dtype=float)
+    except (TypeError, ValueError):
+        raise records.RecordError(f"{name}: the source must be a record name, a path or an array of "
+                                  f"accelerations (m/s^2), got {type(source).__name__}") from None
+    if a.ndim != 1:
+        raise records.RecordError(f"{name}: accelerations must be a 1-D array, got shape {a.shape}")
+    _check_finite(a, name)
     if dt is None:
-        raise ValueError("an array record needs dt (s)")
-    return a, float(dt), "array record", None
+        raise records.RecordError(f"{name}: an array record needs dt (s)")
+    return a, dt, name, None
+
+
+def _finite(value, what: str) -> float:
+    """``value`` as a float if it is a finite number; else ValueError naming ``what``."""
+    if isinstance(value, bool) or not isinstance(value, numbers.Real) or not math.isfinite(value):
+        raise ValueError(f"{what} must be a finite number, got {value!r}")
+    return float(value)
+
+
+def _source_name(source) -> str:
+    """How errors name a record source before it is read."""
+    return str(source) if isinstance(source, (str, Path)) else "array record"
+
+
+def _positive_factor(value, what: str, where: str) -> float:
+    if isinstance(value, bool) or not isinstance(value, numbers.Real) or not (math.isfinite(value) and value > 0):
+        raise records.RecordError(f"{where}: {what} must be a finite positive number, got {value!r}")
+    return float(value)
+
+
+def _check_finite(a, name: str) -> None:
+    bad = np.flatnonzero(~np.isfinite(a))
+    if bad.size:
+        others = f" ({bad.size - 1} more samples are not finite either)" if bad.size > 1 else ""
+        raise records.RecordError(f"{name}: sample {bad[0]} is not finite ({a[bad[0]]}){others}")
 
 
 def _read_file(path, dt, units, component):
@@ -401,6 +456,9 @@ def _read_file(path, dt, units, component):
         return a, step
     a, step, t0 = records.read_text_record(path, dt=dt, units=units, component=component)
     lead = round(t0 / step)
+    if lead > len(a):
+        raise records.RecordError(f"{path}: the time column starts at {t0:g} s, later than the record lasts "
+                                  f"({(len(a) - 1) * step:g} s): is the first column time?")
     if lead > 0 and abs(lead * step - t0) < records.TIME_STEP_TOLERANCE * step:
         a = np.concatenate([np.zeros(lead), a])  # first sample at t0 > 0: the ground is still before it
     return a, step

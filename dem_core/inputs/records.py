@@ -6,6 +6,9 @@ with the package are listed in :data:`BUNDLED` (sources in
 ``dem_core/data/records/SOURCES.md``).
 """
 
+import difflib
+import math
+import numbers
 import re
 from dataclasses import dataclass
 from importlib import resources
@@ -16,6 +19,12 @@ import numpy as np
 G_STANDARD = 9.80665  # m/s^2, the g that record files in units of g refer to
 #: time columns are printed rounded (the Mexico City file steps 0.01999 and 0.02001): steps may differ this much
 TIME_STEP_TOLERANCE = 1e-3
+#: s, the shortest sampling interval accepted: accelerographs sample at 1e-3 s to 0.05 s, so a smaller
+#: dt is a typo or a unit mistake (and makes the baseline correction's equations singular)
+MIN_DT = 1e-6
+#: share of the first column's steps equal to its median step from which that column is read as time
+#: (and then checked line by line), when the caller does not say whether there is a time column
+TIME_COLUMN_SHARE = 0.9
 
 
 class RecordError(ValueError):
@@ -47,11 +56,31 @@ BUNDLED = {
 def bundled_path(name: str) -> Path:
     """Path of a bundled record file, by its key in :data:`BUNDLED`."""
     if name not in BUNDLED:
-        raise KeyError(f"no bundled record named {name!r}; available: {', '.join(BUNDLED)}")
+        raise KeyError(f"no bundled record named {name!r}{_bundled_hint(name)}")
     return Path(str(resources.files("dem_core") / "data" / "records" / BUNDLED[name].file))
 
 
+def _bundled_hint(name: str) -> str:
+    """The close matches among the bundled names and their list, for a record name or path not found."""
+    close = difflib.get_close_matches(Path(name).name, BUNDLED, n=3, cutoff=0.6)
+    guess = f"; did you mean the bundled {' or '.join(repr(c) for c in close)}?" if close else ""
+    return f"{guess} (bundled records: {', '.join(BUNDLED)})"
+
+
+def check_dt(dt, where: str, what: str = "dt") -> float:
+    """``dt`` (s) as a float if it is a usable sampling interval: a finite number of at least
+    :data:`MIN_DT`; otherwise :class:`RecordError` naming ``where`` and ``what``."""
+    if isinstance(dt, bool) or not isinstance(dt, numbers.Real):
+        raise RecordError(f"{where}: {what} must be a number of seconds, got {dt!r}")
+    if not (math.isfinite(dt) and dt >= MIN_DT):
+        raise RecordError(f"{where}: {what} must be a finite sampling interval of at least {MIN_DT:g} s, "
+                          f"got {float(dt)!r}")
+    return float(dt)
+
+
 def _unit_factor(units: str, where: str) -> float:
+    if not isinstance(units, str):
+        raise RecordError(f"{where}: units must be a string such as 'g' or 'm/s^2', got {units!r}")
     u = units.strip().lower().replace(" ", "")
     if u == "g":
         return G_STANDARD
@@ -78,12 +107,15 @@ def read_at2(path) -> tuple[np.ndarray, float]:
         factor = 0.01
     else:
         raise RecordError(f"{path}:3: cannot tell the units from {lines[2].strip()!r}")
-    m = re.search(r"NPTS\s*=\s*(\d+)\s*,\s*DT\s*=\s*([0-9.Ee+-]+)", lines[3], re.IGNORECASE)
+    m = re.search(r"NPTS\s*=\s*(\d+)\s*,\s*DT\s*=\s*([^\s,]+)", lines[3], re.IGNORECASE)
     if not m:
         raise RecordError(f"{path}:4: expected 'NPTS= n, DT= dt', found {lines[3].strip()!r}")
-    npts, dt = int(m.group(1)), float(m.group(2))
-    if dt <= 0:
-        raise RecordError(f"{path}:4: DT must be positive, found {dt}")
+    npts = int(m.group(1))
+    try:
+        dt = float(m.group(2))
+    except ValueError:
+        raise RecordError(f"{path}:4: cannot read DT {m.group(2)!r} as a number of seconds") from None
+    dt = check_dt(dt, f"{path}:4", "DT")
     values = []
     for lineno, line in enumerate(lines[4:], start=5):
         for token in line.split():
@@ -99,8 +131,12 @@ def read_columns(path) -> np.ndarray:
     Blank lines and lines starting with ``#`` are skipped; every other line
     must hold the same number of numbers.
     """
-    path = Path(path)
-    rows = []
+    return _read_rows(Path(path))[0]
+
+
+def _read_rows(path: Path) -> tuple[np.ndarray, list]:
+    """The numeric rows of a column text file and the line number of each."""
+    rows, line_numbers = [], []
     width = None
     for lineno, line in enumerate(_read_lines(path), start=1):
         text = line.strip()
@@ -112,9 +148,10 @@ def read_columns(path) -> np.ndarray:
         elif len(row) != width:
             raise RecordError(f"{path}:{lineno}: expected {width} columns as on the first data line, found {len(row)}")
         rows.append(row)
+        line_numbers.append(lineno)
     if not rows:
         raise RecordError(f"{path}: no data lines")
-    return np.array(rows, dtype=float)
+    return np.array(rows, dtype=float), line_numbers
 
 
 def read_text_record(path, *, dt=None, units="m/s^2", component=1, time_column=None):
@@ -124,27 +161,23 @@ def read_text_record(path, *, dt=None, units="m/s^2", component=1, time_column=N
         followed by one or more components.
     component : 1-based index of the component among the non-time columns.
     time_column : whether column 1 holds time; ``None`` decides from the data
-        (a uniformly increasing first column, of step ``dt`` when given).
+        (a first column that increases by one step on at least :data:`TIME_COLUMN_SHARE`
+        of its lines is time, and must then increase strictly by that step on every line).
     """
     path = Path(path)
-    data = read_columns(path)
+    if dt is not None:
+        dt = check_dt(dt, str(path))
+    if isinstance(component, bool) or not isinstance(component, numbers.Integral):
+        raise RecordError(f"{path}: component must be a 1-based column number, got {component!r}")
     factor = _unit_factor(units, str(path))
-    has_time = _first_column_is_time(data, dt) if time_column is None else bool(time_column)
+    data, line_numbers = _read_rows(path)
+    has_time = _first_column_is_time(data) if time_column is None else bool(time_column)
     t0 = 0.0
     if has_time:
-        t = data[:, 0]
-        steps = np.diff(t)
-        if len(t) < 2 or np.any(steps <= 0):
-            bad = int(np.argmax(steps <= 0)) + 2 if len(t) >= 2 else 1
-            raise RecordError(f"{path}:{bad}: time column is not increasing")
-        step = float(np.median(steps))
-        off = np.abs(steps - step) > TIME_STEP_TOLERANCE * step
-        if np.any(off):
-            raise RecordError(f"{path}:{int(np.argmax(off)) + 2}: time step {steps[np.argmax(off)]:.6g} s differs "
-                              f"from the record's step {step:.6g} s (uneven sampling is not supported)")
+        step, t0 = _time_step(data[:, 0], line_numbers, path)
         if dt is not None and abs(dt - step) > TIME_STEP_TOLERANCE * step:
             raise RecordError(f"{path}: dt={dt} was given but the time column steps by {step}")
-        dt, t0 = step, float(t[0])
+        dt = step
         columns = data[:, 1:]
     else:
         if dt is None:
@@ -158,14 +191,34 @@ def read_text_record(path, *, dt=None, units="m/s^2", component=1, time_column=N
     return columns[:, component - 1] * factor, float(dt), t0
 
 
-def _first_column_is_time(data, dt) -> bool:
+def _first_column_is_time(data) -> bool:
     if data.shape[1] < 2 or data.shape[0] < 3:
         return False
     steps = np.diff(data[:, 0])
     step = np.median(steps)
-    if step <= 0 or np.any(np.abs(steps - step) > TIME_STEP_TOLERANCE * step):
+    if not step > 0:
         return False
-    return dt is None or abs(step - dt) <= TIME_STEP_TOLERANCE * dt
+    return np.mean(np.abs(steps - step) <= TIME_STEP_TOLERANCE * step) >= TIME_COLUMN_SHARE
+
+
+def _time_step(t, line_numbers, path) -> tuple[float, float]:
+    """``(step s, first time s)`` of a time column that increases strictly and evenly; else
+    :class:`RecordError` naming the first line that does not."""
+    if len(t) < 2:
+        raise RecordError(f"{path}:{line_numbers[0]}: a time column needs at least 2 lines")
+    steps = np.diff(t)
+    back = np.flatnonzero(steps <= 0)
+    if back.size:
+        k = back[0] + 1
+        raise RecordError(f"{path}:{line_numbers[k]}: time {t[k]:.6g} s does not come after {t[k - 1]:.6g} s "
+                          f"on line {line_numbers[k - 1]}: the time column must increase strictly")
+    step = float(np.median(steps))
+    off = np.flatnonzero(np.abs(steps - step) > TIME_STEP_TOLERANCE * step)
+    if off.size:
+        k = off[0] + 1
+        raise RecordError(f"{path}:{line_numbers[k]}: time step {steps[k - 1]:.6g} s differs "
+                          f"from the record's step {step:.6g} s (uneven sampling is not supported)")
+    return check_dt(step, str(path), "the time column's step"), float(t[0])
 
 
 def _read_lines(path: Path) -> list:
@@ -173,7 +226,9 @@ def _read_lines(path: Path) -> list:
         with open(path, encoding="utf-8", errors="strict", newline=None) as fh:
             return fh.read().splitlines()
     except FileNotFoundError:
-        raise RecordError(f"{path}: no such record file") from None
+        raise RecordError(f"{path}: no such record file{_bundled_hint(str(path))}") from None
+    except IsADirectoryError:
+        raise RecordError(f"{path}: is a folder, not a record file") from None
     except UnicodeDecodeError as exc:
         raise RecordError(f"{path}: not a text file ({exc.reason} at byte {exc.start})") from None
 

@@ -15,6 +15,13 @@ from ..engine import geometry
 from ..engine.contact import ContactParameters
 
 STANDARD_GRAVITY = 9.81  # m/s^2, the value FORMULATION's onset figures use (g b/h = 1.635 for 1 x 6 m)
+#: an overlap of two blocks smaller than this times the product of their sizes is round-off, not
+#: penetration: coordinates carry a relative error of about 1e-16, so faces that meet (a tilted stack's
+#: joints) can cross by slivers of order 1e-16 L^2, whose area over their tiny length is no depth at all
+OVERLAP_ROUNDOFF = 1e-12
+#: a block rests on another when the gap between them is at most this fraction of the smaller extent
+#: of the two: what a block is dropped from within it is a settling, not a fall
+SUPPORT_GAP = 0.01
 
 
 class SceneError(ValueError):
@@ -136,6 +143,10 @@ class Scene:
         column, not one drum); sets the default contact damping
         (:func:`dem_core.engine.contact.housner_damping_ratio`).  The builders set
         it; None takes atan(width/height) of the blocks' bounding box.
+    allow_free_blocks : accept blocks that start out of contact with the base and
+        with every block resting on it (they fall from t = 0).  By default such a
+        scene is refused, naming the blocks: a free fall is rarely meant and ends
+        in results that read as an overturn.
     """
 
     blocks: tuple
@@ -145,6 +156,7 @@ class Scene:
     gravity: float = STANDARD_GRAVITY
     overlap_tolerance: float = 1e-4
     slenderness: float | None = None
+    allow_free_blocks: bool = False
 
     def __post_init__(self):
         blocks = tuple(self.blocks)
@@ -177,7 +189,7 @@ class Scene:
             raise SceneError(f"gravity must be >= 0, got {self.gravity}")
         if self.slenderness is not None and not 0 < self.slenderness < np.pi / 2:
             raise SceneError(f"slenderness must be an angle in (0, pi/2) rad, got {self.slenderness}")
-        self._check_initial_overlaps()
+        self._check_start()
 
     @property
     def rocking_slenderness(self) -> float:
@@ -241,16 +253,83 @@ class Scene:
                 if np.hypot(*offset) <= p.circumradius + q.circumradius:
                     yield i, j, p, q, offset
 
-    def _check_initial_overlaps(self):
-        for _, _, p, q, _ in self._pairs_within_reach():
-            contact = geometry.contact_geometry(p.vertices, q.vertices)
-            if contact is None:
-                continue
-            depth = contact.area / max(contact.length, 1e-300)
-            allowed = self.overlap_tolerance * min(p.width, p.height, q.width, q.height)
-            if depth > allowed:
-                raise SceneError(
-                    f"blocks '{p.name}' and '{q.name}' overlap at the start "
-                    f"(area {contact.area:.3e} m^2, mean penetration {depth:.3e} m > tolerance {allowed:.3e} m)"
-                )
+    def _pairs_near(self, slack: float):
+        """``(i, j)`` of the pairs whose bounding boxes are at most ``slack`` times the smaller extent
+        of the two apart."""
+        low = np.array([b.vertices.min(axis=0) for b in self.bodies])
+        high = np.array([b.vertices.max(axis=0) for b in self.bodies])
+        extents = np.min(high - low, axis=1)
+        for i in range(len(low) - 1):
+            apart = np.max(np.maximum(low[i + 1:] - high[i], low[i] - high[i + 1:]), axis=1)
+            for j in np.flatnonzero(apart <= slack * np.minimum(extents[i], extents[i + 1:])):
+                yield i, i + 1 + int(j)
 
+    def _check_start(self):
+        """Refuse blocks that start overlapping (beyond round-off) or, unless allowed, out of contact."""
+        bodies = self.bodies
+        neighbours = {k: set() for k in range(len(bodies))}
+        for i, j in self._pairs_near(SUPPORT_GAP):
+            p, q = bodies[i], bodies[j]
+            contact = geometry.contact_geometry(p.vertices, q.vertices)
+            if contact is not None and contact.area > OVERLAP_ROUNDOFF * _size(p) * _size(q):
+                depth = contact.area / max(contact.length, 1e-300)
+                allowed = self.overlap_tolerance * _smaller_extent(p, q)
+                if depth > allowed:
+                    raise SceneError(
+                        f"blocks '{p.name}' and '{q.name}' overlap at the start "
+                        f"(area {contact.area:.3e} m^2, mean penetration {depth:.3e} m > tolerance {allowed:.3e} m)"
+                    )
+            if contact is not None or _distance(p.vertices, q.vertices) <= SUPPORT_GAP * _smaller_extent(p, q):
+                neighbours[i].add(j)
+                neighbours[j].add(i)
+        if not self.allow_free_blocks:
+            self._check_supported(neighbours)
+
+    def _check_supported(self, neighbours):
+        supported, frontier = {0}, [0]
+        while frontier:
+            for k in neighbours[frontier.pop()] - supported:
+                supported.add(k)
+                frontier.append(k)
+        free = [k for k in range(1, len(self.bodies)) if k not in supported]
+        if not free:
+            return
+        bodies = self.bodies
+        gaps = []
+        for k in free[:3]:
+            gap, nearest = min((_distance(bodies[k].vertices, bodies[s].vertices), s) for s in supported)
+            gaps.append(f"'{bodies[k].name}' is {gap:.4g} m from '{bodies[nearest].name}'")
+        names = ", ".join(f"'{bodies[k].name}'" for k in free[:3]) + (f" and {len(free) - 3} more" if len(free) > 3
+                                                                        else "")
+        one = len(free) == 1
+        raise SceneError(
+            f"block{'' if one else 's'} {names} start{'s' if one else ''} out of contact with the base and with every "
+            f"block resting on it ({'; '.join(gaps)}): {'it' if one else 'they'} would fall freely from t = 0. "
+            f"Move {'it' if one else 'them'} onto {'its' if one else 'their'} support, or allow free blocks: "
+            f"Scene(..., allow_free_blocks=True), or allow_free_blocks = true in a scene file's [scene] table"
+        )
+
+
+def _size(block: Block) -> float:
+    """Larger extent of a block at the start, m."""
+    return max(block.width, block.height)
+
+
+def _smaller_extent(p: Block, q: Block) -> float:
+    """Smallest of the widths and heights of two blocks at the start, m."""
+    return min(p.width, p.height, q.width, q.height)
+
+
+def _distance(p, q) -> float:
+    """Distance between convex polygons ``p`` and ``q`` (vertices (n, 2), m) that do not overlap: the
+    shortest from a vertex of one to an edge of the other."""
+    return min(_vertices_to_edges(p, q), _vertices_to_edges(q, p))
+
+
+def _vertices_to_edges(points, polygon) -> float:
+    """Shortest distance from any of ``points`` (n, 2) to the outline of ``polygon`` (m, 2), m."""
+    start = polygon
+    edge = np.roll(polygon, -1, axis=0) - start
+    offset = points[:, None, :] - start[None, :, :]
+    along = np.clip(np.sum(offset * edge, axis=2) / np.sum(edge * edge, axis=1), 0.0, 1.0)
+    return float(np.sqrt(np.min(np.sum((offset - along[:, :, None] * edge) ** 2, axis=2))))

@@ -14,6 +14,8 @@ or ``epistyle1``/``epistyle2``; in two-tier colonnades ``lower_``/``upper_``
 prefixes.  The base is ``base``.
 """
 
+import numbers
+
 import numpy as np
 
 from ..engine.contact import ContactParameters
@@ -21,6 +23,8 @@ from ..engine.geometry import rectangle, transform
 from .scene import Block, Scene, SceneError
 
 BASE_HEIGHT = 1.0  # m; the base is kinematic, its thickness only places its centroid
+#: most blocks a builder makes: past this, a count is surely a typo (a real colonnade has hundreds)
+MAX_BLOCKS = 10_000
 
 
 def _base(width: float, friction: float, depth: float) -> Block:
@@ -29,21 +33,50 @@ def _base(width: float, friction: float, depth: float) -> Block:
 
 
 def _scene(blocks, base_width, friction, depth, contact, interface_friction, slenderness):
+    if base_width is not None:
+        _positive(base_width=base_width)
     span = max(b.vertices[:, 0].max() for b in blocks) - min(b.vertices[:, 0].min() for b in blocks)
     tall = max(b.vertices[:, 1].max() for b in blocks)
     # wide enough that the tallest block toppling outwards still lands on it
     base_width = span + 4.0 * tall if base_width is None else base_width
-    if base_width <= 0:
-        raise SceneError(f"base_width must be positive, got {base_width}")
     return Scene(tuple(blocks), _base(base_width, friction, depth),
                  contact=contact or ContactParameters(), interface_friction=interface_friction or {},
                  slenderness=slenderness)
 
 
+def _number(name: str, value) -> float:
+    """``value`` as a float if it is a finite number (not a boolean, not a string)."""
+    if isinstance(value, bool) or not isinstance(value, numbers.Real):
+        raise SceneError(f"{name} must be a number, got {value!r}")
+    if not np.isfinite(value):
+        raise SceneError(f"{name} must be finite, got {value}")
+    return float(value)
+
+
 def _positive(**values):
     for k, v in values.items():
-        if not (np.isfinite(v) and v > 0):
+        if not _number(k, v) > 0:
             raise SceneError(f"{k} must be positive, got {v}")
+
+
+def _count(name: str, value, minimum: int) -> int:
+    """``value`` as an int if it is a whole number (a float without fraction too, not a boolean) >= ``minimum``."""
+    whole = isinstance(value, numbers.Integral) or (isinstance(value, numbers.Real) and float(value).is_integer())
+    if isinstance(value, bool) or not whole or value < minimum:
+        raise SceneError(f"{name} must be {'a positive integer' if minimum == 1 else f'an integer >= {minimum}'}, "
+                         f"got {value!r}")
+    return int(value)
+
+
+def _not_too_many(count: int, what: str) -> None:
+    if count > MAX_BLOCKS:
+        raise SceneError(f"{what} would make {count} blocks; more than {MAX_BLOCKS} is surely a typo")
+
+
+def _materials(density, friction, depth):
+    """Type checks of the material keywords every builder takes (their ranges are the blocks' to check)."""
+    for name, value in (("density", density), ("friction", friction), ("depth", depth)):
+        _number(name, value)
 
 
 def block(width: float, height: float, tilt: float = 0.0, *, density: float = 2700.0, friction: float = 0.7,
@@ -56,6 +89,8 @@ def block(width: float, height: float, tilt: float = 0.0, *, density: float = 27
         negative on the right corner.
     """
     _positive(width=width, height=height)
+    _materials(density, friction, depth)
+    tilt = _number("tilt", tilt)
     v = rectangle(width, height, -width / 2.0, 0.0)
     if tilt:
         pivot = np.array([-width / 2.0 if tilt > 0 else width / 2.0, 0.0])
@@ -74,34 +109,54 @@ def stack(sizes, tilt: float = 0.0, *, density: float = 2700.0, friction: float 
         ``block1`` it rests on (sign as in :func:`block`); each block's initial
         angle is ``tilt``.
     """
-    if not len(sizes):
-        raise SceneError("a stack needs at least one block")
+    if isinstance(sizes, (str, bytes)) or not len(sizes):
+        raise SceneError("a stack needs at least one block: sizes = ((width, height), ...)")
+    _not_too_many(len(sizes), "sizes")
+    for k, size in enumerate(sizes):
+        if isinstance(size, (str, bytes)) or np.shape(size) != (2,):
+            raise SceneError(f"size of block{k + 1} must be a (width, height) pair, got {size!r}")
+        _positive(**{f"width of block{k + 1}": size[0], f"height of block{k + 1}": size[1]})
+    _materials(density, friction, depth)
+    tilt = _number("tilt", tilt)
     blocks, y = [], 0.0
     pivot = np.array([-sizes[0][0] / 2.0 if tilt > 0 else sizes[0][0] / 2.0, 0.0])
     for k, (w, h) in enumerate(sizes):
-        _positive(**{f"width of block{k + 1}": w, f"height of block{k + 1}": h})
         v = rectangle(w, h, -w / 2.0, y)
         if tilt:
             v = transform(v - pivot, tilt, pivot)
+            below = -v[:, 1].min()
+            if below > 1e-4 * min(w, h):  # the default overlap tolerance of Scene
+                raise SceneError(f"tilted by {tilt:g} rad about a bottom corner of block1, block{k + 1} ({w:g} m wide) "
+                                 f"reaches {below:.3g} m below the base top: a block wider than those below it "
+                                 f"cannot tilt with them")
         blocks.append(Block(f"block{k + 1}", v, density=density, depth=depth, friction=friction, angle=tilt))
         y += h
     return _scene(blocks, base_width, friction, depth, contact, interface_friction,
                   np.arctan2(sizes[0][0], sizes[0][1]))
 
 
-def _column_blocks(n_drums, width, height, taper, capital, x_centre, y0, density, friction, depth, prefix):
-    """Drums (trapezoids if tapered) and an optional capital, bottom to top."""
-    if int(n_drums) != n_drums or n_drums < 1:
-        raise SceneError(f"n_drums must be a positive integer, got {n_drums}")
-    _positive(width=width, height=height)
-    if not 0.0 <= taper < 2.0:
+def _check_column(n_drums, width, height, taper=0.0, capital=None, tier=""):
+    """Type and range checks of a column's shape; ``tier`` ("lower_", "upper_") names the keywords."""
+    n_drums = _count(f"{tier}drums" if tier else "n_drums", n_drums, 1)
+    _positive(**{f"{tier}width": width, f"{tier}height": height})
+    if not 0.0 <= _number("taper", taper) < 2.0:
         raise SceneError(f"taper must be in [0, 2), got {taper}")
+    if capital is not None:
+        if isinstance(capital, (str, bytes)) or np.shape(capital) != (2,):
+            raise SceneError(f"capital must be a (width, height) pair in m, got {capital!r}")
+        _positive(capital_width=capital[0], capital_height=capital[1])
+    return n_drums
+
+
+def _column_blocks(n_drums, width, height, taper, capital, x_centre, y0, density, friction, depth, prefix):
+    """Drums (trapezoids if tapered) and an optional capital, bottom to top (arguments checked by
+    :func:`_check_column`)."""
     # mean width equals `width`, so the tapered column has the prismatic column's mass
     w_bottom = width / (1.0 - taper / 2.0) if taper else width
     w_top = w_bottom * (1.0 - taper)
     drum_h = height / n_drums
     blocks = []
-    for k in range(int(n_drums)):
+    for k in range(n_drums):
         f0, f1 = k / n_drums, (k + 1) / n_drums
         wb = w_bottom + (w_top - w_bottom) * f0
         wt = w_bottom + (w_top - w_bottom) * f1
@@ -111,7 +166,6 @@ def _column_blocks(n_drums, width, height, taper, capital, x_centre, y0, density
     top = y0 + height
     if capital is not None:
         cw, ch = capital
-        _positive(capital_width=cw, capital_height=ch)
         blocks.append(Block(f"{prefix}capital", rectangle(cw, ch, x_centre - cw / 2.0, top),
                             density=density, depth=depth, friction=friction))
         top += ch
@@ -129,6 +183,9 @@ def column(n_drums: int = 8, width: float = 1.0, height: float = 6.0, *, taper: 
         ``width`` so a tapered column has the prismatic column's mass.
     capital : (width, height) in m of a block on top, or None.
     """
+    n_drums = _check_column(n_drums, width, height, taper, capital)
+    _not_too_many(n_drums, f"n_drums = {n_drums}")
+    _materials(density, friction, depth)
     blocks, top = _column_blocks(n_drums, width, height, taper, capital, 0.0, 0.0, density, friction, depth, "")
     return _scene(blocks, base_width, friction, depth, contact, interface_friction, np.arctan2(width, top))
 
@@ -170,8 +227,10 @@ def colonnade(n_columns: int = 3, n_drums: int = 3, spacing: float = 2.5, *, epi
     epistyle_density : kg/m^3 (5000 to 10000 models the lost frieze load).
     epistyle_height : m.  Other arguments as :func:`column`.
     """
-    if int(n_columns) != n_columns or n_columns < 2:
-        raise SceneError(f"n_columns must be an integer >= 2, got {n_columns}")
+    n_columns = _count("n_columns", n_columns, 2)
+    n_drums = _check_column(n_drums, width, height, taper, capital)
+    _not_too_many(n_columns * n_drums, f"n_columns = {n_columns} columns of n_drums = {n_drums}")
+    _materials(density, friction, depth)
     _positive(spacing=spacing, epistyle_height=epistyle_height, epistyle_density=epistyle_density)
     top_width = capital[0] if capital is not None else width * (1.0 - taper) / (1.0 - taper / 2.0)
     if spacing < top_width:
@@ -198,9 +257,13 @@ def two_tier_colonnade(n_columns: int = 3, spacing: float = 2.5, *, lower_drums:
     Both rows stand on the same centre lines, ``spacing`` apart; each row
     carries epistyles of type ``epistyle`` (see :func:`colonnade`).
     """
-    if int(n_columns) != n_columns or n_columns < 2:
-        raise SceneError(f"n_columns must be an integer >= 2, got {n_columns}")
-    _positive(spacing=spacing, epistyle_height=epistyle_height)
+    n_columns = _count("n_columns", n_columns, 2)
+    lower_drums = _check_column(lower_drums, lower_width, lower_height, tier="lower_")
+    upper_drums = _check_column(upper_drums, upper_width, upper_height, tier="upper_")
+    _not_too_many(n_columns * (lower_drums + upper_drums), f"n_columns = {n_columns} columns of "
+                  f"lower_drums = {lower_drums} and upper_drums = {upper_drums}")
+    _materials(density, friction, depth)
+    _positive(spacing=spacing, epistyle_height=epistyle_height, epistyle_density=epistyle_density)
     if spacing < max(lower_width, upper_width):
         raise SceneError(f"spacing {spacing} m is smaller than a column width: columns would overlap")
     centres = (np.arange(n_columns) - (n_columns - 1) / 2.0) * spacing

@@ -1,0 +1,333 @@
+"""Ordinary mistakes in records, scene files and geometry get an error that names the culprit.
+
+Each test is one mistake a new user made; the old behaviour is in its docstring.
+"""
+
+import copy
+import inspect
+import math
+import signal
+from dataclasses import fields
+
+import numpy as np
+import pytest
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
+
+import dem_core
+from dem_core import excitation, scenes
+from dem_core.engine.geometry import rectangle
+from dem_core.inputs.records import RecordError
+from dem_core.inputs import scene_file
+from dem_core.inputs.scene import Block, Scene, SceneError
+from dem_core.inputs.scene_file import SceneFileError
+
+AT2 = "HEAD\nEVENT\nACCELERATION TIME SERIES IN UNITS OF G\nNPTS=    4, DT= {dt} SEC\n .1 .2\n -.1 .05\n"
+
+
+# --- records -----------------------------------------------------------------------------------------
+
+@pytest.mark.parametrize("dt", [0.0, float("nan"), -0.01, 1e-9])
+def test_one_column_record_with_a_meaningless_dt(tmp_path, dt):
+    """Was ZeroDivisionError for dt = 0 and 'cannot convert float NaN to integer' for NaN."""
+    path = tmp_path / "one.txt"
+    path.write_text("0.1\n0.2\n0.3\n0.1\n")
+    with pytest.raises(RecordError, match=r"one\.txt: dt must be a finite sampling interval of at least 1e-06 s"):
+        excitation.record(path, dt=dt)
+
+
+def test_at2_with_a_tiny_dt(tmp_path):
+    """Was LinAlgError: Singular matrix, from the baseline correction."""
+    path = tmp_path / "tiny.AT2"
+    path.write_text(AT2.format(dt="1e-300"))
+    with pytest.raises(RecordError, match=r"tiny\.AT2:4: DT must be a finite sampling interval .* got 1e-300"):
+        excitation.record(path)
+
+
+def test_at2_with_an_unreadable_dt(tmp_path):
+    """Was a bare "could not convert string to float: '.01.0'" naming no file."""
+    path = tmp_path / "dots.AT2"
+    path.write_text(AT2.format(dt=".01.0"))
+    with pytest.raises(RecordError, match=r"dots\.AT2:4: cannot read DT '\.01\.0'"):
+        excitation.record(path)
+
+
+def test_baseline_correction_does_not_depend_on_the_unit_of_time():
+    """Was a singular system for small steps: its equations were written in powers of t_end."""
+    a = np.array([0.1, 0.3, -0.2, 0.05])
+    np.testing.assert_allclose(excitation.baseline_correct(a, 1e-150), excitation.baseline_correct(a, 0.01))
+
+
+def test_time_column_that_goes_backwards_names_its_line(tmp_path):
+    """Was taken quietly as 'no time column'."""
+    lines = [f"{0.01 * k:.2f} {math.sin(k / 10):.4f}" for k in range(400)]
+    lines[300] = "2.98 0.1"
+    path = tmp_path / "back.txt"
+    path.write_text("# t a\n" + "\n".join(lines) + "\n")
+    with pytest.raises(RecordError, match=r"back\.txt:302: time 2\.98 s does not come after 2\.99 s on line 301"):
+        excitation.record(path)
+
+
+def test_time_column_with_another_step_than_the_dt_given(tmp_path):
+    """Was read as two acceleration columns, the time column taken as the motion."""
+    path = tmp_path / "rec.txt"
+    path.write_text("".join(f"{0.02 * k:.2f} {math.sin(k):.4f}\n" for k in range(50)))
+    with pytest.raises(RecordError, match=r"dt=0\.01 was given but the time column steps by 0\.02"):
+        excitation.record(path, dt=0.01)
+
+
+def test_nan_in_an_array_record_is_named_at_its_own_sample():
+    """Was 'sample 0 is not finite': the baseline correction had spread the NaN first."""
+    a = np.sin(np.arange(100) / 5.0)
+    a[5] = np.nan
+    with pytest.raises(RecordError, match=r"array record: sample 5 is not finite \(nan\)"):
+        excitation.record(a, dt=0.01)
+
+
+@pytest.mark.parametrize("argument, value", [("pga", float("nan")), ("pga", -1.0), ("scale", float("inf")),
+                                             ("scale", 0.0), ("pga", "3")])
+def test_pga_and_scale_must_be_finite_and_positive(argument, value):
+    """Was 'el_centro_1940: sample 0 is not finite', naming neither pga nor scale."""
+    with pytest.raises(RecordError, match=rf"el_centro_1940: {argument}.* must be a finite positive number"):
+        excitation.record("el_centro_1940", **{argument: value})
+
+
+def test_mistyped_bundled_record_name_gets_the_close_match_and_the_list():
+    """Was 'el_centro_194: no such record file'."""
+    with pytest.raises(RecordError) as info:
+        excitation.record("el_centro_194")
+    message = str(info.value)
+    assert "did you mean the bundled 'el_centro_1940'?" in message
+    assert "el_centro_1940, mexico_city_1985, northridge_1994, kalamata_1986" in message
+
+
+def test_record_of_one_sample(tmp_path):
+    path = tmp_path / "one.AT2"
+    path.write_text(AT2.replace("NPTS=    4", "NPTS=    1").format(dt=".01").replace(" .2\n -.1 .05\n", "\n"))
+    with pytest.raises(RecordError, match="at least 2 samples, found 1"):
+        excitation.record(path)
+
+
+# --- geometry ----------------------------------------------------------------------------------------
+
+def test_tilted_stack_accepts_its_own_round_off_and_real_overlaps_are_still_refused():
+    """Was refused: a 3e-18 m^2 sliver where block3 meets block4 read as a 7 mm mean penetration."""
+    scene = scenes.stack([(1.2, 0.8), (1.0, 0.3), (0.8, 0.5), (0.5, 0.8), (0.4, 0.02), (0.4, 0.3)], tilt=-0.277)
+    assert scene.block_names[-1] == "block6"
+    base = Block("base", rectangle(10, 1, -5, -1))
+    slab = Block("slab", rectangle(1.0, 0.02, -0.5, 0.0))
+    with pytest.raises(SceneError, match="'slab' and 'lid' overlap"):
+        Scene((slab, Block("lid", rectangle(1.0, 0.02, -0.5, 0.0199))), base)
+
+
+def test_block_floating_above_the_base_is_refused_by_name():
+    """Was accepted, and its free fall reported as 'overturned at t = 0.319 s'."""
+    base = Block("base", rectangle(10, 1, -5, -1))
+    stone = Block("stone", rectangle(1.0, 1.0, -0.5, 2.0))
+    with pytest.raises(SceneError, match=r"block 'stone' starts out of contact .*'stone' is 2 m from 'base'.*"
+                                         r"allow_free_blocks=True"):
+        Scene((stone,), base)
+    assert Scene((stone,), base, allow_free_blocks=True).block_names == ["stone"]
+
+
+def test_blocks_floating_together_are_refused_and_a_settling_gap_is_not():
+    base = Block("base", rectangle(10, 1, -5, -1))
+    pair = (Block("lower", rectangle(1.0, 1.0, -0.5, 2.0)), Block("upper", rectangle(1.0, 1.0, -0.5, 3.0)))
+    with pytest.raises(SceneError, match=r"blocks 'lower', 'upper' start out of contact"):
+        Scene(pair, base)
+    assert Scene((Block("stone", rectangle(1.0, 1.0, -0.5, 0.002)),), base).block_names == ["stone"]
+
+
+@pytest.mark.parametrize("make, message", [
+    (lambda: scenes.column(n_drums=True), "n_drums must be a positive integer, got True"),
+    (lambda: scenes.column(width="1.0"), "width must be a number, got '1.0'"),
+    (lambda: scenes.block(1.0, 2.0, density="2700"), "density must be a number, got '2700'"),
+    (lambda: scenes.colonnade(n_columns="3"), "n_columns must be an integer >= 2, got '3'"),
+    (lambda: scenes.two_tier_colonnade(upper_drums=0), "upper_drums must be a positive integer, got 0"),
+    (lambda: scenes.stack([(1.0, 0.05), (2.0, 1.0)], tilt=0.3), r"block2 \(2 m wide\) reaches .* below the base top"),
+])
+def test_builders_name_the_argument_of_the_wrong_type(make, message):
+    with pytest.raises(SceneError, match=message):
+        make()
+
+
+# --- scene files -------------------------------------------------------------------------------------
+
+BLOCK_FILE = '[scene]\nbuilder = "block"\nwidth = 1.0\nheight = 2.0\n'
+
+
+def load_text(tmp_path, text):
+    path = tmp_path / "broken.toml"
+    path.write_text(text)
+    return scene_file.load(path)
+
+
+@pytest.mark.parametrize("text, message", [
+    (BLOCK_FILE + '[simulation]\nduration = "0.1"\n',
+     r"\[simulation\] duration: expected a finite number, got the string '0\.1' \(write numbers without quotes\)"),
+    (BLOCK_FILE + '[simulation]\noutput_dt = "0.01"\n',
+     r"\[simulation\] output_dt: expected a finite number, got the string '0\.01'"),
+    ('scene = "column"\n', r"scene must be a table .*got the string 'column'"),
+    ('[scene]\nbuilder = "column"\nwidth = "1.0"\n',
+     r"\[scene\] width: expected a finite number, got the string '1\.0'"),
+    ('[scene]\nbuilder = "column"\n[contact]\nkn = "2e10"\n',
+     r"\[contact\] kn: expected a finite number, got the string '2e10'"),
+    ('[scene]\nbuilder = "column"\nn_drums = true\n',
+     r"\[scene\] n_drums: expected an integer, got true \(a boolean\)"),
+    ('[scene]\nbuilder = "column"\nn_drums = 2.5\n', r"\[scene\] n_drums: expected an integer, got the number 2\.5"),
+    (BLOCK_FILE + '[output]\nplots = "false"\n', r"\[output\] plots: expected true or false, got the string 'false' "
+                                                 r"\(write true or false without quotes\)"),
+    (BLOCK_FILE + "[simulation]\nduration = nan\n",
+     r"\[simulation\] duration: expected a finite number, got the number nan"),
+    ('[scene]\nbuilder = "column"\ncapital = [1.2]\n', r"\[scene\] capital: expected a pair of numbers"),
+    ('[scene]\nbuilder = "column"\ninterface_friction = [{between = ["base", 1], mu = 0.1}]\n',
+     r"interface_friction entry 1 between: expected two block names"),
+    ('[scene]\nbuilder = "block"\nwidth = 1.0\n', r"\[scene\] builder 'block' needs height"),
+    (BLOCK_FILE + '[excitation]\nkind = "sine_pulse"\nduration = 0.5\n',
+     r"\[excitation\] kind 'sine_pulse' needs amplitude"),
+    (BLOCK_FILE + '[excitation]\nkind = "ramp"\nrate = 0.0\n', r"\[excitation\]: ramp rate must not be zero"),
+    (BLOCK_FILE + '[excitation]\nkind = "record"\nsource = "el_centro_1940"\npga = "3"\n',
+     r"\[excitation\] pga: expected a finite number, got the string '3'"),
+    ('[scene]\nbuilder = "blocks"\n[[block]]\nname = "stone"\nvertices = [[0, 2], [1, 2], [1, 3]]\n'
+     '[base]\nvertices = [[-5, -1], [5, -1], [5, 0], [-5, 0]]\n', r"block 'stone' starts out of contact"),
+    ('[scene]\nbuilder = "blocks"\n[[block]]\nname = "stone"\nvertices = [[0, 0], [1, 0], ["1", 1]]\n'
+     '[base]\nvertices = [[-5, -1], [5, -1], [5, 0], [-5, 0]]\n',
+     r"\[\[block\]\] number 1 \(stone\) vertices: expected a list of \[x, y\] points"),
+    ('[scene]\nbuilder = "column"\n[[block]]\nname = "stone"\nvertices = [[0, 0], [1, 0], [1, 1]]\n',
+     r"\[\[block\]\] and \[base\] tables describe a scene block by block, with builder = \"blocks\""),
+])
+def test_scene_file_mistakes_name_file_table_key_type_and_value(tmp_path, text, message):
+    """Were raw TypeErrors, numpy's "ufunc 'isfinite' not supported", or accepted (n_drums = true)."""
+    with pytest.raises(SceneFileError, match=message) as info:
+        load_text(tmp_path, text)
+    assert str(info.value).startswith(str(tmp_path / "broken.toml"))
+
+
+def test_scene_file_may_allow_free_blocks(tmp_path):
+    spec = load_text(tmp_path, '[scene]\nbuilder = "blocks"\nallow_free_blocks = true\n'
+                               '[[block]]\nname = "stone"\nvertices = [[0, 2], [1, 2], [1, 3]]\n'
+                               '[base]\nvertices = [[-5, -1], [5, -1], [5, 0], [-5, 0]]\n')
+    assert spec.scene.allow_free_blocks and spec.scene.block_names == ["stone"]
+
+
+def test_every_key_a_scene_file_accepts_has_a_type():
+    """The type tables cover every keyword of the builders, excitations, contact and simulation."""
+    for builder in scene_file.BUILDERS.values():
+        keywords = set(inspect.signature(builder).parameters) - {"contact", "interface_friction"}
+        assert keywords <= set(scene_file.SCENE_TYPES)
+    for function in scene_file.EXCITATIONS.values():
+        assert set(inspect.signature(function).parameters) <= set(scene_file.EXCITATION_TYPES)
+    assert {f.name for f in fields(dem_core.ContactParameters)} == set(scene_file.CONTACT_TYPES)
+    assert set(scene_file.SIMULATION_TYPES) <= set(inspect.signature(dem_core.simulate).parameters)
+
+
+# --- fuzzing: whatever goes into a scene file or a record, the answer is a result or the toolkit's error ----
+
+VALID_FILES = [
+    {"scene": {"builder": "column", "n_drums": 3, "width": 1.0, "height": 6.0, "capital": [1.2, 0.4],
+               "interface_friction": [{"between": ["base", "drum1"], "mu": 0.1}]},
+     "contact": {"kn": 2e10}, "excitation": {"kind": "record", "source": "kalamata_1986", "pga": 3.0},
+     "simulation": {"duration": 1.0, "output_dt": 0.01}, "output": {"format": "csv", "plots": False}},
+    {"scene": {"builder": "colonnade", "n_columns": 3, "n_drums": 2, "epistyle": "b", "spacing": 2.5},
+     "excitation": {"kind": "harmonic", "pga": 2.0, "frequency": 1.0}, "simulation": {"stop_at_overturn": False}},
+    {"scene": {"builder": "blocks"},
+     "block": [{"name": "stone", "vertices": [[-0.5, 0.0], [0.5, 0.0], [0.3, 1.0]], "density": 2500.0}],
+     "base": {"vertices": [[-5.0, -1.0], [5.0, -1.0], [5.0, 0.0], [-5.0, 0.0]], "friction": 0.6},
+     "excitation": {"kind": "ramp", "rate": 0.5, "peak": 3.0}},
+]
+toml_values = st.recursive(
+    st.one_of(st.text(max_size=8), st.integers(), st.floats(), st.booleans(), st.datetimes(), st.dates(), st.times()),
+    lambda inner: st.lists(inner, max_size=3) | st.dictionaries(st.text(max_size=6), inner, max_size=3),
+    max_leaves=6)
+
+
+def _places(data):
+    """(table, key) places of a scene file where a value can go: every table, and every keyword of the
+    builders, excitations, contact parameters and ``simulate`` (accepted or not)."""
+    def keywords(*functions):
+        return {name for function in functions for name in inspect.signature(function).parameters}
+
+    keys = {
+        "scene": keywords(*scene_file.BUILDERS.values()) | {"builder", "allow_free_blocks", "slenderness"},
+        "contact": {f.name for f in fields(dem_core.ContactParameters)},
+        "excitation": keywords(*scene_file.EXCITATIONS.values()) | {"kind"},
+        "simulation": keywords(dem_core.simulate) - {"scene", "excitation"},
+        "output": {"format", "plots"},
+        "base": {"vertices", "friction", "depth"},
+        "block": {"name", "vertices", "density", "friction", "depth", "angle"},
+    }
+    places = [(None, table) for table in keys]
+    for table, names in keys.items():
+        if table in data or table in ("contact", "simulation", "output"):
+            places += [(table, name) for name in sorted(names)]
+    return places
+
+
+@settings(max_examples=60, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture])
+@given(template=st.sampled_from(VALID_FILES), choice=st.data(), value=toml_values)
+def test_fuzzed_scene_files_give_a_scene_or_a_scene_file_error(tmp_path, template, choice, value):
+    data = copy.deepcopy(template)
+    table, key = choice.draw(st.sampled_from(_places(data)))
+    if table is None:
+        data[key] = value
+    elif table == "block":
+        data["block"][0][key] = value
+    else:
+        data.setdefault(table, {})[key] = value
+    path = tmp_path / "fuzzed.toml"
+    try:
+        scene_file.from_dict(data, path)
+    except SceneFileError as exc:
+        assert str(exc).startswith(str(path))
+
+
+numbers = st.floats(-10.0, 10.0).map(lambda x: f"{x:.4g}")
+junk = st.one_of(st.sampled_from(["nan", "inf", "1e400", "x", "1,2", ";", "#", "NPTS= 3, DT= 0", "DT=.01.0", "1e-300",
+                                  "", "3.0.0", "0x1p-3"]), st.text(max_size=4))
+tokens = st.one_of(numbers, numbers, numbers, numbers, junk)
+
+
+@st.composite
+def junk_lines(draw):
+    """Lines of 1 to 3 columns, mostly numbers, the first column sometimes a time column, some lines broken."""
+    columns = draw(st.integers(1, 3))
+    timed = draw(st.booleans())
+    lines = []
+    for k in range(draw(st.integers(0, 12))):
+        row = draw(st.lists(tokens, min_size=columns, max_size=columns))
+        if timed:
+            row[0] = f"{0.01 * k + draw(st.sampled_from([0.0, 0.0, 0.0, -0.02, 0.005])):.3f}"
+        lines.append(" ".join(row))
+    return lines
+
+
+@settings(max_examples=60, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture])
+@given(lines=junk_lines(), header=st.booleans(), dt=st.sampled_from([None, 0.01, 0.0, float("nan")]))
+def test_fuzzed_records_give_a_motion_or_a_record_error(tmp_path, lines, header, dt):
+    if header:
+        path = tmp_path / "fuzzed.AT2"
+        lines = ["HEAD", "EVENT", "ACCELERATION TIME SERIES IN UNITS OF G", *lines]
+    else:
+        path = tmp_path / "fuzzed.txt"
+    path.write_text("\n".join(lines) + "\n", encoding="utf-8", errors="surrogatepass")
+    try:
+        motion = excitation.record(path, dt=dt)
+    except RecordError as exc:
+        assert str(path) in str(exc)
+    else:
+        assert np.all(np.isfinite(motion.horizontal.samples))
+
+
+def test_a_count_that_is_surely_a_typo_is_refused_before_building():
+    """Was: a builder looping over 10**12 drums (stopped here after 5 s)."""
+    def give_up(signum, frame):
+        raise TimeoutError("still building after 5 s")
+
+    previous = signal.signal(signal.SIGALRM, give_up)
+    signal.alarm(5)
+    try:
+        with pytest.raises(SceneError, match=r"n_drums = 1000000000000 would make 1000000000000 blocks"):
+            scenes.column(10**12)
+    finally:
+        signal.alarm(0)
+        signal.signal(signal.SIGALRM, previous)
