@@ -3,9 +3,10 @@
 Mapping (FORMULATION sections 1 and 2), the scene's plane x-y becoming
 MuJoCo's x-z (z up) and the out-of-plane depth running along y:
 
-* geometry: each block is a prism of the scene's depth: a box for a
-  rectangle, otherwise a convex mesh of the extruded outline; the base is a
-  box fixed to the world.
+* geometry (:mod:`adapters._geometry`): each block is a prism of the
+  scene's depth: a box for a rectangle (turned to its starting angle),
+  otherwise a convex mesh of the extruded outline; the base likewise, fixed
+  to the world, with the depth of the deepest block.
 * planar motion: each block's body has three joints, slide x, slide z and a
   hinge about -y (so that a positive angle is counter-clockwise in the
   scene's plane); nothing else can move.
@@ -33,6 +34,7 @@ MuJoCo's x-z (z up) and the out-of-plane depth running along y:
 import mujoco
 import numpy as np
 
+from . import _geometry as geometry
 from ._driver import EngineRun, engine_settings, run
 
 DEFAULT_DT = 1e-3
@@ -54,16 +56,12 @@ def simulate(scene, excitation=None, duration=None, dt=None, output_dt=None, **o
 
 def model_xml(scene, dt: float, settings: dict) -> str:
     """The MJCF text of ``scene``."""
-    depth = max(b.depth for b in scene.bodies)
     assets, bodies, pairs = [], [], []
-    base = scene.base
-    lo, hi = base.vertices.min(axis=0), base.vertices.max(axis=0)
-    base_geom = (f'<geom name="g0" type="box" size="{_f((hi[0] - lo[0]) / 2)} {_f(depth / 2)} '
-                 f'{_f((hi[1] - lo[1]) / 2)}" pos="{_f((hi[0] + lo[0]) / 2)} 0 {_f((hi[1] + lo[1]) / 2)}" '
-                 f'contype="0" conaffinity="0"/>')
+    # the world's frame holds the base's outline
+    base_geom = _geom_xml(0, scene.base.vertices, max(b.depth for b in scene.bodies), assets)
     for k, blk in enumerate(scene.blocks, start=1):
-        c = blk.centroid
-        geom = _geom_xml(k, blk, assets)
+        c = geometry.start_pose(blk).centroid
+        geom = _geom_xml(k, geometry.outline_at_start(blk), blk.depth, assets)  # hinge angle 0 at the start
         bodies.append(
             f'<body name="b{k}" pos="{_f(c[0])} 0 {_f(c[1])}">'
             f'<joint name="x{k}" type="slide" axis="1 0 0"/><joint name="z{k}" type="slide" axis="0 0 1"/>'
@@ -86,27 +84,20 @@ def model_xml(scene, dt: float, settings: dict) -> str:
             f'<contact>{"".join(pairs)}</contact></mujoco>')
 
 
-def _geom_xml(k, blk, assets) -> str:
-    local = blk.vertices - blk.centroid
-    if _is_rectangle(blk.vertices):
-        edges = np.roll(local, -1, axis=0) - local
-        width, height = np.hypot(*edges[0]), np.hypot(*edges[1])
-        phi = np.arctan2(edges[0][1], edges[0][0])  # rotation of the first edge in the scene's plane
-        quat = f"{_f(np.cos(phi / 2))} 0 {_f(-np.sin(phi / 2))} 0"  # about -y: counter-clockwise in the plane
-        return (f'<geom name="g{k}" type="box" size="{_f(width / 2)} {_f(blk.depth / 2)} {_f(height / 2)}" '
+def _geom_xml(k, outline, depth, assets) -> str:
+    """The geom ``g{k}`` of a body whose frame holds ``outline`` (n, 2), m, with ``depth`` (m); a mesh goes to
+    ``assets``."""
+    box = geometry.rectangle(outline)
+    if box is not None:
+        half_x, half_z = box.half_extents
+        quat = f"{_f(np.cos(box.angle / 2))} 0 {_f(-np.sin(box.angle / 2))} 0"  # about -y: counter-clockwise
+        centred = np.max(np.abs(box.centre)) <= geometry.RECTANGLE_TOLERANCE * np.max(box.half_extents)
+        pos = "" if centred else f' pos="{_f(box.centre[0])} 0 {_f(box.centre[1])}"'
+        return (f'<geom name="g{k}" type="box" size="{_f(half_x)} {_f(depth / 2)} {_f(half_z)}"{pos} '
                 f'quat="{quat}" contype="0" conaffinity="0"/>')
-    half = blk.depth / 2
-    points = [f"{_f(x)} {_f(s * half)} {_f(y)}" for x, y in local for s in (-1.0, 1.0)]
-    assets.append(f'<mesh name="m{k}" vertex="{" ".join(points)}"/>')
+    points = " ".join(f"{_f(x)} {_f(y)} {_f(z)}" for x, y, z in geometry.prism(outline, depth).vertices)
+    assets.append(f'<mesh name="m{k}" vertex="{points}"/>')
     return f'<geom name="g{k}" type="mesh" mesh="m{k}" contype="0" conaffinity="0"/>'
-
-
-def _is_rectangle(v) -> bool:
-    if len(v) != 4:
-        return False
-    edges = np.roll(v, -1, axis=0) - v
-    dots = np.einsum("ij,ij->i", edges, np.roll(edges, -1, axis=0))
-    return bool(np.all(np.abs(dots) <= 1e-9 * np.sum(edges**2, axis=1).max()))
 
 
 def _f(x) -> str:
@@ -119,7 +110,7 @@ def _build(scene, dt, settings) -> EngineRun:
     except ValueError as exc:
         raise ValueError(f"mujoco could not build the scene: {exc}") from None
     data = mujoco.MjData(model)
-    start = np.array([[*b.centroid, b.angle] for b in scene.blocks])
+    start = geometry.start_states(scene.blocks)
 
     def set_gravity(gx, gy):
         model.opt.gravity[0] = gx

@@ -3,9 +3,12 @@
 Mapping (FORMULATION sections 1 and 2), the scene's plane x-y becoming
 Bullet's x-z (z up) and the out-of-plane depth running along y:
 
-* geometry: each block is a prism of the scene's depth: a box for a
-  rectangle, otherwise the convex hull of the extruded outline; the base is
-  a fixed box.
+* geometry (:mod:`adapters._geometry`): each block is a prism of the scene's
+  depth: a box for a rectangle whose edges run along the axes at the start,
+  otherwise the convex hull of the extruded outline; the base likewise,
+  fixed.  A rectangle released from a tilt is a hull too (MuJoCo turns its
+  box instead): the shape PyBullet's free-rocking bands in
+  tests/test_adapters.py were measured with.
 * planar motion: Bullet has no planar joint in PyBullet, so each block is a
   multibody of three links on a fixed, massless root at its starting centre:
   a prismatic joint along x, one along z and a revolute joint about -y (a
@@ -41,6 +44,7 @@ Bullet's x-z (z up) and the out-of-plane depth running along y:
 import numpy as np
 import pybullet
 
+from . import _geometry as geometry
 from ._driver import EngineRun, engine_settings, product_friction, run
 
 DEFAULT_DT = 1e-3
@@ -59,39 +63,17 @@ def simulate(scene, excitation=None, duration=None, dt=None, output_dt=None, **o
     return run("pybullet", scene, excitation, duration, dt, output_dt, lambda: _build(scene, dt, settings))
 
 
-def _shape(client, blk, centre):
-    local = blk.vertices - centre
-    if len(local) == 4:
-        edges = np.roll(local, -1, axis=0) - local
-        if abs(edges[0] @ edges[1]) <= 1e-9 * (edges[0] @ edges[0]) and abs(edges[0][1]) <= 1e-12 * abs(edges[0][0]):
-            half = [abs(edges[0][0]) / 2, blk.depth / 2, abs(edges[1][1]) / 2]
-            mid = local.mean(axis=0)
-            return pybullet.createCollisionShape(pybullet.GEOM_BOX, halfExtents=half,
-                                                 collisionFramePosition=[mid[0], 0.0, mid[1]],
-                                                 physicsClientId=client)
-    # Bullet puts a collision margin around a convex hull: inset the outline by it so the surface is the scene's
-    inner = _inset(local, CONVEX_MARGIN)
-    half = blk.depth / 2 - CONVEX_MARGIN
-    points = [[x, s * half, y] for x, y in inner for s in (-1.0, 1.0)]
-    return pybullet.createCollisionShape(pybullet.GEOM_MESH, vertices=points, physicsClientId=client)
-
-
-def _cross(u, v):
-    return u[0] * v[1] - u[1] * v[0]
-
-
-def _inset(vertices, distance):
-    """A convex counter-clockwise polygon with every edge moved inwards by ``distance``."""
-    edges = np.roll(vertices, -1, axis=0) - vertices
-    normals = np.column_stack([edges[:, 1], -edges[:, 0]]) / np.hypot(edges[:, 0], edges[:, 1])[:, None]
-    points = vertices - distance * normals  # a point on each moved edge (normals point outwards)
-    inset = []
-    for k in range(len(vertices)):
-        a, da = points[k - 1], edges[k - 1]
-        b, db = points[k], edges[k]
-        s = _cross(b - a, db) / _cross(da, db)
-        inset.append(a + s * da)
-    return np.array(inset)
+def _shape(client, outline, depth):
+    """The collision shape of a body whose frame holds ``outline`` (n, 2), m, with ``depth`` (m)."""
+    box = geometry.rectangle(outline)
+    if box is not None and box.axis_aligned():
+        half_x, half_z = box.half_extents_on_axes()
+        return pybullet.createCollisionShape(pybullet.GEOM_BOX, halfExtents=[half_x, depth / 2, half_z],
+                                             collisionFramePosition=[box.centre[0], 0.0, box.centre[1]],
+                                             physicsClientId=client)
+    # Bullet puts a collision margin around a convex hull: inset the prism by it so the surface is the scene's
+    hull = geometry.prism(outline, depth, inset_by=CONVEX_MARGIN)
+    return pybullet.createCollisionShape(pybullet.GEOM_MESH, vertices=hull.vertices.tolist(), physicsClientId=client)
 
 
 def _build(scene, dt, settings) -> EngineRun:
@@ -103,14 +85,14 @@ def _build(scene, dt, settings) -> EngineRun:
                                        restitutionVelocityThreshold=0.0, physicsClientId=client)
     pairs = [(i, j) for i, j, _ in scene.touching_pairs()]
     friction = product_friction("pybullet", scene, pairs)
-    base_shape = _shape(client, scene.base, np.zeros(2))
+    base_shape = _shape(client, scene.base.vertices, scene.base.depth)  # the fixed base's frame is the world's
     base = pybullet.createMultiBody(0.0, base_shape, -1, [0, 0, 0], physicsClientId=client)
     pybullet.changeDynamics(base, -1, lateralFriction=float(friction[0]), restitution=0.0, rollingFriction=0.0,
                             spinningFriction=0.0, physicsClientId=client)
     ids = []
     for k, blk in enumerate(scene.blocks, start=1):
-        c = blk.centroid
-        shape = _shape(client, blk, c)  # the outline at its starting angle: hinge angle 0
+        c = geometry.start_pose(blk).centroid
+        shape = _shape(client, geometry.outline_at_start(blk), blk.depth)  # hinge angle 0 at the start
         eps = LINK_MASS_FRACTION * blk.mass
         body = pybullet.createMultiBody(
             baseMass=0.0, baseCollisionShapeIndex=-1, basePosition=[c[0], 0.0, c[1]],
@@ -131,7 +113,7 @@ def _build(scene, dt, settings) -> EngineRun:
         pybullet.setJointMotorControlArray(body, [0, 1, 2], pybullet.VELOCITY_CONTROL, forces=[0.0, 0.0, 0.0],
                                            physicsClientId=client)
         ids.append(body)
-    start = np.array([[*b.centroid, b.angle] for b in scene.blocks])
+    start = geometry.start_states(scene.blocks)
 
     def set_gravity(gx, gy):
         pybullet.setGravity(gx, 0.0, gy, physicsClientId=client)

@@ -2,8 +2,9 @@
 
 Mapping (FORMULATION sections 1 and 2):
 
-* geometry: each block is a ``pymunk.Poly`` with the scene's vertices about
-  its centre of mass, rotated to its initial angle; the base is a static
+* geometry (:mod:`adapters._geometry`): each block is a ``pymunk.Poly``
+  with the scene's vertices about its centre of mass in the reference
+  orientation, on a body turned to its initial angle; the base is a static
   polygon.
 * mass and inertia: set on each ``pymunk.Body`` from the scene (not from
   shape densities).
@@ -32,8 +33,7 @@ import numpy as np
 import pymunk
 import pymunk.batch
 
-from dem_core.engine.geometry import transform
-
+from . import _geometry as geometry
 from ._driver import EngineRun, engine_settings, product_friction, run
 
 DEFAULT_DT = 1e-3
@@ -65,10 +65,11 @@ def _build(scene, dt, iterations, slop) -> EngineRun:
     shapes = [base]
     bodies = []
     for blk in scene.blocks:
+        pose = geometry.start_pose(blk)
         body = pymunk.Body(blk.mass, blk.inertia)
-        body.position = tuple(blk.centroid)
-        body.angle = blk.angle
-        shape = pymunk.Poly(body, [tuple(v) for v in transform(blk.vertices - blk.centroid, -blk.angle)])
+        body.position = tuple(pose.centroid)
+        body.angle = pose.angle
+        shape = pymunk.Poly(body, [tuple(v) for v in geometry.outline_in_reference(blk)])
         space.add(body)
         bodies.append(body)
         shapes.append(shape)

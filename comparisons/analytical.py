@@ -90,6 +90,8 @@ class RockingHistory:
     impacts : times of the impacts (theta = 0), s.
     uplift_time : first time the block left rest, s (NaN if it never did).
     overturned : whether |theta| reached alpha; overturn_time (s, NaN if not).
+    peak : largest |theta| reached, rad: over the outputs (:func:`rocking_response`), or between
+        them too (:func:`comparisons.rocking_reference.rocking_response`); alpha once overturned there.
     """
 
     t: np.ndarray
@@ -99,10 +101,7 @@ class RockingHistory:
     uplift_time: float
     overturned: bool
     overturn_time: float
-
-    @property
-    def peak(self) -> float:
-        return float(np.nanmax(np.abs(self.theta)))
+    peak: float
 
 
 def rocking_response(block: RockingBlock, ground_acceleration, t_end: float, *, theta0: float = 0.0,
@@ -115,7 +114,10 @@ def rocking_response(block: RockingBlock, ground_acceleration, t_end: float, *, 
     (the sign convention of this module), the block resting while
     ``|a_g| <= (g + a_v) tan(alpha)``, and at each impact (theta = 0)
     ``omega -> e omega`` with ``e`` = Housner's restitution unless given.
-    Integrated with scipy's ``solve_ivp`` (DOP853) and event detection.
+    Integrated with scipy's ``solve_ivp`` (DOP853) and event detection: slow (seconds per record,
+    and no end in sight under a record just above the uplift threshold, where the block chatters);
+    for records, pulses and ensembles use the compiled
+    :func:`comparisons.rocking_reference.rocking_response`, checked against this one.
 
     ground_acceleration, vertical_acceleration : callables ``t -> m/s^2``.
     t_eval : output times (default: every ``max_step``).
@@ -195,7 +197,7 @@ def rocking_response(block: RockingBlock, ground_acceleration, t_end: float, *, 
             continue
         break
     return RockingHistory(t_eval, out_theta, out_omega, np.array(impacts), float(uplift_time),
-                          bool(np.isfinite(overturn_time)), overturn_time)
+                          bool(np.isfinite(overturn_time)), overturn_time, float(np.nanmax(np.abs(out_theta))))
 
 
 def _first_uplift(margin, t0, t_end, step):

@@ -7,10 +7,12 @@ import numpy as np
 import pytest
 
 import adapters
+from adapters import _geometry as geometry
 from adapters._driver import EngineRun, EngineUnstable, product_friction, run
 from comparisons import analytical, cases
 from comparisons.measures import first_zero_crossing, peaks_between_crossings
 from dem_core import excitation, scenes
+from dem_core.engine.geometry import polygon_properties, rectangle, transform
 
 ENGINES = ["pymunk", "pybullet", "mujoco"]
 
@@ -146,3 +148,49 @@ def test_an_engine_that_goes_unstable_is_stopped_with_engine_time_and_block():
     with pytest.raises(EngineUnstable, match=r"fake: unstable at t = 0\.03 s .*block 'drum2'") as info:
         run("fake", scene, None, 1.0, 0.01, 0.01, lambda: fake)
     assert len(info.value.partial.t) == 3
+
+
+def test_a_rotated_rectangle_is_a_rectangle_and_a_trapezoid_is_not():
+    turned = transform(rectangle(0.5, 1.5), 0.3, (2.0, 1.0))
+    box = geometry.rectangle(turned)
+    assert box is not None and not box.axis_aligned()
+    np.testing.assert_allclose(box.half_extents, [0.25, 0.75], rtol=1e-14)
+    assert box.angle == pytest.approx(0.3, abs=1e-14)
+    np.testing.assert_allclose(box.centre, polygon_properties(turned).centroid, atol=1e-14)
+    assert geometry.rectangle([[0.0, 0.0], [2.0, 0.0], [1.5, 1.0], [0.5, 1.0]]) is None
+    # the tolerance is relative to the size: a corner 1e-6 rad off square is not a rectangle, 1e-11 rad is
+    for skew, expected in ((1e-6, False), (1e-11, True)):
+        sheared = np.array([[0.0, 0.0], [1.0, 0.0], [1.0 + 2.0 * skew, 2.0], [2.0 * skew, 2.0]])
+        assert (geometry.rectangle(sheared) is not None) is expected
+    # listed from a vertical edge, an axis-aligned rectangle still has its x and y half extents
+    upright = geometry.rectangle(np.roll(rectangle(0.5, 1.5), -1, axis=0))
+    assert upright.axis_aligned()
+    np.testing.assert_array_equal(upright.half_extents_on_axes(), [0.25, 0.75])
+
+
+HEXAGON = np.column_stack([np.cos(np.arange(6) * np.pi / 3), np.sin(np.arange(6) * np.pi / 3)])
+
+
+@pytest.mark.parametrize("outline", [rectangle(0.5, 1.5), transform(rectangle(0.5, 1.5), 0.3),
+                                     np.array([[0.0, 0.0], [2.0, 0.0], [1.5, 1.0], [0.5, 1.0]]), HEXAGON])
+def test_the_prism_holds_area_times_depth(outline):
+    depth, margin = 0.7, 1e-3
+    prism = geometry.prism(outline, depth)
+    assert prism.vertices.shape == (2 * len(outline), 3) and prism.faces.shape == (4 * len(outline) - 4, 3)
+    assert prism.volume == pytest.approx(polygon_properties(outline).area * depth, rel=1e-12)
+    inset = geometry.prism(outline, depth, inset_by=margin)
+    assert inset.volume == pytest.approx(polygon_properties(geometry.inset(outline, margin)).area
+                                         * (depth - 2 * margin), rel=1e-12)
+    assert inset.volume < prism.volume
+
+
+@pytest.mark.parametrize("builder", ["tilted block", "tapered column with capital", "colonnade b"])
+def test_the_start_pose_reproduces_the_blocks(builder):
+    scene = BUILDERS[builder]()
+    states = geometry.start_states(scene.blocks)
+    for blk, state in zip(scene.blocks, states, strict=True):
+        pose = geometry.start_pose(blk)
+        np.testing.assert_array_equal(state, [*pose.centroid, pose.angle])
+        np.testing.assert_allclose(transform(geometry.outline_in_reference(blk), pose.angle, pose.centroid),
+                                   blk.vertices, atol=1e-14)
+        np.testing.assert_allclose(geometry.outline_at_start(blk) + pose.centroid, blk.vertices, atol=1e-15)
