@@ -31,8 +31,8 @@ def test_a_corner_impact_rebounds_with_the_target_restitution(e):
     lift = np.sqrt(0.5) + 0.1  # the corner starts 0.1 m above the base: gravity's impulse over the contact is small
     diamond = dem_core.Block("block", transform(rectangle(1.0, 1.0, -0.5, -0.5), np.pi / 4, (0.0, lift)),
                              angle=np.pi / 4)
-    scene = scenes.block(1.0, 1.0).replace(blocks=(diamond,),
-                                           contact=dem_core.ContactParameters(restitution=e))
+    scene = scenes.block(1.0, 1.0).replace(blocks=(diamond,), contact=dem_core.ContactParameters(restitution=e),
+                                           allow_free_blocks=True)
     assert scene.contact.normal_damping_ratio == pytest.approx(zeta)
     dt = stability.stability_limit(scene) / 40.0  # resolve the ~1 ms contact finely
     result = dem_core.simulate(scene, duration=0.16, dt=dt, output_dt=dt, stop_at_overturn=False)
