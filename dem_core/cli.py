@@ -69,10 +69,33 @@ def _progress(**options):
     return tqdm(disable=not _interactive(), **options)
 
 
-def _simulate_options(settings: dict) -> dict:
+def _simulate_options(settings: dict, *, progress: bool = True) -> dict:
     """The keyword arguments of every ``simulate`` call the command line makes, directly or through
-    an analysis: the one place where run-wide options (such as in-run progress) are added."""
-    return dict(settings)
+    an analysis: the one place where run-wide options are added.  ``progress``: a bar with the time
+    left for each long run, shown only on a terminal (commands that run many short runs have their
+    own bar over the runs and pass False)."""
+    options = dict(settings)
+    if progress and sys.stderr.isatty():
+        options["progress"] = _StepProgress()
+    return options
+
+
+class _StepProgress:
+    """``simulate``'s progress callback as a tqdm bar over simulated seconds; a new bar for each run."""
+
+    def __init__(self):
+        self.bar = None
+
+    def __call__(self, done: int, total: int):
+        from tqdm import tqdm
+
+        if self.bar is None or done < self.bar.n or total != self.bar.total:
+            if self.bar is not None:
+                self.bar.close()
+            self.bar = tqdm(total=total, desc="simulating", unit="step", unit_scale=True, leave=False)
+        self.bar.update(done - self.bar.n)
+        if done >= total and self.bar is not None:
+            self.bar.close()
 
 
 def main(argv=None) -> int:
@@ -189,7 +212,8 @@ def _run(args) -> int:
         return 2
     wall = time.perf_counter() - started
     info = result.info
-    print(f"dt = {result.dt:.3g} s (stability limit {info.get('stability_limit_s', float('nan')):.3g} s), "
+    print(f"{info.get('contact_law', '?')} contact law, K_n = {info.get('kn', float('nan')):.3g} N/m^2; dt = "
+          f"{result.dt:.3g} s (stability limit {info.get('stability_limit_s', float('nan')):.3g} s), "
           f"{info.get('steps')} steps, run {info.get('run_time_s', 0):.2f} s, total {wall:.2f} s")
     print(f"peak |theta| {np.max(result.peak_theta):.4g} rad, total sliding {result.total_sliding:.4g} m, "
           f"overturned: {f'yes at t = {result.time_of_overturn:.3f} s' if result.overturned else 'no'}")
@@ -326,7 +350,8 @@ def _threshold(args) -> int:
         bar.update()
 
     runs_so_far = []
-    options = {"tolerance": args.tolerance, "scan": args.scan, "on_run": on_run, **_simulate_options(settings)}
+    options = {"tolerance": args.tolerance, "scan": args.scan, "on_run": on_run,
+               **_simulate_options(settings, progress=False)}
     try:
         motion_at(args.low)
         if args.criterion == "overturning":
