@@ -26,21 +26,30 @@ REFERENCE_HYSTERESIS = 0.1
 
 
 @nb.njit(cache=True, inline="always")
-def face_separation(ax, ay, anx, any_, a0, na, bx, by, b0, nb_):
+def face_separation(ax, ay, anx, any_, a0, na, bx, by, b0, nb_, bcx, bcy, first):
     """Largest, over the faces of A, of the smallest signed distance of B's vertices from the face's
-    line (m; negative: B's deepest vertex is inside by that much), and that face (index within A)."""
+    line (m; negative: B's deepest vertex is inside by that much), and that face (index within A).
+
+    (bcx, bcy) : a point inside B (its centre of mass).  Since B's deepest vertex along a face normal
+    is no shallower than any point inside B, ``n . (c_B - a)`` bounds a face's separation from above,
+    and a face whose bound is below the best so far is skipped without visiting B's vertices.
+    first : the face to try first (last step's reference, if on A), so that the others prune early.
+    """
     best = -math.inf
     face = -1
-    for k in range(na):
+    for step in range(na):
+        k = first + step
+        if k >= na:
+            k -= na
         nx = anx[a0 + k]
         ny = any_[a0 + k]
         px = ax[a0 + k]
         py = ay[a0 + k]
+        if nx * (bcx - px) + ny * (bcy - py) <= best:
+            continue
         lowest = math.inf
         for m in range(nb_):
-            d = nx * (bx[b0 + m] - px) + ny * (by[b0 + m] - py)
-            if d < lowest:
-                lowest = d
+            lowest = min(lowest, nx * (bx[b0 + m] - px) + ny * (by[b0 + m] - py))
         if lowest > best:
             best = lowest
             face = k
@@ -54,8 +63,8 @@ def reference_code(side, face):
 
 
 @nb.njit(cache=True, inline="always")
-def corner_manifold(wx, wy, wnx, wny, a0, na, b0, nb_, previous, points, keys):
-    """Contact points of convex polygons A (``a0``, ``na``) and B (``b0``, ``nb_``).
+def corner_manifold(wx, wy, wnx, wny, a0, na, acx, acy, b0, nb_, bcx, bcy, previous, points, keys):
+    """Contact points of convex polygons A (``a0``, ``na``, centre of mass ``acx``, ``acy``) and B.
 
     previous : last step's reference code of this pair (-1 if none): its side is kept unless the
         other polygon's best face penetrates less by ``REFERENCE_HYSTERESIS`` of the penetration.
@@ -67,14 +76,18 @@ def corner_manifold(wx, wy, wnx, wny, a0, na, b0, nb_, previous, points, keys):
     the reference face's outward normal (pointing from the reference polygon into the incident one)
     and the reference code (side 0: A is the reference).
     """
-    sep_a, face_a = face_separation(wx, wy, wnx, wny, a0, na, wx, wy, b0, nb_)
+    side_before = previous >> FACE_BITS if previous >= 0 else -1
+    face_before = previous & ((1 << FACE_BITS) - 1) if previous >= 0 else 0
+    sep_a, face_a = face_separation(wx, wy, wnx, wny, a0, na, wx, wy, b0, nb_, bcx, bcy,
+                                    face_before if side_before == 0 else 0)
     if sep_a > 0.0:
         return 0, 0.0, 0.0, -1
-    sep_b, face_b = face_separation(wx, wy, wnx, wny, b0, nb_, wx, wy, a0, na)
+    sep_b, face_b = face_separation(wx, wy, wnx, wny, b0, nb_, wx, wy, a0, na, acx, acy,
+                                    face_before if side_before == 1 else 0)
     if sep_b > 0.0:
         return 0, 0.0, 0.0, -1
     margin = REFERENCE_HYSTERESIS * min(-sep_a, -sep_b)
-    if previous >= 0 and (previous >> FACE_BITS) == 1:
+    if side_before == 1:
         use_b = not sep_a > sep_b + margin
     else:
         use_b = sep_b > sep_a + margin

@@ -89,12 +89,8 @@ def corner_pair(p, ids, constants, memory, forces, interface_slip, pos, vel, for
     j = ids[p, PAIR_J]
     n_i = vstart[i + 1] - vstart[i]
     n_j = vstart[j + 1] - vstart[j]
-    if n_i == 4 and n_j == 4:  # drums, blocks, the base: with the sizes known the compiler unrolls the loops
-        count, nx, ny, code = corner_manifold(wx, wy, wnx, wny, vstart[i], 4, vstart[j], 4, memory[p, REFERENCE],
-                                              points, keys)
-    else:
-        count, nx, ny, code = corner_manifold(wx, wy, wnx, wny, vstart[i], n_i, vstart[j], n_j, memory[p, REFERENCE],
-                                              points, keys)
+    count, nx, ny, code = corner_manifold(wx, wy, wnx, wny, vstart[i], n_i, pos[i, 0], pos[i, 1], vstart[j], n_j,
+                                          pos[j, 0], pos[j, 1], memory[p, REFERENCE], points, keys)
     memory[p, REFERENCE] = code
     old_key0 = memory[p, POINT_KEY]
     old_key1 = memory[p, POINT_KEY + 1]
