@@ -1,6 +1,6 @@
 """The scene in PyBullet (Bullet's sequential-impulse solver), 3D kept in the plane.
 
-Mapping (FORMULATION sections 1 and 2), the scene's plane x-y becoming
+Mapping (docs/method.md sections 1 and 2), the scene's plane x-y becoming
 Bullet's x-z (z up) and the out-of-plane depth running along y:
 
 * geometry (:mod:`adapters._geometry`): each block is a prism of the scene's

@@ -1,6 +1,6 @@
 """The scene in pymunk (Chipmunk2D: impulse-based, iterative contact solver), 2D like the scene.
 
-Mapping (FORMULATION sections 1 and 2):
+Mapping (docs/method.md sections 1 and 2):
 
 * geometry (:mod:`adapters._geometry`): each block is a ``pymunk.Poly``
   with the scene's vertices about its centre of mass in the reference

@@ -5,7 +5,7 @@
   a scan for the first overturning scale and bisection between it and the
   last surviving one, to a stated tolerance;
 * :func:`onset_threshold`: the same for the start of rocking (a rotation
-  above theta_cr / 30, FORMULATION section 3) or of sliding (an interface
+  above theta_cr / 30, docs/method.md section 3) or of sliding (an interface
   slipping more than ``slip`` m);
 * :func:`onset_under_ramp`: both onsets from one run under a monotonic ramp,
   as ground accelerations.

@@ -1,4 +1,4 @@
-"""Compiled broad phase: which pairs of bodies can touch (docs/method.md, section 4).
+"""Compiled broad phase: which pairs of bodies can touch (docs/method.md 1.2).
 
 Private module.  Boxes around the bodies, grown by half a skin, are sorted along the axis where the
 bodies spread most and swept (sort-and-sweep); the pairs whose boxes overlap on both axes are the

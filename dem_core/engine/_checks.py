@@ -2,7 +2,7 @@
 
 Private module, shared by the stepping kernel (every step) and the other engines' driver (every
 output, :mod:`adapters._driver`), so that every engine counts an overturn by the same rule
-(docs/method.md, section 6): a block overturns when it passes its critical angle or its centre of
+(docs/method.md section 3): a block overturns when it passes its critical angle or its centre of
 mass falls half its smaller extent; a column (a stack, :mod:`dem_core.engine.stacks`) when the
 centre of mass of its blocks passes an end of its bottom block's base.
 """

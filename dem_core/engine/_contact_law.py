@@ -1,4 +1,4 @@
-"""Compiled contact laws: per-pair parameters and the force of one contact (docs/method.md, sections 2-3).
+"""Compiled contact laws: per-pair parameters and the force of one contact (docs/method.md 1.3 to 1.5).
 
 Private module: plain scalars in, plain scalars out, so that the stepping kernel
 (:mod:`dem_core.engine._step`), the time-step analysis (:mod:`dem_core.engine.stability`)

@@ -1,4 +1,4 @@
-"""Compiled contact manifold of two convex polygons for the corner law (docs/method.md, section 2).
+"""Compiled contact manifold of two convex polygons for the corner law (docs/method.md 1.3).
 
 Private module.  Polygons are counter-clockwise, given as slices of world vertex arrays
 ``wx[start:start + n]``, ``wy[...]`` with the outward unit normal of each edge (edge ``k`` runs from

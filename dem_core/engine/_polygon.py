@@ -5,7 +5,7 @@ time-stepping kernel (``_kernels``) can call them without Python objects.
 Polygons are convex, counter-clockwise, given as separate x and y arrays of
 length ``n`` (only the first ``n`` entries are read).
 
-The contact frame follows FORMULATION section 1: the tangent ``t`` is the
+The contact frame follows docs/method.md 1.4: the tangent ``t`` is the
 major principal axis of the overlap polygon (the direction of its largest
 second moment of area).  For a thin sliver this is its long side; unlike
 "longest side of a triangle / longest diagonal of a quadrilateral" it is a

@@ -3,7 +3,7 @@
 Private module: :func:`advance` takes the model's named tuples, the state's arrays and the ground
 motion of the steps to take, and is called by :mod:`dem_core.engine.simulation` in chunks (so that a
 progress bar can follow a long run and the ground input never has to exist for the whole run at
-once).  Central differences in velocity form (docs/method.md, section 5):
+once).  Central differences in velocity form (docs/method.md 1.6):
 ``v(t + dt/2) = v(t - dt/2) + dt M^-1 F(t)``, ``x(t + dt) = x(t) + dt v(t + dt/2)``, with the
 dashpots acting on the lagging half-step velocities.  Per step, in stages:
 

@@ -1,4 +1,4 @@
-"""The contact laws' parameters and their defaults (docs/method.md, sections 2 and 3).
+"""The contact laws' parameters and their defaults (docs/method.md 1.3 to 1.5).
 
 Two laws, chosen by ``ContactParameters.law``:
 

@@ -96,7 +96,7 @@ def contact_geometry(p, q) -> ContactGeometry | None:
     """Overlap area, point of action and contact frame of convex polygons ``p`` and ``q``.
 
     ``None`` when they do not overlap.  The normal points from ``p`` towards
-    ``q`` (away from ``p``'s centroid), FORMULATION section 1.
+    ``q`` (away from ``p``'s centroid), docs/method.md 1.4.
     """
     px, py, n_p = _split(p)
     qx, qy, n_q = _split(q)

@@ -1,7 +1,7 @@
 """What a run returns: time histories of every block, response measures, run facts.
 
 The same type is returned by every engine, so results line up column by column.
-Response measures follow FORMULATION section 3: rotation of each block,
+Response measures follow docs/method.md section 3: rotation of each block,
 residual displacement relative to the base, total sliding (accumulated
 relative slip summed over interfaces), rocking (mean absolute rotation) and
 overturning.

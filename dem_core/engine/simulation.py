@@ -297,7 +297,7 @@ def simulate(scene, excitation: GroundMotion | None = None, duration: float | No
     output_dt : s between outputs (rounded to a whole number of steps; the
         final state is always an output); default 0.01 s.
     ground_motion : ``"inertial"`` (base fixed, load ``-m a_g`` on every block,
-        docs/method.md section 1) or ``"moving_base"`` (the base follows u_g, v_g).
+        docs/method.md section 2) or ``"moving_base"`` (the base follows u_g, v_g).
         Either way positions are reported in the fixed frame, with
         ``base_x`` the ground displacement.
     stop_at_overturn : end the run when a block first overturns (passes its

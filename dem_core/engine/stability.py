@@ -1,4 +1,4 @@
-"""The time step: the stability limit of the explicit scheme and the duration of impacts (docs/method.md, section 5).
+"""The time step: the stability limit of the explicit scheme and the duration of impacts (docs/method.md 1.7).
 
 Central differences with the damping force taken at the lagging half step are stable only below a
 limit set by the stiffest, most damped mode; impacts must moreover last several steps for the

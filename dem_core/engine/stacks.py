@@ -1,6 +1,6 @@
 """Stacks of blocks (columns) and the overturn of a stack as a whole.
 
-FORMULATION section 3: a column overturns when a block *or the column*
+docs/method.md section 3: a column overturns when a block *or the column*
 passes its critical angle.  For a stack of drums the column's critical tilt is
 reached when the centre of mass of the stack passes over an end of the bottom
 drum's base (for one rigid block that is exactly |theta| = atan(b/h)); a

@@ -275,7 +275,7 @@ def baseline_correct(a, dt):
 
 @dataclass(frozen=True, eq=False)
 class GroundMotion:
-    """Horizontal and vertical ground motion (FORMULATION section 2)."""
+    """Horizontal and vertical ground motion (docs/method.md section 2)."""
 
     horizontal: Component = field(default_factory=Still)
     vertical: Component = field(default_factory=Still)

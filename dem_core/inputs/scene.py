@@ -14,7 +14,7 @@ import numpy as np
 from ..engine import geometry
 from ..engine.contact import ContactParameters
 
-STANDARD_GRAVITY = 9.81  # m/s^2, the value FORMULATION's onset figures use (g b/h = 1.635 for 1 x 6 m)
+STANDARD_GRAVITY = 9.81  # m/s^2, the value docs/method.md 4.6 uses (g b/h = 1.635 for 1 x 6 m)
 #: an overlap of two blocks smaller than this times the product of their sizes is round-off, not
 #: penetration: coordinates carry a relative error of about 1e-16, so faces that meet (a tilted stack's
 #: joints) can cross by slivers of order 1e-16 L^2, whose area over their tiny length is no depth at all

@@ -1,4 +1,4 @@
-"""Builders for the scenes of FORMULATION section 3.
+"""Builders for the scenes of docs/method.md section 3.
 
 Every builder returns an immutable :class:`~dem_core.inputs.scene.Scene` whose base
 top is the line y = 0 and whose blocks rest on it touching (zero overlap).
@@ -191,7 +191,7 @@ def column(n_drums: int = 8, width: float = 1.0, height: float = 6.0, *, taper: 
 
 
 def _epistyles(kind, centres, col_top_width, y, thickness, density, friction, depth, prefix):
-    """Epistyle blocks of type a-d (FORMULATION section 3) over column centres ``centres``."""
+    """Epistyle blocks of type a-d (docs/method.md section 3) over column centres ``centres``."""
     n = len(centres)
     left_edge = centres[0] - col_top_width / 2.0
     right_edge = centres[-1] + col_top_width / 2.0
