@@ -178,14 +178,12 @@ def compile_stacks(scene, stacks=None) -> Stacks:
                   foot=np.array([st.foot_local for st in stacks], float).reshape(len(stacks), 2, 2))
 
 
-def compile_model(scene, touching=None, stacks=None) -> Model:
-    """The :class:`Model` of ``scene``.  ``touching``: its touching pairs ``(i, j, contact)`` if known
-    (:meth:`~dem_core.inputs.scene.Scene.touching_pairs`); ``stacks`` its stacks if known."""
+def compile_model(scene, stacks=None) -> Model:
+    """The :class:`Model` of ``scene`` (``stacks``: its stacks, if already found)."""
     bodies = compile_bodies(scene)
-    touching = scene.touching_pairs() if touching is None else touching
     n = len(scene.bodies)
     return Model(bodies=bodies, law=compile_law(scene, bodies), stacks=compile_stacks(scene, stacks),
-                 interface_keys=np.array(sorted(i * n + j for i, j, _ in touching), np.int64),
+                 interface_keys=np.array(sorted(i * n + j for i, j, _ in scene.touching_pairs()), np.int64),
                  gravity=float(scene.gravity),
                  floor=float(scene.base.vertices[:, 1].max() - scene.base.centroid[1]))
 

@@ -83,13 +83,12 @@ class Simulation:
                 raise ValueError(f"give a duration: the excitation '{excitation.name}' has no natural end")
         if not duration > 0:
             raise ValueError(f"duration must be positive, got {duration}")
-        touching = scene.touching_pairs()
-        stacks = find_stacks(scene, touching)
+        stacks = find_stacks(scene)
         self.scene, self.excitation, self.ground_motion = scene, excitation, ground_motion
-        self.model: Model = compile_model(scene, touching, stacks)
+        self.model: Model = compile_model(scene, stacks)
         self.stacks = stacks
-        self.limit = stability.stability_limit(scene, self.model, toppled=not stop_at_overturn, touching=touching)
-        self.impact = stability.impact_duration(scene, self.model, touching)
+        self.limit = stability.stability_limit(scene, self.model, toppled=not stop_at_overturn)
+        self.impact = stability.impact_duration(scene, self.model)
         auto_dt = dt is None
         dt = _time_step(scene, dt, self.limit, self.impact, safety, steps_per_impact, enforce_stability_limit)
         if auto_dt and not stop_at_overturn:
@@ -333,11 +332,9 @@ def automatic_time_step(scene, *, toppled: bool = False, safety: float = DEFAULT
     stability limit (with ``toppled``, the limit of blocks lying on their long sides) and the
     shortest impact over ``steps_per_impact``.  (Going on through a collapse, ``simulate`` takes
     ``COLLAPSE_STEP_FACTOR`` of the toppled value.)"""
-    touching = scene.touching_pairs()
-    model = compile_model(scene, touching)
-    limit = stability.stability_limit(scene, model, toppled=toppled, touching=touching)
-    return _time_step(scene, None, limit, stability.impact_duration(scene, model, touching), safety,
-                      steps_per_impact, True)
+    model = compile_model(scene)
+    limit = stability.stability_limit(scene, model, toppled=toppled)
+    return _time_step(scene, None, limit, stability.impact_duration(scene, model), safety, steps_per_impact, True)
 
 
 def _time_step(scene, dt, limit, impact, safety, steps_per_impact, enforce) -> float:

@@ -19,7 +19,7 @@ def _pair(model: Model, i: int, j: int):
                            law.kt, law.ct, b.mass[i], b.mass[j], b.width[i], b.width[j], b.depth[i], b.depth[j])
 
 
-def stability_limit(scene, model: Model | None = None, toppled: bool = False, touching=None) -> float:
+def stability_limit(scene, model: Model | None = None, toppled: bool = False) -> float:
     """Largest time step (s) at which the central-difference scheme stays stable.
 
     Linearises the contacts present at the start (pairs that touch within a hair's breadth) as flat
@@ -43,10 +43,10 @@ def stability_limit(scene, model: Model | None = None, toppled: bool = False, to
     Contacts that form later can be stiffer: a toppled block lying on its long side presses a longer
     face.  ``toppled=True`` allows for that by scaling the limit with ``sqrt(width / longest edge)``
     of the block where that ratio is smallest (the stiffness grows with the face length).
-    ``model``, ``touching`` : the compiled scene and its touching pairs, if already known.
+    ``model`` : the compiled scene, if already compiled.
     """
-    touching = scene.touching_pairs() if touching is None else touching
-    model = compile_model(scene, touching) if model is None else model
+    touching = scene.touching_pairs()
+    model = compile_model(scene) if model is None else model
     mass = np.array([[b.mass, b.mass, b.inertia] for b in scene.blocks]).ravel()
     faces = _touching_faces(scene, touching)
     if not faces:  # nothing touches yet: the stiffest contact that can form is a face on the base
@@ -100,16 +100,15 @@ def _scheme_limit(stiffness, damping, mass) -> float:
     return lo
 
 
-def impact_duration(scene, model: Model | None = None, touching=None) -> float:
+def impact_duration(scene, model: Model | None = None) -> float:
     """Shortest impact duration ``pi sqrt(m_eff / k)`` (s) of the face contacts touching at the start.
 
     Half a period of the face's spring: ``k = K_n d L`` of the whole face (both corner springs of the
     corner law, or the overlap law's face stiffness) and ``m_eff`` the pair's reduced mass.  Without
     touching faces, the blocks' contacts with the base count.
     """
-    touching = scene.touching_pairs() if touching is None else touching
-    model = compile_model(scene, touching) if model is None else model
-    faces = _touching_faces(scene, touching)
+    model = compile_model(scene) if model is None else model
+    faces = _touching_faces(scene, scene.touching_pairs())
     pairs = [(i, j, extent) for i, j, _, _, _, extent in faces] or [
         (0, i, min(scene.base.width, b.width)) for i, b in enumerate(scene.blocks, start=1)]
     durations = []

@@ -33,14 +33,13 @@ class Stack:
     foot_local: np.ndarray
 
 
-def find_stacks(scene, touching=None) -> tuple:
-    """The stacks of two or more blocks standing on the base of ``scene`` (``touching``: its
-    :meth:`~dem_core.inputs.scene.Scene.touching_pairs`, if already known)."""
+def find_stacks(scene) -> tuple:
+    """The stacks of two or more blocks standing on the base of ``scene``."""
     below = {b: [] for b in range(len(scene.bodies))}
     above = {b: [] for b in range(len(scene.bodies))}
     on_base = set()
     bodies = scene.bodies
-    for i, j, contact in (scene.touching_pairs() if touching is None else touching):
+    for i, j, contact in scene.touching_pairs():
         if abs(contact.normal[1]) < VERTICAL_NORMAL:
             continue
         low, high = (i, j) if bodies[i].centroid[1] < bodies[j].centroid[1] else (j, i)

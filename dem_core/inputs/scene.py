@@ -12,8 +12,11 @@ from functools import cached_property
 import numpy as np
 
 from ..engine import geometry
+from ..engine._broadphase import candidate_keys
 from ..engine.contact import ContactParameters
 
+#: relative gap within which two blocks count as touching at the start (of the smaller block's size)
+TOUCHING_GAP = 1e-6
 STANDARD_GRAVITY = 9.81  # m/s^2, the value docs/method.md 4.6 uses (g b/h = 1.635 for 1 x 6 m)
 #: an overlap of two blocks smaller than this times the product of their sizes is round-off, not
 #: penetration: coordinates carry a relative error of about 1e-16, so faces that meet (a tilted stack's
@@ -228,30 +231,33 @@ class Scene:
         """A copy whose interface between ``a`` and ``b`` has friction ``mu``."""
         return self.replace(interface_friction={**self.interface_friction, (a, b): mu})
 
-    def touching_pairs(self, gap: float = 1e-6) -> list:
-        """``(i, j, contact)`` for every pair of bodies (0 = base) touching at the start.
+    def touching_pairs(self) -> tuple:
+        """``(i, j, contact)`` for every pair of bodies (0 = base, i < j) touching at the start.
 
-        Two blocks touch when moving one towards the other by ``gap`` times
-        the smaller block size makes them overlap; ``contact`` is the
-        :class:`~dem_core.engine.geometry.ContactGeometry` of that thin overlap.
+        Two blocks touch when moving one towards the other by ``TOUCHING_GAP`` times the smaller block
+        size makes them overlap; ``contact`` is the :class:`~dem_core.engine.geometry.ContactGeometry`
+        of that thin overlap.  The pairs are found by the engine's broad phase (sort-and-sweep) and
+        computed once per scene.
         """
+        return self._touching
+
+    @cached_property
+    def _touching(self) -> tuple:
+        bodies = self.bodies
+        low = np.array([b.vertices.min(axis=0) for b in bodies])
+        high = np.array([b.vertices.max(axis=0) for b in bodies])
+        margin = TOUCHING_GAP * float(np.min(high - low))
+        n = len(bodies)
         pairs = []
-        for i, j, p, q, offset in self._pairs_within_reach():
-            nudge = gap * min(p.width, p.height, q.width, q.height)
+        for key in candidate_keys(low[:, 0], high[:, 0], low[:, 1], high[:, 1], margin):
+            i, j = divmod(int(key), n)
+            p, q = bodies[i], bodies[j]
+            offset = q.centroid - p.centroid
+            nudge = TOUCHING_GAP * min(p.width, p.height, q.width, q.height)
             touch = geometry.contact_geometry(p.vertices, q.vertices - nudge * offset / np.hypot(*offset))
             if touch is not None:
                 pairs.append((i, j, touch))
-        return pairs
-
-    def _pairs_within_reach(self):
-        """``(i, j, body_i, body_j, centroid offset)`` of the pairs whose bounding circles meet."""
-        bodies = self.bodies
-        for i in range(len(bodies)):
-            for j in range(i + 1, len(bodies)):
-                p, q = bodies[i], bodies[j]
-                offset = q.centroid - p.centroid
-                if np.hypot(*offset) <= p.circumradius + q.circumradius:
-                    yield i, j, p, q, offset
+        return tuple(pairs)
 
     def _pairs_near(self, slack: float):
         """``(i, j)`` of the pairs whose bounding boxes are at most ``slack`` times the smaller extent
