@@ -10,6 +10,7 @@
     interface_friction = [{between = ["base", "drum1"], mu = 0.05}]
 
     [contact]                     # optional, fields of dem_core.ContactParameters
+    law = "corner"                # corner (default) | overlap_area (the thesis' law)
     kn = 2e10
 
     [excitation]                  # optional; kind = record | harmonic | rectangular_pulse |
@@ -141,7 +142,7 @@ SCENE_TYPES = {
     "base_width": NUMBER, "capital": PAIR, "slenderness": NUMBER, "allow_free_blocks": BOOLEAN,
 }
 EXPLICIT_BLOCKS_KEYS = {"builder", "interface_friction", "slenderness", "allow_free_blocks"}
-CONTACT_TYPES = {f.name: NUMBER for f in fields(ContactParameters)}
+CONTACT_TYPES = {**{f.name: NUMBER for f in fields(ContactParameters)}, "law": STRING}
 EXCITATION_TYPES = {
     "kind": STRING, "source": RECORD_SOURCE, "vertical": VERTICAL, "units": STRING, "component": INTEGER,
     "baseline": BOOLEAN, "dt": NUMBER, "scale": NUMBER, "pga": NUMBER, "amplitude": NUMBER, "frequency": NUMBER,
