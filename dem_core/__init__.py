@@ -20,12 +20,12 @@ from .analyses import convergence, spectra, sweep, thresholds
 from .engine import contact, geometry, stability
 from .engine.contact import ContactParameters
 from .engine.result import Result
-from .engine.simulation import Simulation, SimulationUnstable, automatic_time_step, simulate
+from .engine.simulation import RunTooLarge, Simulation, SimulationUnstable, automatic_time_step, simulate
 from .inputs import excitation, records, scenes
 from .inputs.scene import Block, Scene, SceneError
 
 __all__ = [
-    "Block", "ContactParameters", "Result", "Scene", "SceneError", "Simulation", "SimulationUnstable",
+    "Block", "ContactParameters", "Result", "RunTooLarge", "Scene", "SceneError", "Simulation", "SimulationUnstable",
     "automatic_time_step",
     "contact", "convergence", "excitation", "geometry", "records", "scenes", "simulate", "spectra", "stability",
     "sweep", "thresholds",

@@ -15,6 +15,7 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 import dem_core
+from dem_core.engine.simulation import RunTooLarge, Simulation
 from dem_core import excitation, scenes
 from dem_core.engine.geometry import rectangle
 from dem_core.inputs.records import RecordError
@@ -219,6 +220,47 @@ def test_every_key_a_scene_file_accepts_has_a_type():
         assert set(inspect.signature(function).parameters) <= set(scene_file.EXCITATION_TYPES)
     assert {f.name for f in fields(dem_core.ContactParameters)} == set(scene_file.CONTACT_TYPES)
     assert set(scene_file.SIMULATION_TYPES) <= set(inspect.signature(dem_core.simulate).parameters)
+
+
+# --- run size and the stability override ---------------------------------------------------------------
+
+def test_a_run_of_more_steps_than_can_be_meant_is_refused_naming_duration_and_step():
+    """Was: numpy's "Unable to allocate 742 GiB" for duration = 1e9."""
+    with pytest.raises(RunTooLarge, match=r"1\.93e\+13 steps \(duration 1e\+09 s at the automatic step dt = .* set by "
+                       r"the stability limit"):
+        dem_core.simulate(scenes.column(8), duration=1e9)
+
+
+def test_a_huge_damping_that_collapses_the_step_is_named():
+    """Was: cn = 1e15 shrank the automatic step to 1.7e-13 s and numpy failed to allocate."""
+    scene = scenes.column(8, contact=dem_core.ContactParameters(cn=1e15))
+    with pytest.raises(RunTooLarge, match=r"explicit dashpots \(cn = 1e\+15 N s/m\)"):
+        dem_core.simulate(scene, duration=1.0)
+
+
+def test_outputs_that_would_not_fit_in_memory_are_refused_naming_output_dt():
+    with pytest.raises(RunTooLarge, match=r"the outputs would take .* GiB.* raise output_dt"):
+        Simulation(scenes.column(8), duration=5000.0, output_dt=1e-9)
+
+
+def test_a_long_run_is_announced_with_its_expected_wall_time():
+    """Was: a density of 1e-6 kg/m^3 took 342 s for 0.5 s of motion, with no warning."""
+    with pytest.warns(RuntimeWarning, match=r"a long run: 5\.0\de\+08 steps .* lightest block 'drum1' 7\.5e-07 kg.*"
+                      r"expect about [0-9.]+ minutes"):
+        Simulation(scenes.column(8, density=1e-6), duration=0.5)
+
+
+def test_a_run_past_the_stability_limit_says_so_in_its_result():
+    """Was: an 8-drum column under El Centro at 2x the limit returned a 3.8 times larger peak, unmarked."""
+    scene = scenes.column(8)
+    limit = dem_core.stability.stability_limit(scene)
+    past = dem_core.simulate(scene, excitation.record("el_centro_1940"), duration=0.2, dt=1.5 * limit,
+                             enforce_stability_limit=False)
+    assert "1.50 times the stability limit" in past.info["beyond_stability_limit"]
+    assert past.summary()["beyond_stability_limit"] == past.info["beyond_stability_limit"]
+    within = dem_core.simulate(scene, excitation.record("el_centro_1940"), duration=0.2)
+    assert "beyond_stability_limit" not in within.info
+    assert within.info["dt_over_limit"] <= 1.0
 
 
 # --- fuzzing: whatever goes into a scene file or a record, the answer is a result or the toolkit's error ----

@@ -8,7 +8,9 @@ advanced a piece at a time, pickled and continued.
 """
 
 import math
+import os
 import time
+import warnings
 from typing import NamedTuple
 
 import numpy as np
@@ -96,6 +98,8 @@ class Simulation:
         n_steps = math.ceil(duration / dt - 1e-9)
         stride = max(1, round((0.01 if output_dt is None else output_dt) / dt))
         n_out = n_steps // stride + 2
+        _check_run_size(scene, duration, dt, auto_dt, n_steps, n_out, len(self.model.interface_keys), self.limit,
+                        self.impact)
         self.state: State = initial_state(self.model)
         b = self.model.bodies
         self.state.tracking.ledger[0] = mechanical_energy(self.state.pos, self.state.vel, b.mass, b.inv_inertia,
@@ -104,7 +108,7 @@ class Simulation:
             self.state.vel[1:, :2] = np.array(excitation.velocity(np.array([-0.5 * dt])))[:, 0]
         self.settings = RunSettings(
             dt=float(dt), stride=int(stride), last_step=int(n_steps),
-            speed_limit=_speed_limit(scene, excitation, np.arange(n_steps + 1) * dt),
+            speed_limit=_speed_limit(scene, excitation, duration),
             energy_tolerance=ENERGY_TOLERANCE, energy_scale=float(scene.gravity * np.sum(b.radius * b.mass)),
             stop_at_overturn=bool(stop_at_overturn))
         self.out_pos = np.full((n_out, len(b.mass), 3), np.nan)
@@ -353,17 +357,77 @@ def _time_step(scene, dt, limit, impact, safety, steps_per_impact, enforce) -> f
     return float(dt)
 
 
-def _speed_limit(scene, excitation, t_steps) -> float:
+def _speed_limit(scene, excitation, duration) -> float:
     """Bound on any block's speed relative to the ground (m/s) that no stable run reaches.
 
     ``SPEED_LIMIT_FACTOR`` times the free-fall speed from the top of the scene
-    plus the largest ground velocity change over the run.
+    plus the largest ground velocity change over the run (sampled every millisecond or finer).
     """
     top = max(b.vertices[:, 1].max() for b in scene.blocks) - scene.base.vertices[:, 1].max()
     fall = np.sqrt(2.0 * scene.gravity * max(top, 0.0))
-    vx, vy = excitation.velocity(t_steps)
+    vx, vy = excitation.velocity(np.linspace(0.0, duration, int(min(max(duration / 1e-3, 2), 1e6)) + 1))
     ground = np.ptp(vx) + np.ptp(vy)
     return float(SPEED_LIMIT_FACTOR * (fall + ground + 1e-3))
+
+
+#: a run of more steps than this is refused; above WARN_STEPS it is announced with its expected wall time
+MAX_STEPS = 1_000_000_000
+WARN_STEPS = 10_000_000
+#: rough wall time of one block-step on a laptop core (s), for the announcement only
+BLOCK_STEP_SECONDS = 2e-7
+#: the outputs may take at most this fraction of the machine's memory
+MAX_MEMORY_FRACTION = 0.5
+
+
+class RunTooLarge(ValueError):
+    """A run that would take more steps or memory than can be meant; the message names the culprit."""
+
+
+def _check_run_size(scene, duration, dt, auto_dt, n_steps, n_out, n_interfaces, limit, impact):
+    """Refuse before allocating a run of more than ``MAX_STEPS`` steps or whose outputs would not fit in
+    memory, naming what made it so; announce one of more than ``WARN_STEPS`` with its expected wall time."""
+    if auto_dt:
+        light = min(scene.blocks, key=lambda b: b.mass)
+        if DEFAULT_SAFETY * limit < impact / DEFAULT_STEPS_PER_IMPACT:
+            why = f"the stability limit {limit:.3g} s" + (f", which {_damping_hint(scene)}" if _damping_hint(scene)
+                                                         else f" of the stiffest contact (K_n = {scene.contact.kn:.3g} "
+                                                              f"N/m^2, lightest block '{light.name}' {light.mass:.3g} kg)")
+        else:
+            why = (f"the shortest impact {impact:.3g} s (K_n = {scene.contact.kn:.3g} N/m^2, lightest block "
+                   f"'{light.name}' {light.mass:.3g} kg)")
+        step = f"the automatic step dt = {dt:.3g} s, set by {why}"
+    else:
+        step = f"the given dt = {dt:.3g} s"
+    if n_steps > MAX_STEPS:
+        raise RunTooLarge(f"the run would take {n_steps:.3g} steps (duration {duration:.4g} s at {step}), more than "
+                          f"{MAX_STEPS:.0e}: shorten the duration or check the scene's masses and contact parameters")
+    memory = n_out * (3 * len(scene.bodies) + n_interfaces + 1) * 8.0
+    available = _physical_memory()
+    if memory > MAX_MEMORY_FRACTION * available:
+        raise RunTooLarge(f"the outputs would take {memory / 2**30:.3g} GiB ({n_out:.3g} outputs of "
+                          f"{len(scene.bodies)} bodies), more than half of this machine's {available / 2**30:.3g} GiB: "
+                          f"raise output_dt or shorten the duration ({duration:.4g} s)")
+    if n_steps > WARN_STEPS:
+        expected = n_steps * len(scene.blocks) * BLOCK_STEP_SECONDS
+        warnings.warn(f"a long run: {n_steps:.3g} steps (duration {duration:.4g} s at {step}); expect about "
+                      f"{expected / 60:.3g} minutes", RuntimeWarning, stacklevel=4)
+
+
+def _damping_hint(scene) -> str:
+    """The explicit dashpots of ``scene``, which may set the stability limit rather than its springs (or '')."""
+    p = scene.contact
+    given = {name: getattr(p, name) for name in ("cn", "cr", "ct") if getattr(p, name) is not None}
+    if given:
+        return "the explicit dashpots (" + ", ".join(f"{k} = {v:.3g} N s/m" for k, v in given.items()) + ") shrink"
+    return ""
+
+
+def _physical_memory() -> float:
+    """This machine's memory, bytes."""
+    try:
+        return float(os.sysconf("SC_PAGE_SIZE") * os.sysconf("SC_PHYS_PAGES"))
+    except (ValueError, OSError, AttributeError):
+        return 8.0 * 2**30
 
 
 def _ensure_compiled(run: Simulation) -> float:
