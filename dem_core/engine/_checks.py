@@ -15,30 +15,32 @@ import numpy as np
 
 @nb.njit(cache=True, inline="always")
 def mark_overturns(pos, critical_angle, y_start, drop_limit, mass, stack_id, bottom, stack_mass, foot,
-                   overturn_step, stack_step, step):
+                   overturn_step, stack_step, moment, step):
     """Record in ``overturn_step`` (nb,) and ``stack_step`` (ns,) the bodies and stacks that have
     overturned by ``pos`` (nb, 3; row 0 the base) and were not marked yet, with ``step``.
 
     critical_angle, y_start, drop_limit, mass : the model's :class:`~dem_core.engine.model.Bodies`
-    fields; stack_id, bottom, stack_mass, foot : its :class:`~dem_core.engine.model.Stacks`.
-    Returns the first body found overturning now (a stack reports its bottom body), or -1.
+    fields; stack_id, bottom, stack_mass, foot : its :class:`~dem_core.engine.model.Stacks`;
+    moment : (ns,) scratch.  Returns the first body found overturning now (a stack reports its bottom
+    body), or -1.  One pass over the bodies and one over the stacks.
     """
     first = -1
+    moment[:] = 0.0
     for b in range(1, pos.shape[0]):
+        k = stack_id[b]
+        if k >= 0:
+            moment[k] += pos[b, 0] * mass[b]
         if overturn_step[b] >= 0:
             continue
         if abs(pos[b, 2]) > critical_angle[b] or y_start[b] - pos[b, 1] > drop_limit[b]:
             overturn_step[b] = step
             if first < 0:
                 first = b
+    tipped = False
     for k in range(bottom.shape[0]):
         if stack_step[k] >= 0:
             continue
-        moment = 0.0
-        for b in range(1, pos.shape[0]):
-            if stack_id[b] == k:
-                moment += pos[b, 0] * mass[b]
-        com = moment / stack_mass[k]
+        com = moment[k] / stack_mass[k]
         f = bottom[k]
         c = math.cos(pos[f, 2])
         s = math.sin(pos[f, 2])
@@ -46,11 +48,14 @@ def mark_overturns(pos, critical_angle, y_start, drop_limit, mass, stack_id, bot
         xb = pos[f, 0] + c * foot[k, 1, 0] - s * foot[k, 1, 1]
         if com < min(xa, xb) or com > max(xa, xb):
             stack_step[k] = step
-            for b in range(1, pos.shape[0]):
-                if stack_id[b] == k and overturn_step[b] < 0:
-                    overturn_step[b] = step
+            tipped = True
             if first < 0:
                 first = f
+    if tipped:  # rare: mark the bodies of the stacks that tipped now
+        for b in range(1, pos.shape[0]):
+            k = stack_id[b]
+            if k >= 0 and stack_step[k] == step and overturn_step[b] < 0:
+                overturn_step[b] = step
     return first
 
 
@@ -70,7 +75,8 @@ def first_overturns(states, bodies, stacks):
     overturned and each stack tipped: ``(overturn (nb,), stack (ns,))`` int64, -1 if never."""
     overturn = np.full(states.shape[1], -1, np.int64)
     stack = np.full(stacks.bottom.shape[0], -1, np.int64)
+    moment = np.empty(stacks.bottom.shape[0])
     for k in range(states.shape[0]):
         mark_overturns(states[k], bodies.critical_angle, bodies.y_start, bodies.drop_limit, bodies.mass,
-                       stacks.stack_id, stacks.bottom, stacks.mass, stacks.foot, overturn, stack, k)
+                       stacks.stack_id, stacks.bottom, stacks.mass, stacks.foot, overturn, stack, moment, k)
     return overturn, stack

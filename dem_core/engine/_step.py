@@ -203,10 +203,12 @@ def move(pos, vel, force, inv_mass, inv_inertia, gx, gy, dt):
 
 @nb.njit(cache=True, inline="always")
 def _needs_relist(pos, radius, built_at, half_skin):
+    """Whether a body has moved (translation plus rotation at its circumradius) half a skin since the list."""
     for b in range(pos.shape[0]):
-        moved = (math.hypot(pos[b, 0] - built_at[b, 0], pos[b, 1] - built_at[b, 1])
-                 + abs(pos[b, 2] - built_at[b, 2]) * radius[b])
-        if not moved <= half_skin:
+        slack = half_skin - abs(pos[b, 2] - built_at[b, 2]) * radius[b]
+        dx = pos[b, 0] - built_at[b, 0]
+        dy = pos[b, 1] - built_at[b, 1]
+        if not (slack >= 0.0 and dx * dx + dy * dy <= slack * slack):
             return True
     return False
 
@@ -259,6 +261,7 @@ def advance(model, run, pos, vel, contacts, retired, tracking, ground, n_steps, 
     lo_y = np.empty(nb_)
     hi_y = np.empty(nb_)
     force = np.zeros((nb_, 3))
+    stack_moment = np.empty(bottom.shape[0])
     points = np.empty((2, 3))
     keys = np.empty(2, np.int64)
     largest = 3
@@ -340,7 +343,7 @@ def advance(model, run, pos, vel, contacts, retired, tracking, ground, n_steps, 
                 return STATUS_RUNAWAY, b, b, contacts, retired
             peak_theta[b] = max(peak_theta[b], abs(pos[b, 2]))
         toppled = mark_overturns(pos, critical_angle, y_start, drop_limit, mass, stack_id, bottom, stack_mass, foot,
-                                 overturn_step, stack_step, step + 1)
+                                 overturn_step, stack_step, stack_moment, step + 1)
         if toppled >= 0 and run.stop_at_overturn:
             pos[0, 0] = ground[2, k + 1]
             pos[0, 1] = ground[3, k + 1]

@@ -111,8 +111,11 @@ class Model(NamedTuple):
     floor: float
 
 
-def _edge_normals(v: np.ndarray) -> np.ndarray:
-    edges = np.roll(v, -1, axis=0) - v
+def _edge_normals(vertices: np.ndarray, vstart: np.ndarray) -> np.ndarray:
+    """(nv, 2) outward unit normals of every polygon's edges (edge k from vertex k to the next)."""
+    following = np.arange(1, len(vertices) + 1)
+    following[vstart[1:] - 1] = vstart[:-1]  # each polygon's last vertex is followed by its first
+    edges = vertices[following] - vertices
     normals = np.column_stack([edges[:, 1], -edges[:, 0]])
     return normals / np.hypot(normals[:, 0], normals[:, 1])[:, None]
 
@@ -124,9 +127,9 @@ def compile_bodies(scene) -> Bodies:
     angle0 = np.array([b.angle for b in bodies])
     local = [geometry.transform(b.vertices - c, -a) for b, c, a in zip(bodies, centroids, angle0)]
     allv = np.concatenate(local)
-    normals = np.concatenate([_edge_normals(v) for v in local])
     vstart = np.zeros(len(bodies) + 1, np.int64)
     vstart[1:] = np.cumsum([len(v) for v in local])
+    normals = _edge_normals(allv, vstart)
     mass = np.array([0.0] + [b.mass for b in scene.blocks])
     inertia = np.array([0.0] + [b.inertia for b in scene.blocks])
     with np.errstate(divide="ignore"):

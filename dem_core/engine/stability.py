@@ -11,7 +11,7 @@ from typing import NamedTuple
 import numpy as np
 from scipy.linalg import eigh
 
-from ._contact_law import CORNER, dashpot, effective_mass, pair_parameters
+from ._contact_law import CORNER, dashpot, pair_parameters
 from .model import Model, compile_model
 
 
@@ -238,15 +238,6 @@ def _damped_limit(omega, zeta):
     return 2.0 / omega * (np.sqrt(1.0 + zeta**2) - zeta)
 
 
-def _point_mass(model: Model, i: int, j: int, point, direction) -> float:
-    """Effective mass (kg) of bodies i and j at ``point`` along ``direction``, as the kernel computes it."""
-    b = model.bodies
-    ri = point - b.centroid0[i]
-    rj = point - b.centroid0[j]
-    return effective_mass(direction[0], direction[1], ri[0], ri[1], b.inv_mass[i], b.inv_inertia[i], rj[0], rj[1],
-                          b.inv_mass[j], b.inv_inertia[j])
-
-
 def _damping_ratio(model: Model, i: int, j: int) -> float:
     """Largest damping ratio of the pair's dashpots against its own springs and reduced mass."""
     k_n, c_n, k_t, c_t, c_r, m_eff, length = _pair(model, i, j)
@@ -271,50 +262,70 @@ def _touching_faces(scene, touching) -> list:
     return faces
 
 
-def _row(scene, i, j, point, direction):
-    """``(dof, row)`` (6,) of a spring along ``direction`` at ``point`` between bodies i and j."""
-    dof = np.full(6, -1, np.int64)
-    row = np.zeros(6)
-    for slot, (body, sign) in enumerate(((i, -1.0), (j, 1.0))):
-        if body:
-            r = point - scene.bodies[body].centroid
-            dof[3 * slot:3 * slot + 3] = np.arange(3 * body - 3, 3 * body)
-            row[3 * slot:3 * slot + 3] = sign * np.array([direction[0], direction[1], r[0] * direction[1] - r[1] * direction[0]])
-    return dof, row
-
-
 def linearised_springs(scene, model: Model, faces: list, shift_n: float, shift_t: float) -> Springs:
-    """The :class:`Springs` of the touching faces.
+    """The :class:`Springs` of the touching faces, built for all faces at once.
 
-    Corner law: springs at both ends of each face.  Overlap law: ``shift_n``, ``shift_t`` move the
-    points of action of the normal and the tangential spring along the tangent by that fraction of
-    the face length.
+    Corner law: a normal and a tangential spring at both ends of each face, their dashpots from the
+    damping ratios and the effective mass at each end (as the kernel computes them).  Overlap law:
+    the normal and tangential springs with ``shift_n``, ``shift_t`` moving their points of action
+    along the tangent by that fraction of the face length, and the rocking couple.
     """
+    b = model.bodies
+    i = np.array([f[0] for f in faces])
+    j = np.array([f[1] for f in faces])
+    centroid = np.array([f[2] for f in faces])
+    normal = np.array([f[3] for f in faces])
+    tangent = np.array([f[4] for f in faces])
+    extent = np.array([f[5] for f in faces])
+    constants = np.array([_pair(model, a, c)[:5] for a, c in zip(i, j)])  # k_n, c_n, k_t, c_t, c_r per face
+    k_n, c_n, k_t, c_t, c_r = constants.T
+    springs = []  # (point (F, 2), direction (F, 2), k (F,), c (F,)) per family of springs
+    if model.law.law == CORNER:
+        for end in (-0.5, 0.5):
+            point = centroid + end * extent[:, None] * tangent
+            for direction, k, given, zeta in ((normal, k_n, c_n, model.law.zeta_n), (tangent, k_t, c_t, model.law.zeta_t)):
+                mass = 1.0 / _inverse_effective_mass(b, i, j, point, direction)
+                springs.append((point, direction, k, np.where(np.isnan(given), 2.0 * zeta * np.sqrt(k * mass), given)))
+    else:
+        springs.append((centroid + shift_n * extent[:, None] * tangent, normal, k_n * extent, c_n))
+        springs.append((centroid + shift_t * extent[:, None] * tangent, tangent, k_t, c_t))
     dofs, rows, ks, cs = [], [], [], []
-
-    def add(dof_row, k, c):
-        dofs.append(dof_row[0])
-        rows.append(dof_row[1])
+    for point, direction, k, c in springs:
+        dof, row = _rows(b, i, j, point, direction)
+        dofs.append(dof)
+        rows.append(row)
         ks.append(k)
         cs.append(c)
+    if model.law.law != CORNER:  # the couple: relative rotation, k = K_n d L^3 / 12
+        dof, row = _rows(b, i, j, centroid, normal)
+        row[:, [0, 1, 3, 4]] = 0.0
+        row[:, [2, 5]] = [-1.0, 1.0]
+        dofs.append(dof)
+        rows.append(row)
+        ks.append(k_n * extent**3 / 12.0)
+        cs.append(c_r * extent**2 / 12.0)
+    return Springs(np.concatenate(dofs), np.concatenate(rows), np.concatenate(ks), np.concatenate(cs))
 
-    for i, j, centroid, normal, t, extent in faces:
-        k_n, c_n, k_t, c_t, c_r, _, _ = _pair(model, i, j)
-        if model.law.law == CORNER:
-            for end in (-0.5, 0.5):
-                point = centroid + end * extent * t
-                for direction, k, given, zeta in ((normal, k_n, c_n, model.law.zeta_n), (t, k_t, c_t, model.law.zeta_t)):
-                    mass = _point_mass(model, i, j, point, direction)
-                    add(_row(scene, i, j, point, direction), k, dashpot(given, zeta, k, mass))
-        else:
-            spring = k_n * extent
-            add(_row(scene, i, j, centroid + shift_n * extent * t, normal), spring, c_n)
-            add(_row(scene, i, j, centroid + shift_t * extent * t, t), k_t, c_t)
-            dof = np.full(6, -1, np.int64)
-            row = np.zeros(6)
-            for slot, (body, sign) in enumerate(((i, -1.0), (j, 1.0))):
-                if body:
-                    dof[3 * slot:3 * slot + 3] = np.arange(3 * body - 3, 3 * body)
-                    row[3 * slot + 2] = sign
-            add((dof, row), spring * extent**2 / 12.0, c_r * extent**2 / 12.0)
-    return Springs(np.array(dofs, np.int64).reshape(-1, 6), np.array(rows).reshape(-1, 6), np.array(ks), np.array(cs))
+
+def _inverse_effective_mass(b, i, j, point, direction):
+    """(F,) ``1/m_i + 1/m_j + (r_i x d)^2 / I_i + (r_j x d)^2 / I_j`` at each face's point."""
+    total = b.inv_mass[i] + b.inv_mass[j]
+    for body in (i, j):
+        r = point - b.centroid0[body]
+        total = total + (r[:, 0] * direction[:, 1] - r[:, 1] * direction[:, 0]) ** 2 * b.inv_inertia[body]
+    return total
+
+
+def _rows(b, i, j, point, direction):
+    """``(dof (F, 6), row (F, 6))`` of springs along ``direction`` at ``point`` between bodies i and j (the base,
+    index 0, has no degrees of freedom: -1)."""
+    dof = np.full((len(i), 6), -1, np.int64)
+    row = np.zeros((len(i), 6))
+    for slot, (body, sign) in enumerate(((i, -1.0), (j, 1.0))):
+        r = point - b.centroid0[body]
+        moving = body > 0
+        dof[moving, 3 * slot:3 * slot + 3] = 3 * body[moving, None] - 3 + np.arange(3)
+        entries = sign * np.column_stack([direction[:, 0], direction[:, 1],
+                                          r[:, 0] * direction[:, 1] - r[:, 1] * direction[:, 0]])
+        row[moving, 3 * slot:3 * slot + 3] = entries[moving]
+    return dof, row

@@ -203,7 +203,7 @@ class Scene:
         width, height = np.ptp(v, axis=0)
         return float(np.arctan2(width, height))
 
-    @property
+    @cached_property
     def bodies(self) -> tuple:
         """Base first, then the blocks: the index order of the compiled kernels."""
         return (self.base, *self.blocks)
