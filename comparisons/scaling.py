@@ -49,11 +49,10 @@ def two_tier(n_blocks):
 FAMILIES = {"columns": columns, "colonnade": colonnade, "two_tier": two_tier}
 
 
-def measure(scene, steps, threads):
-    """(set-up s, s per block-step) of ``steps`` steps on ``threads`` threads."""
-    numba.set_num_threads(threads)
+def measure(scene, steps, parallel):
+    """(set-up s, s per block-step) of ``steps`` steps with the serial or the threaded kernel."""
     started = time.perf_counter()
-    run = Simulation(scene, excitation.harmonic(pga=1.0, frequency=2.0), duration=10.0)
+    run = Simulation(scene, excitation.harmonic(pga=1.0, frequency=2.0), duration=10.0, parallel=parallel)
     setup = time.perf_counter() - started
     run.advance(50)  # the first pair lists and caches
     started = time.perf_counter()
@@ -73,12 +72,11 @@ def main(argv=None):
     for family in args.families:
         for size in args.sizes:
             scene = FAMILIES[family](size)
-            setup, one = measure(scene, args.steps, 1)
-            _, many = measure(scene, args.steps, threads)
+            setup, one = measure(scene, args.steps, False)
+            _, many = measure(scene, args.steps, True)
             rss = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
             print(f"{family:10s} {len(scene.blocks):6d} {setup:10.3f} {one * 1e9:9.0f} ns {many * 1e9:9.0f} ns "
                   f"{one / many:8.2f} {rss:13.0f}", flush=True)
-    numba.set_num_threads(threads)
 
 
 if __name__ == "__main__":

@@ -58,11 +58,12 @@ def world_geometry(pos, local_x, local_y, normal_x, normal_y, vstart, wx, wy, wn
 
 
 @nb.njit(cache=True, inline="always")
-def _push(force, body, fx, fy, px, py, pos, couple):
-    """Add the force (fx, fy) acting at (px, py), and a couple, to ``body``'s resultant."""
-    force[body, 0] += fx
-    force[body, 1] += fy
-    force[body, 2] += (px - pos[body, 0]) * fy - (py - pos[body, 1]) * fx + couple
+def _push(pair_force, p, end, body, fx, fy, px, py, pos, couple):
+    """Add the force (fx, fy) acting at (px, py), and a couple, to the resultant on ``body``, the pair's
+    first (``end`` 0) or second body, kept in the pair's row of ``pair_force``."""
+    pair_force[p, 3 * end] += fx
+    pair_force[p, 3 * end + 1] += fy
+    pair_force[p, 3 * end + 2] += (px - pos[body, 0]) * fy - (py - pos[body, 1]) * fx + couple
 
 
 @nb.njit(cache=True, inline="always")
@@ -76,9 +77,10 @@ def _add_slip(p, ids, forces, interface_slip, amount):
 
 
 @nb.njit(cache=True, inline="always")
-def corner_pair(p, ids, constants, memory, forces, interface_slip, pos, vel, force, wx, wy, wnx, wny, vstart,
+def corner_pair(p, ids, constants, memory, forces, interface_slip, pos, vel, pair_force, wx, wy, wnx, wny, vstart,
                 inv_mass, inv_inertia, zeta_n, zeta_t, limit, dt, points, keys):
-    """Corner-law forces of candidate pair ``p`` added to ``force``.
+    """Corner-law forces of candidate pair ``p``, into the pair's row of ``pair_force`` (resultant force
+    and moment on its first body, then on its second).
 
     zeta_n, zeta_t : damping ratios of the points' dashpots (used where the pair has no explicit
     dashpot constants) against the pair's effective mass at each point.  limit : m, the deepest
@@ -101,6 +103,7 @@ def corner_pair(p, ids, constants, memory, forces, interface_slip, pos, vel, for
     if count == 0:
         return 0, 0.0
     ref, inc = (j, i) if (code >> FACE_BITS) == 1 else (i, j)
+    ref_end = 1 if ref == j else 0
     tx = -ny
     ty = nx
     slipped = 0.0
@@ -134,16 +137,16 @@ def corner_pair(p, ids, constants, memory, forces, interface_slip, pos, vel, for
         forces[p, POINT_FORCE + q] = elastic
         fx = fn * nx + ft * tx
         fy = fn * ny + ft * ty
-        _push(force, inc, fx, fy, px, py, pos, 0.0)
-        _push(force, ref, -fx, -fy, px, py, pos, 0.0)
+        _push(pair_force, p, 1 - ref_end, inc, fx, fy, px, py, pos, 0.0)
+        _push(pair_force, p, ref_end, ref, -fx, -fy, px, py, pos, 0.0)
     _add_slip(p, ids, forces, interface_slip, slipped)
     return count, 0.0
 
 
 @nb.njit(cache=True, inline="always")
-def overlap_pair(p, ids, constants, forces, interface_slip, pos, vel, force, wx, wy, vstart, limits, dt, ox, oy,
+def overlap_pair(p, ids, constants, forces, interface_slip, pos, vel, pair_force, wx, wy, vstart, limits, dt, ox, oy,
                  clip_scratch):
-    """Overlap-area-law forces of candidate pair ``p`` added to ``force``.
+    """Overlap-area-law forces of candidate pair ``p``, into the pair's row of ``pair_force``.
 
     limits : (nb,) m^2, the largest overlap of each body a stable run can have (the pair's is the
     smaller).  ox, oy, clip_scratch : clipping scratch.  Returns ``(1 if the pair overlaps else 0,
@@ -184,9 +187,40 @@ def overlap_pair(p, ids, constants, forces, interface_slip, pos, vel, force, wx,
         couple = -constants[p, C_R] * length * length / 12.0 * (vel[j, 2] - vel[i, 2])
     fx = fn * nx + ft * tx
     fy = fn * ny + ft * ty
-    _push(force, j, fx, fy, cx, cy, pos, couple)
-    _push(force, i, -fx, -fy, cx, cy, pos, -couple)
+    _push(pair_force, p, 1, j, fx, fy, cx, cy, pos, couple)
+    _push(pair_force, p, 0, i, -fx, -fy, cx, cy, pos, -couple)
     return 1, 0.0
+
+
+@nb.njit(cache=True)
+def _pair_buffers(n_pairs, corner, clip):
+    """Per-pair outputs (resultants (n, 6), points in contact, excess penetration) and the narrow
+    phase's scratch: corner points (n, 2, 3) and keys (n, 2), or the clipping buffers of the overlap law."""
+    rows = n_pairs if corner else 1
+    polygons = 1 if corner else n_pairs
+    return (np.zeros((n_pairs, 6)), np.zeros(n_pairs, np.int64), np.zeros(n_pairs), np.empty((rows, 2, 3)),
+            np.empty((rows, 2), np.int64), np.empty((polygons, clip)), np.empty((polygons, clip)),
+            np.empty((polygons, 2, 2, clip)))
+
+
+@nb.njit(cache=True)
+def incidence(ids, n_pairs, n_bodies):
+    """Which pairs each body belongs to, compressed: body b's entries are ``entries[start[b]:start[b + 1]]``,
+    each ``2 p + end`` (pair p, the body its first or second).  Returns ``(start, entries)``."""
+    start = np.zeros(n_bodies + 1, np.int64)
+    for p in range(n_pairs):
+        start[ids[p, PAIR_I] + 1] += 1
+        start[ids[p, PAIR_J] + 1] += 1
+    for b in range(n_bodies):
+        start[b + 1] += start[b]
+    fill = start[:-1].copy()
+    entries = np.empty(2 * n_pairs, np.int64)
+    for p in range(n_pairs):
+        for end in range(2):
+            b = ids[p, PAIR_I + end]
+            entries[fill[b]] = 2 * p + end
+            fill[b] += 1
+    return start, entries
 
 
 @nb.njit(cache=True, inline="always")
@@ -225,8 +259,7 @@ def _write_output(pos, interface_slip, counters, out_pos, out_slip, out_step):
     counters[OUTPUTS] = k + 1
 
 
-@nb.njit(cache=True)
-def advance(model, run, pos, vel, contacts, retired, tracking, ground, n_steps, out_pos, out_slip, out_step):
+def _advance(model, run, pos, vel, contacts, retired, tracking, ground, n_steps, out_pos, out_slip, out_step):
     """Take up to ``n_steps`` steps from the state (``pos``, ``vel``, ``contacts``, ``retired``,
     ``tracking``), in place.
 
@@ -262,14 +295,10 @@ def advance(model, run, pos, vel, contacts, retired, tracking, ground, n_steps, 
     hi_y = np.empty(nb_)
     force = np.zeros((nb_, 3))
     stack_moment = np.empty(bottom.shape[0])
-    points = np.empty((2, 3))
-    keys = np.empty(2, np.int64)
     largest = 3
     for b in range(nb_):
         largest = max(largest, vstart[b + 1] - vstart[b])
-    ox = np.empty(2 * largest + 2)
-    oy = np.empty(2 * largest + 2)
-    clip_scratch = np.empty((2, 2, 2 * largest + 2))
+    clip = 2 * largest + 2
     corner = law.law == CORNER
     # deepest corner contact (m) or largest overlap (m^2) of each body a stable run can have
     limits = law.max_penetration * (bodies.size if corner else bodies.area)
@@ -278,6 +307,9 @@ def advance(model, run, pos, vel, contacts, retired, tracking, ground, n_steps, 
     half_skin = 0.5 * law.skin
     ids, constants, memory, forces = contacts.ids, contacts.constants, contacts.memory, contacts.forces
     n_pairs = contacts.count[0]
+    # per-pair outputs and scratch: the pair loop may run in parallel, each pair touching only its own rows
+    pair_force, pair_touching, pair_excess, points, keys, ox, oy, clip_scratch = _pair_buffers(n_pairs, corner, clip)
+    start, entries = incidence(ids, n_pairs, nb_)
 
     for k in range(n_steps + 1):
         pos[0, 0] = ground[2, k]
@@ -298,28 +330,50 @@ def advance(model, run, pos, vel, contacts, retired, tracking, ground, n_steps, 
             contacts, retired = relist(bodies, law, model.interface_keys, contacts, retired, candidates)
             ids, constants, memory, forces = contacts.ids, contacts.constants, contacts.memory, contacts.forces
             n_pairs = contacts.count[0]
+            pair_force, pair_touching, pair_excess, points, keys, ox, oy, clip_scratch = _pair_buffers(
+                n_pairs, corner, clip)
+            start, entries = incidence(ids, n_pairs, nb_)
             built_at[:, :] = pos
             counters[REBUILDS] += 1
 
-        force[:, :] = 0.0
-        for p in range(n_pairs):
+        # each pair writes only its own rows (and its own recorded interface), so pairs may run in parallel
+        for p in nb.prange(n_pairs):  # prange runs as range in the serial kernel
             i = ids[p, PAIR_I]
             j = ids[p, PAIR_J]
+            pair_force[p, :] = 0.0
+            pair_touching[p] = 0
+            pair_excess[p] = 0.0
             if hi_x[i] < lo_x[j] or hi_x[j] < lo_x[i] or hi_y[i] < lo_y[j] or hi_y[j] < lo_y[i]:
                 memory[p, :] = -1
                 forces[p, POINT_FORCE] = 0.0
                 continue
             if corner:
-                touching, excess = corner_pair(p, ids, constants, memory, forces, interface_slip, pos, vel, force,
+                touching, excess = corner_pair(p, ids, constants, memory, forces, interface_slip, pos, vel, pair_force,
                                                wx, wy, wnx, wny, vstart, inv_mass, inv_inertia, law.zeta_n, law.zeta_t,
-                                               min(limits[i], limits[j]), dt, points, keys)
+                                               min(limits[i], limits[j]), dt, points[p], keys[p])
             else:
-                touching, excess = overlap_pair(p, ids, constants, forces, interface_slip, pos, vel, force, wx, wy,
-                                                vstart, limits, dt, ox, oy, clip_scratch)
-            if touching:
+                touching, excess = overlap_pair(p, ids, constants, forces, interface_slip, pos, vel, pair_force, wx,
+                                                wy, vstart, limits, dt, ox[p], oy[p], clip_scratch[p])
+            pair_touching[p] = touching
+            pair_excess[p] = excess
+        for b in nb.prange(nb_):  # gather the pairs' resultants body by body, in one order
+            fx = 0.0
+            fy = 0.0
+            m = 0.0
+            for e in range(start[b], start[b + 1]):
+                row = entries[e] >> 1
+                end = entries[e] & 1
+                fx += pair_force[row, 3 * end]
+                fy += pair_force[row, 3 * end + 1]
+                m += pair_force[row, 3 * end + 2]
+            force[b, 0] = fx
+            force[b, 1] = fy
+            force[b, 2] = m
+        for p in range(n_pairs):
+            if pair_touching[p] > 0:
                 counters[NARROW] += 1
-            if excess > 0.0:
-                return STATUS_DEEP_OVERLAP, i, j, contacts, retired
+            if pair_excess[p] > 0.0:
+                return STATUS_DEEP_OVERLAP, ids[p, PAIR_I], ids[p, PAIR_J], contacts, retired
 
         load_x = ground[0, k]
         load_y = ground[1, k]
@@ -354,3 +408,9 @@ def advance(model, run, pos, vel, contacts, retired, tracking, ground, n_steps, 
             if energy - ledger[0] - ledger[1] > run.energy_tolerance * (run.energy_scale + ledger[2]):
                 return STATUS_ENERGY, 0, 0, contacts, retired
     return STATUS_OK, 0, 0, contacts, retired
+
+
+#: the stepping kernel, serial
+advance = nb.njit(cache=True)(_advance)
+#: the same kernel with the pair loop and the gather spread over numba's threads
+advance_parallel = nb.njit(cache=True, parallel=True)(_advance)

@@ -13,6 +13,7 @@ import time
 import warnings
 from typing import NamedTuple
 
+import numba
 import numpy as np
 
 from . import _step, stability
@@ -40,6 +41,9 @@ GROUND_MOTION_MODES = ("inertial", "moving_base")
 COLLAPSE_STEP_FACTOR = 0.25
 #: wall time (s) a chunk of steps aims at between progress updates
 CHUNK_SECONDS = 0.25
+#: scenes of at least this many blocks run the kernel whose pair loop uses all of numba's threads (below it
+#: the threads cost more than they save: python -m comparisons.scaling)
+PARALLEL_BLOCKS = 256
 
 
 class SimulationUnstable(RuntimeError):
@@ -75,7 +79,7 @@ class Simulation:
     def __init__(self, scene, excitation: GroundMotion | None = None, duration: float | None = None,
                  dt: float | None = None, output_dt: float | None = None, *, ground_motion: str = "inertial",
                  safety: float = DEFAULT_SAFETY, steps_per_impact: float = DEFAULT_STEPS_PER_IMPACT,
-                 stop_at_overturn: bool = True, enforce_stability_limit: bool = True):
+                 stop_at_overturn: bool = True, enforce_stability_limit: bool = True, parallel: bool | None = None):
         excitation = still() if excitation is None else excitation
         if ground_motion not in GROUND_MOTION_MODES:
             raise ValueError(f"ground_motion must be one of {GROUND_MOTION_MODES}, got {ground_motion!r}")
@@ -111,6 +115,8 @@ class Simulation:
             speed_limit=_speed_limit(scene, excitation, duration),
             energy_tolerance=ENERGY_TOLERANCE, energy_scale=float(scene.gravity * np.sum(b.radius * b.mass)),
             stop_at_overturn=bool(stop_at_overturn))
+        use_threads = len(scene.blocks) >= PARALLEL_BLOCKS and numba.get_num_threads() > 1
+        self.kernel = _step.advance_parallel if (use_threads if parallel is None else parallel) else _step.advance
         self.out_pos = np.full((n_out, len(b.mass), 3), np.nan)
         self.out_slip = np.full((n_out, len(self.model.interface_keys)), np.nan)
         self.out_step = np.zeros(n_out, np.int64)
@@ -134,7 +140,7 @@ class Simulation:
         s = self.state
         steps = self.settings.last_step - s.step if steps is None else min(steps, self.settings.last_step - s.step)
         started = time.perf_counter()
-        status, i, j, s.contacts, s.retired = _step.advance(
+        status, i, j, s.contacts, s.retired = self.kernel(
             self.model, self.settings, s.pos, s.vel, s.contacts, s.retired, s.tracking,
             self._ground(s.step, steps), steps, self.out_pos, self.out_slip, self.out_step)
         self.run_time += time.perf_counter() - started
@@ -287,7 +293,8 @@ def simulate(scene, excitation: GroundMotion | None = None, duration: float | No
              dt: float | None = None, output_dt: float | None = None, *,
              ground_motion: str = "inertial", safety: float = DEFAULT_SAFETY,
              steps_per_impact: float = DEFAULT_STEPS_PER_IMPACT,
-             stop_at_overturn: bool = True, enforce_stability_limit: bool = True, progress=None) -> Result:
+             stop_at_overturn: bool = True, enforce_stability_limit: bool = True, progress=None,
+             parallel: bool | None = None) -> Result:
     """Simulate ``scene`` under ``excitation`` with the native soft-contact DEM.
 
     scene : :class:`~dem_core.inputs.scene.Scene` (its ``contact.law`` chooses the contact law).
@@ -314,6 +321,8 @@ def simulate(scene, excitation: GroundMotion | None = None, duration: float | No
         (``comparisons/stability_probe.py``); such a result says so in ``info``.
     progress : None, or a callable ``(steps done, steps in all)`` called every quarter second
         or so (the command line passes a progress bar).
+    parallel : spread the contacts over numba's threads (``NUMBA_NUM_THREADS``); None: for scenes of
+        ``PARALLEL_BLOCKS`` blocks or more.  Results are the same to round-off either way.
 
     Raises ``ValueError`` for bad arguments (a dt above the stability limit
     among them) and :class:`SimulationUnstable`, carrying the result up to
@@ -321,7 +330,7 @@ def simulate(scene, excitation: GroundMotion | None = None, duration: float | No
     """
     run = Simulation(scene, excitation, duration, dt, output_dt, ground_motion=ground_motion, safety=safety,
                      steps_per_impact=steps_per_impact, stop_at_overturn=stop_at_overturn,
-                     enforce_stability_limit=enforce_stability_limit)
+                     enforce_stability_limit=enforce_stability_limit, parallel=parallel)
     return run.run(progress).result()
 
 
@@ -434,7 +443,7 @@ def _ensure_compiled(run: Simulation) -> float:
     """Compile the kernel (or load it from numba's cache) with a zero-step call; returns the seconds it took."""
     started = time.perf_counter()
     s = run.state
-    _step.advance(run.model, run.settings, s.pos.copy(), s.vel.copy(), s.contacts, s.retired,
+    run.kernel(run.model, run.settings, s.pos.copy(), s.vel.copy(), s.contacts, s.retired,
                   s.tracking._replace(counters=s.tracking.counters.copy()), run._ground(0, 0), 0,
                   np.empty_like(run.out_pos[:1]), np.empty_like(run.out_slip[:1]), np.zeros(1, np.int64))
     return time.perf_counter() - started
