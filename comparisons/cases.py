@@ -276,7 +276,8 @@ def all_cases() -> list:
     mode_bands = {"mode_mismatch": {e: 0.0 for e in every}}  # every engine measured right on both sides
     return [
         Case(name="free_rocking", title="Free rocking of the 0.25 x 1.0 m block from 0.05236 rad (4.1, 4.2)",
-             scene=housner_scene, motion=excitation.still, duration=4.0, bands=_free_rocking_bands(0.01, 0.03), quick=True,
+             scene=housner_scene, motion=excitation.still, duration=4.0, bands=_free_rocking_bands(0.01, 0.03),
+             quick=True,
              **_free_rocking(HOUSNER_WIDTH, HOUSNER_HEIGHT, HOUSNER_THETA0, 4.0)),
         Case(name="newmark", title="Sliding block under a rectangular pulse, a_p/(mu g) = 2 (Newmark 4.4)",
              scene=lambda: sliding_block(newmark_mu),

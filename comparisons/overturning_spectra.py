@@ -30,6 +30,7 @@ energy it needs would take longer; the reference runs as long, so both are judge
 
 import sys
 from dataclasses import dataclass, field
+from itertools import pairwise
 
 import numpy as np
 import pandas as pd
@@ -190,7 +191,7 @@ def points(transitions: list) -> list:
     edges = [a for a, _ in transitions]
     for a in edges:
         out += [(a * (1 - NEAR), "near"), (a * (1 + NEAR), "near"), (a * (1 - FAR), "far"), (a * (1 + FAR), "far")]
-    out += [(float(np.sqrt(lo * hi)), "band") for lo, hi in zip(edges[:-1], edges[1:], strict=False)]
+    out += [(float(np.sqrt(lo * hi)), "band") for lo, hi in pairwise(edges)]
     return sorted(out)
 
 

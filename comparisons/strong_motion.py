@@ -8,7 +8,7 @@ makes the runs shorter: the four bundled records run 117 s in all instead of 329
 the references are given the same samples, so the comparison is exact about what was run.
 """
 
-from functools import lru_cache
+from functools import cache
 
 import numpy as np
 
@@ -19,7 +19,7 @@ END_SHARE = 0.95
 TAIL = 5.0  # s
 
 
-@lru_cache(maxsize=None)
+@cache
 def window(record: str) -> tuple[float, float]:
     """``(start, end)`` of the strong-motion window of a bundled record, s from the record's start."""
     motion = excitation.record(record)
@@ -46,14 +46,14 @@ def strong_motion(record: str, pga: float):
     return excitation.GroundMotion(motion.horizontal, name=f"{record} {start:.1f}-{end:.1f} s at {pga:.3g} m/s^2")
 
 
-@lru_cache(maxsize=None)
+@cache
 def _unit_window(record: str) -> tuple[np.ndarray, float]:
     """The window's samples of the record scaled to a PGA of 1 m/s^2, and their interval (s)."""
     whole = excitation.record(record, pga=1.0)
     samples = np.asarray(whole.horizontal.samples)
     dt = whole.horizontal.dt
     start, end = window(record)
-    cut = samples[int(round(start / dt)):int(round(end / dt)) + 1]
+    cut = samples[round(start / dt):round(end / dt) + 1]
     if np.max(np.abs(cut)) < np.max(np.abs(samples)):
         raise ValueError(f"{record}: its strong-motion window {start:.2f}-{end:.2f} s misses the record's peak")
     cut.flags.writeable = False

@@ -8,7 +8,7 @@ import pytest
 
 import dem_core
 from comparisons import analytical, cases
-from dem_core import excitation, scenes, thresholds
+from dem_core import excitation, thresholds
 
 NEWMARK_BAND = cases.case("newmark").band("max_slip", "dem")
 RECORD_SLIDING = cases.case("record_sliding")
