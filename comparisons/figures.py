@@ -13,7 +13,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt
 import numpy as np
 
-from comparisons.case import exact_floor
+from comparisons.case import exact_floor, metric_kind
 from comparisons.engines import USUAL_STEP, step_label
 from comparisons.glossary import METRICS
 from comparisons.verdicts import observed_order
@@ -83,8 +83,15 @@ def plain_log(ax, axes="xy") -> None:
         axis.set_minor_formatter(matplotlib.ticker.NullFormatter())
 
 
-def _log_axes(ax, xlabel, ylabel):
-    plain_log(ax)
+def _log_axes(ax, xlabel, ylabel, metric=None):
+    """Log axes, except a linear y for a yes-or-no measure (0 agrees, 1 disagrees)."""
+    if metric is not None and metric_kind(metric) == "mismatch":
+        plain_log(ax, "x")
+        ax.set_ylim(-0.1, 1.1)
+        ax.set_yticks([0, 1], ["agrees (0)", "disagrees (1)"])
+        ylabel = ""
+    else:
+        plain_log(ax)
     ax.set_xlabel(xlabel)
     ax.set_ylabel(ylabel)
     ax.grid(alpha=0.3, which="both")
@@ -93,14 +100,17 @@ def _log_axes(ax, xlabel, ylabel):
 
 
 def _on_floor(errors, metric):
-    floor = exact_floor(metric) or 1e-16
+    """|errors| raised to the exact floor (a mismatch as it is: 0 or 1)."""
+    if metric_kind(metric) == "mismatch":
+        return np.abs(np.asarray(errors, float)), 0.0
+    floor = exact_floor(metric)
     return np.maximum(np.abs(np.asarray(errors, float)), floor), floor
 
 
 def _floor_line(ax, errors, metric) -> None:
     """The exact floor as a dashed line, where some error comes within a factor 100 of it."""
-    floor = exact_floor(metric) or 1e-16
-    if len(errors) and np.nanmin(np.abs(np.asarray(errors, float))) < 100 * floor:
+    floor = exact_floor(metric)
+    if floor and len(errors) and np.nanmin(np.abs(np.asarray(errors, float))) < 100 * floor:
         ax.axhline(floor, color="0.5", ls="--", lw=0.8, label="exact below this")
 
 
@@ -115,7 +125,7 @@ def pareto_figure(runs, case_name, metric, path) -> None:
             ax.annotate(label, (x, yy), fontsize=6, alpha=0.7, xytext=(3, 2), textcoords="offset points")
     _floor_line(ax, runs.error, metric)
     title(ax, f"{case_name}: |error| of the {METRICS.get(metric, metric)} against run time")
-    _log_axes(ax, "wall time of the run (s)", f"|{metric}|")
+    _log_axes(ax, "wall time of the run (s)", f"|{metric}|", metric)
     save(fig, path)
 
 
@@ -130,7 +140,7 @@ def convergence_figure(runs, case_name, metric, path) -> None:
         ax.plot(mine["dt"], y, "o-", color=COLOURS.get(engine), label=f"{engine} (order {order:.2g})", ms=4)
     _floor_line(ax, plain.error, metric)
     title(ax, f"{case_name}: convergence in dt of the {METRICS.get(metric, metric)}")
-    _log_axes(ax, "time step dt (s)", f"|{metric}|")
+    _log_axes(ax, "time step dt (s)", f"|{metric}|", metric)
     save(fig, path)
 
 

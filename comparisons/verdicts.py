@@ -132,14 +132,20 @@ def case_verdict(table, case) -> dict:
     if runs.empty:
         return {"reference": reference, "right": [], "fastest": None, "text": "No engine completed this case."}
     right = [e for e, mine in runs.groupby("engine", sort=False) if mine.right.any()]
+    from_step = {e: mine[mine.right].sort_values("wall_time_s").step.iloc[0]
+                 for e, mine in runs.groupby("engine", sort=False) if mine.right.any()}
     kind = metric_kind(metric)
     name = METRICS.get(metric, metric).split(" (1 where")[0]
+    within = describe_band(level, metric)
+    if case.by_consensus and np.isfinite(runs.level).any():
+        within += f" or the consensus's uncertainty (up to {describe_band(np.nanmax(runs.level), metric)})"
     what = f"agreeing with the reference on {name}" if kind == "mismatch" else (
-        f"within {describe_band(level, metric)} on the {name}, agreeing on every yes-or-no measure")
+        f"within {within} on the {name}, agreeing on every yes-or-no measure")
     if right:
         fastest = _fastest_right(runs)
         slower = runs[runs.right & (runs.engine != fastest.engine)].groupby("engine").wall_time_s.min()
-        text = (f"Right ({what}): {', '.join(right)}. Fastest of them: "
+        listed = ", ".join(f"{e} (fastest right at {from_step[e]})" for e in right)
+        text = (f"Right ({what}): {listed}. Fastest of them: "
                 f"{fastest.engine} at {fastest.step} ({fastest.wall_time_s:.3g} s, |error| "
                 f"{describe(fastest.error, metric)})")
         if len(slower):
