@@ -27,9 +27,11 @@ from comparisons.stress import WRONG
 STUDIES = REPOSITORY / "reports" / "studies"
 ENSEMBLE_SHARES = ("median_error", "p90_error", "overturn_agreement")
 STYLE = """body{font-family:sans-serif;max-width:1150px;margin:2em auto;color:#222;line-height:1.4}
-img{max-width:49%;vertical-align:top}img.wide{max-width:100%}
+img{max-width:49%;vertical-align:top}
+img.wide{max-width:100%}
 table.t{border-collapse:collapse;font-size:12px;margin:0.5em 0}table.t td,table.t th{border:1px solid #ccc;
-padding:2px 6px;vertical-align:top}table.t th{background:#f0f0f0;text-align:left}.verdict{background:#f4f4f4;padding:0.5em}
+padding:2px 6px;vertical-align:top}table.t th{background:#f0f0f0;text-align:left}
+.verdict{background:#f4f4f4;padding:0.5em}
 .note{background:#fff4e0;padding:0.5em}dt{font-weight:bold;margin-top:0.4em}code{background:#f4f4f4}"""
 
 
