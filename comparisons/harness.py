@@ -1,30 +1,33 @@
 """Run every case in every engine over a ladder of time steps and solver settings: one tidy table.
 
-Each row is one error metric of one run: case, engine, time step, settings,
-metric, error, wall time of the run (compile or build time apart), steps,
-and the run's status ("ok", or the engine's stability error).  The native
-core runs at its automatic step and at fractions of it; the other engines at
-fixed steps around their usual 1e-3 s.
+Each row is one metric of one run: case, engine, step (its label, :func:`comparisons.engines.step_label`),
+dt, solver settings, status ("ok", or "stopped" with the engine's message), wall time of the run
+(building and compiling apart), steps, the metric, its error and, for the consensus cases, the
+measured value, the consensus and its uncertainty (:mod:`comparisons.consensus`).  The native core
+runs at its automatic step and fractions of it; the other engines at fixed steps around their usual
+1e-3 s, and in the full run at 1e-3 s with more solver iterations too.  Consensus cases run every
+engine at its finest and next-finest settings instead (the native core at 10 and 100 times K_n).
 """
 
-import json
 import sys
-import time
-import warnings
 
 import numpy as np
 import pandas as pd
 from tqdm import tqdm
 
-import adapters
-import dem_core
+from comparisons import consensus, engines
+from comparisons.case import ENGINES
 from comparisons.cases import all_cases
+from comparisons.engines import settings_label
 
-#: time steps of each engine: for the native core, divisors of its automatic step
+#: steps of each engine: for the native core, divisors of its automatic step; for the others, s.  PyBullet's
+#: quick ladder stops at 5e-4 s: its steps cost five times pymunk's (the resting column alone takes 15 s at
+#: 2.5e-4 s), and CI's quick run has 3 minutes
 LADDER = {
     "dem": {"full": (1, 2, 4, 8), "quick": (1, 4)},
+    "dem-overlap": {"full": (1, 2, 4, 8), "quick": (1, 4)},
     "pymunk": {"full": (2e-3, 1e-3, 5e-4, 2.5e-4), "quick": (1e-3, 2.5e-4)},
-    "pybullet": {"full": (2e-3, 1e-3, 5e-4, 2.5e-4), "quick": (1e-3, 2.5e-4)},
+    "pybullet": {"full": (2e-3, 1e-3, 5e-4, 2.5e-4), "quick": (1e-3, 5e-4)},
     "mujoco": {"full": (2e-3, 1e-3, 5e-4, 2.5e-4), "quick": (1e-3, 2.5e-4)},
 }
 #: solver settings that trade speed for accuracy, tried at 1e-3 s in the full run
@@ -33,64 +36,58 @@ SETTINGS = {
     "pybullet": ({"iterations": 200},),
     "mujoco": ({"iterations": 200},),
 }
-ENGINES = tuple(LADDER)
 
 
-def plan(quick: bool, cases=None, engines=ENGINES) -> list:
-    """The runs as (case, engine, dt or divisor, settings) tuples."""
+def plan(quick: bool, cases=None, engine_names=ENGINES) -> list:
+    """The runs as (case, engine, step, settings) tuples."""
     mode = "quick" if quick else "full"
     runs = []
     for case in cases or [c for c in all_cases() if c.quick or not quick]:
-        for engine in engines:
-            runs += [(case, engine, step, {}) for step in LADDER[engine][mode]]
-            if not quick:
-                runs += [(case, engine, 1e-3, dict(s)) for s in SETTINGS.get(engine, ())]
+        for engine in engine_names:
+            mine = [(step, {}) for step in LADDER[engine][mode]]
+            if not quick and not case.by_consensus:
+                mine += [(1e-3, dict(s)) for s in SETTINGS.get(engine, ())]
+            if case.by_consensus:
+                mine += [which[engine] for which in (engines.NEXT_FINEST, engines.FINEST)
+                         if which[engine] not in mine]
+            runs += [(case, engine, step, settings) for step, settings in mine]
     return runs
 
 
 def run_one(case, engine, step, settings, reference) -> list:
-    """Rows for one run (one per metric)."""
-    scene, motion = case.scene(), case.motion()
-    if engine == "dem":
-        # the user's default step, kept below the limit of toppled blocks (these runs go on through a collapse)
-        auto = dem_core.automatic_time_step(scene, toppled=True)
-        dt, label = auto / step, f"auto/{step}"
-        options = {"stop_at_overturn": False, **settings}
-    else:
-        dt, label, options = step, f"{step:g}", settings
-    base = {"case": case.name, "engine": engine, "dt": dt, "step": label, "settings": json.dumps(settings)}
-    start = time.perf_counter()
-    try:
-        with warnings.catch_warnings():
-            warnings.filterwarnings("ignore", message=".*product of their coefficients")
-            result = adapters.simulate(scene, motion, case.duration, engine=engine, dt=dt, output_dt=case.output_dt,
-                                       **options)
-        errors = case.errors(result, reference)
-        status = "ok"
-    except (dem_core.SimulationUnstable, adapters.EngineUnstable) as exc:
-        result, errors, status = exc.partial, {}, f"unstable: {exc}"
-    wall = time.perf_counter() - start
-    info = result.info if result is not None else {}
-    common = {**base, "status": status, "wall_time_s": info.get("run_time_s", wall),
-              "compile_time_s": info.get("compile_time_s", np.nan), "steps": info.get("steps", np.nan)}
-    if not errors:
-        return [{**common, "metric": "none", "error": np.nan}]
-    return [{**common, "metric": metric, "error": value} for metric, value in errors.items()]
+    """Rows for one run (one per metric; a single ``metric = "none"`` row if it stopped)."""
+    run = engines.run(case.scene(), case.motion(), case.duration, engine, step, settings,
+                      output_dt=case.output_dt)
+    common = {"case": case.name, "engine": engine, "dt": run.dt, "step": run.label,
+              "settings": settings_label(settings), "status": run.status, "message": run.message,
+              "wall_time_s": run.wall_time_s, "compile_time_s": run.compile_time_s, "steps": run.steps}
+    if run.status != "ok":
+        return [{**common, "metric": "none", "value": np.nan, "error": np.nan}]
+    if case.by_consensus:
+        return [{**common, "metric": m, "value": v, "error": np.nan} for m, v in case.measures(run.result).items()]
+    return [{**common, "metric": m, "value": np.nan, "error": e} for m, e in case.errors(run.result, reference).items()]
 
 
-def run_harness(quick: bool = True, cases=None, engines=ENGINES, progress: bool = True) -> pd.DataFrame:
-    """Run the plan and return the tidy table (references computed once per case).
+def run_harness(quick: bool = True, cases=None, engine_names=ENGINES, progress: bool = True) -> pd.DataFrame:
+    """Run the plan and return the tidy table (references computed once per case; consensus cases
+    judged once all their runs are in).
 
     progress : a bar of the runs with the case and engine at hand and the time left, shown only
         when stderr is a terminal (not in CI or a log file).
     """
-    runs = plan(quick, cases, engines)
+    runs = plan(quick, cases, engine_names)
     references = {}
     rows = []
     bar = tqdm(runs, desc="runs", unit="run", disable=not (progress and sys.stderr.isatty()))
     for case, engine, step, settings in bar:
         bar.set_postfix_str(f"{case.name}, {engine}", refresh=False)
         if case.name not in references:
-            references[case.name] = case.reference()
+            references[case.name] = None if case.by_consensus else case.reference()
         rows += run_one(case, engine, step, settings, references[case.name])
-    return pd.DataFrame(rows)
+    table = pd.DataFrame(rows)
+    judged = [consensus.judge(table[table.case == name]) for name in dict.fromkeys(table.case)
+              if next(c for c, *_ in runs if c.name == name).by_consensus]
+    if judged:
+        plain = table[~table.case.isin([j.case.iloc[0] for j in judged if len(j)])]
+        table = pd.concat([plain, *judged], ignore_index=True)
+    return table

@@ -41,3 +41,21 @@ def first_exceedance(t, values, threshold: float) -> float:
         return float(t[k])
     return float(t[k - 1] + (t[k] - t[k - 1]) * (threshold - a[k - 1]) / (a[k] - a[k - 1]))
 
+
+
+
+def peak_until_overturn(result, block: int | None = None) -> float:
+    """Largest |theta| (rad) of ``block`` (None: of any block) up to the first overturn, inclusive.
+
+    A block that overturned reached its critical angle: that angle is its peak.  After an overturn an
+    engine that goes on runs the collapse, whose rotations say nothing about the rocking before it.
+    """
+    theta = np.abs(result.theta)
+    if result.overturned:
+        theta = theta[result.t <= result.time_of_overturn]
+    peaks = np.max(theta, axis=0) if len(theta) else np.zeros(result.n_blocks)
+    if block is None:
+        return float(np.max(peaks))
+    if np.isfinite(result.overturn_time[block]):
+        return float(result.critical_angle[block])
+    return float(min(peaks[block], result.critical_angle[block]))

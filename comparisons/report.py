@@ -1,244 +1,260 @@
-"""The comparison report: tables, Pareto and convergence figures, stability map, verdicts, as HTML.
+"""The comparison report: verdicts, ensembles, overturning spectra, cases and the stability map, as HTML.
 
 ``python -m comparisons report [--quick] [--out reports]`` runs the harness
-(:mod:`comparisons.harness`) and the stability stress tests
-(:mod:`comparisons.stress`), then writes into the output folder
-``results.csv`` (the tidy table), ``stability.csv``, one PNG per figure and
-``index.html`` that shows them.
+(:mod:`comparisons.harness`), the ensembles (:mod:`comparisons.ensembles`), the overturning spectra
+(:mod:`comparisons.overturning_spectra`) and the stability stress tests (:mod:`comparisons.stress`),
+then writes into the output folder the tidy tables (``results.csv``, ``ensembles.csv``,
+``spectra.csv``, ``stability.csv``), one PNG per figure (:mod:`comparisons.figures`, each checked for
+cut text) and ``index.html``, which states the commit and versions it was made from, heads its
+tables in plain words and explains its terms in a glossary (:mod:`comparisons.glossary`).
 """
 
 import html
+import os
 import time
 from pathlib import Path
 
-import matplotlib
-
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt
 import numpy as np
 import pandas as pd
 
+from comparisons import consensus, ensembles, figures, overturning_spectra, verdicts
+from comparisons.case import REFERENCE_KINDS, exact_floor
 from comparisons.cases import all_cases
+from comparisons.glossary import HEADERS, METRICS, glossary
+from comparisons.provenance import REPOSITORY, provenance
 from comparisons.stress import WRONG
 
-COLOURS = {"dem": "#1b9e77", "pymunk": "#d95f02", "pybullet": "#7570b3", "mujoco": "#e7298a"}
-ACCURACY_LEVELS = (0.10, 0.03, 0.01)
+STUDIES = REPOSITORY / "reports" / "studies"
+ENSEMBLE_SHARES = ("median_error", "p90_error", "overturn_agreement")
+STYLE = """body{font-family:sans-serif;max-width:1150px;margin:2em auto;color:#222;line-height:1.4}
+img{max-width:49%;vertical-align:top}
+img.wide{max-width:100%}
+table.t{border-collapse:collapse;font-size:12px;margin:0.5em 0}table.t td,table.t th{border:1px solid #ccc;
+padding:2px 6px;vertical-align:top}table.t th{background:#f0f0f0;text-align:left}
+.verdict{background:#f4f4f4;padding:0.5em}
+.note{background:#fff4e0;padding:0.5em}dt{font-weight:bold;margin-top:0.4em}code{background:#f4f4f4}"""
 
 
-def primary_metric(case, table) -> str:
-    metrics = table.loc[(table.case == case.name) & (table.metric != "none"), "metric"].unique()
-    return case.primary or (metrics[0] if len(metrics) else "none")
+def _table(frame: pd.DataFrame) -> str:
+    """An HTML table with plain headers; numbers to 3 significant digits."""
+    shown = frame.rename(columns={c: HEADERS.get(c, c.replace("_", " ")) for c in frame.columns})
+    return shown.to_html(index=False, float_format=lambda v: f"{v:.3g}", na_rep="-", border=0, classes="t",
+                         escape=True)
 
 
-def observed_order(dts, errors) -> float:
-    """Slope of log|error| against log dt (NaN with fewer than two usable points)."""
-    dts, errors = np.asarray(dts, float), np.abs(np.asarray(errors, float))
-    keep = np.isfinite(errors) & (errors > 0)
-    if keep.sum() < 2 or np.ptp(np.log(dts[keep])) == 0:
-        return float("nan")
-    return float(np.polyfit(np.log(dts[keep]), np.log(errors[keep]), 1)[0])
+def _percent(frame: pd.DataFrame, columns) -> pd.DataFrame:
+    """``columns`` of shares and relative errors written as percentages."""
+    return frame.assign(**{c: [f"{100 * v:.3g}%" if np.isfinite(v) else "-" for v in frame[c]] for c in columns})
 
 
-def case_summary(table, case) -> pd.DataFrame:
-    """Per engine, for the case's primary metric: best error, its wall time, the fastest run within each
-    accuracy level, and the observed order of convergence in dt."""
-    metric = primary_metric(case, table)
+def _metric_names(frame: pd.DataFrame) -> pd.DataFrame:
+    if "metric" in frame:
+        frame = frame.assign(metric=[f"{m}: {METRICS.get(m, m)}" for m in frame.metric])
+    return frame
+
+
+def _img(src, alt, wide=False) -> str:
+    return f'<img src="{html.escape(src)}" alt="{html.escape(alt)}"' + (' class="wide">' if wide else ">")
+
+
+def _provenance_html(made) -> str:
+    versions = ", ".join(f"{k} {v}" for k, v in made["versions"].items())
+    modified = (f" <b>with uncommitted changes to {html.escape(', '.join(made['modified']))}</b>"
+                if made["modified"] else "")
+    return (f"Made from commit <code>{html.escape(made['commit'])}</code> (branch {html.escape(made['branch'])})"
+            f"{modified}, with Python {made['python']} and {html.escape(versions)}, on {made['machine']} "
+            f"with {made['cores']} cores.")
+
+
+# --- cases ------------------------------------------------------------------------------------------
+
+def _case_section(table, case, out: Path) -> tuple[str, dict]:
+    metric = verdicts.primary_metric(case, table)
     rows = table[(table.case == case.name) & (table.metric == metric) & (table.status == "ok")]
-    out = []
-    for engine, runs in rows.groupby("engine", sort=False):
-        plain = runs[runs.settings == "{}"]
-        best = runs.loc[runs.error.abs().idxmin()]
-        entry = {"engine": engine, "metric": metric, "best_error": abs(best.error), "best_dt": best["dt"],
-                 "best_wall_s": best.wall_time_s, "order": observed_order(plain["dt"], plain.error)}
-        for level in ACCURACY_LEVELS:
-            within = runs[runs.error.abs() <= level]
-            entry[f"fastest_within_{level:g}_s"] = within.wall_time_s.min() if len(within) else np.nan
-        out.append(entry)
-    return pd.DataFrame(out)
+    pareto, convergence = f"pareto_{case.name}.png", f"convergence_{case.name}.png"
+    figures.pareto_figure(rows[np.isfinite(rows.error)], case.name, metric, out / pareto)
+    figures.convergence_figure(rows[np.isfinite(rows.error)], case.name, metric, out / convergence)
+    verdict = verdicts.case_verdict(table, case)
+    summary = verdicts.case_summary(table, case)
+    parts = [f'<section id="{case.name}"><h3>{html.escape(case.title)}</h3>',
+             f'<p>Reference: {html.escape(REFERENCE_KINDS[case.reference_kind])}.</p>',
+             f'<p class="verdict">{html.escape(verdict["text"])}</p>']
+    if case.note:
+        parts.append(f'<p class="note">{html.escape(case.note)}</p>')
+    parts += [_img(pareto, f"error against run time for {case.name}"),
+              _img(convergence, f"convergence in dt for {case.name}"), _table(_metric_names(summary))]
+    if case.by_consensus:
+        parts.append(_consensus_details(table, case))
+    stopped = table[(table.case == case.name) & (table.status != "ok")][["engine", "step", "settings", "message"]]
+    if len(stopped):
+        parts.append(f"<h4>Runs the engine stopped</h4>{_table(stopped.drop_duplicates())}")
+    return "".join(parts) + "</section>", verdict
 
 
-def verdict(case, summary: pd.DataFrame) -> str:
-    """One paragraph: which engine wins on this case and by how much."""
-    if summary.empty:
-        return "No engine completed this case."
-    metric = summary.metric.iloc[0]
-    best = summary.loc[summary.best_error.idxmin()]
-    others = summary[summary.engine != best.engine]
-    text = (f"Most accurate: {best.engine}, |{metric}| = {best.best_error:.3g} (dt = {best.best_dt:.3g} s, "
-            f"{best.best_wall_s:.3g} s of wall time)")
-    if len(others):
-        runner = others.loc[others.best_error.idxmin()]
-        ratio = runner.best_error / best.best_error if best.best_error > 0 else np.inf
-        text += f", {ratio:.3g} times smaller than the next, {runner.engine} ({runner.best_error:.3g})"
-    if metric.endswith(("_m", "_rad")):  # an absolute measure (drift): no relative accuracy levels
-        fastest = summary.loc[summary.best_wall_s.idxmin()]
-        return text + f". Fastest run: {fastest.engine} ({fastest.best_wall_s:.3g} s)."
-    for level in (0.03, 0.10):
-        column = f"fastest_within_{level:g}_s"
-        reached = summary.dropna(subset=[column])
-        if len(reached):
-            fastest = reached.loc[reached[column].idxmin()]
-            text += f". Fastest within {level:.0%}: {fastest.engine} ({fastest[column]:.3g} s"
-            rest = reached[reached.engine != fastest.engine]
-            if len(rest):
-                second = rest.loc[rest[column].idxmin()]
-                text += f", {second[column] / fastest[column]:.3g} times faster than {second.engine}"
-            text += ")"
-            break
-    else:
-        text += ". No engine came within 10%"
-    return text + "."
+def _consensus_details(table, case) -> str:
+    rows = table[table.case == case.name]
+    parts = ["<h4>The consensus: each engine's finest and next-finest answers</h4>"]
+    for measure in ("peak_rotation", consensus.OVERTURNED):
+        answers = consensus.finest_answers(rows.assign(metric=rows.metric.replace(consensus.OVERTURN,
+                                                                                   consensus.OVERTURNED)), measure)
+        if len(answers):
+            parts.append(f"<p>{html.escape(METRICS.get(measure, measure))}:</p>{_table(answers)}")
+    return "".join(parts)
 
 
-def _figure_rows(table, case, plain_only=False):
-    metric = primary_metric(case, table)
-    rows = table[(table.case == case.name) & (table.metric == metric) & (table.status == "ok")]
-    return metric, rows[rows.settings == "{}"] if plain_only else rows
+# --- ensembles and spectra ----------------------------------------------------------------------------
+
+def _ensemble_section(table, ens, out: Path) -> tuple[str, dict]:
+    mine = table[table.ensemble == ens.name]
+    summary = ensembles.summarise(mine)
+    pareto, members = f"ensemble_{ens.name}.png", f"ensemble_members_{ens.name}.png"
+    figures.ensemble_pareto_figure(summary, ens.name, out / pareto, overturning=ens.kind == "rocking")
+    figures.ensemble_members_figure(mine, ens.name, "alpha" if ens.kind == "rocking" else "mm", out / members)
+    verdict = verdicts.ensemble_verdict(summary, overturning=ens.kind == "rocking")
+    n = len(ens.members())
+    text = (f"{n} runs per engine and step: {len(ens.blocks)} block(s) x {len(ens.records)} record(s) x "
+            f"{len(ens.scales)} amplitudes; the reference overturns in {summary.reference_overturns.iloc[0]} "
+            f"of them." if len(summary) else "")
+    section = (f'<section id="{ens.name}"><h3>{html.escape(ens.title)}</h3><p>{html.escape(text)}</p>'
+               f'<p class="verdict">{html.escape(verdict["text"])}</p>'
+               f'{_img(pareto, f"ensemble statistics against run time for {ens.name}", wide=True)}'
+               f'{_img(members, f"peaks run by run at the usual steps for {ens.name}", wide=True)}'
+               f'{_table(_percent(summary.drop(columns=["ensemble"]), ENSEMBLE_SHARES))}</section>')
+    return section, verdict
 
 
-def _finish_log_figure(fig, ax, xlabel, ylabel, title, path):
-    ax.set_xscale("log")
-    ax.set_yscale("log")
-    ax.set_xlabel(xlabel)
-    ax.set_ylabel(ylabel)
-    ax.set_title(title, fontsize=10)
-    ax.grid(alpha=0.3, which="both")
-    ax.legend(fontsize=8)
-    fig.tight_layout()
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
+def _spectrum_section(table, spec, out: Path) -> tuple[str, dict]:
+    mine = table[table.spectrum == spec.name]
+    summary = overturning_spectra.summarise(mine)
+    image = f"{spec.name}.png"
+    closed = overturning_spectra.closed_form_rectangular if spec.pulse == "rectangular" else None
+    figures.spectrum_figure(mine, spec, closed, out / image)
+    verdict = verdicts.spectrum_verdict(summary)
+    extra = ""
+    if closed is not None:
+        first = mine.drop_duplicates("column")
+        gap = np.array([t[0] / closed(c) - 1.0 for c, t in zip(first.column, first.transitions, strict=True)
+                        if len(t)])
+        extra = (f" The linearised closed form 1/(1 - exp(-p t_d)) is within {np.max(np.abs(gap)):.2%} of the "
+                 "rocking equation's boundary at these columns." if len(gap) else "")
+    section = (f'<section id="{spec.name}"><h3>{html.escape(spec.title)}</h3>'
+               f'<p>Reference: the rocking equation with Housner\'s impact rule.{html.escape(extra)}</p>'
+               f'<p class="verdict">{html.escape(verdict["text"])}</p>'
+               f'{_img(image, f"overturning spectrum {spec.name}, engine by engine", wide=True)}'
+               f'{_table(_percent(summary.drop(columns=["spectrum"]), ["agreement"]))}</section>')
+    return section, verdict
 
 
-def pareto_figure(table, case, path):
-    """|error| of the primary metric against wall time, one point per run, labelled by its step."""
-    metric, rows = _figure_rows(table, case)
-    fig, ax = plt.subplots(figsize=(6.4, 4.2))
-    for engine, runs in rows.groupby("engine", sort=False):
-        ax.scatter(runs.wall_time_s, np.maximum(runs.error.abs(), 1e-16), color=COLOURS.get(engine), label=engine)
-        for _, r in runs.iterrows():
-            ax.annotate(r.step, (r.wall_time_s, max(abs(r.error), 1e-16)), fontsize=6, alpha=0.7,
-                        xytext=(3, 2), textcoords="offset points")
-    _finish_log_figure(fig, ax, "wall time of the run (s)", f"|{metric}|", f"{case.name}: error against run time",
-                       path)
-
-
-def convergence_figure(table, case, path):
-    """|error| of the primary metric against dt per engine, with the observed order in the legend."""
-    metric, rows = _figure_rows(table, case, plain_only=True)
-    fig, ax = plt.subplots(figsize=(6.4, 4.2))
-    for engine, runs in rows.groupby("engine", sort=False):
-        runs = runs.sort_values("dt")
-        order = observed_order(runs["dt"], runs.error)
-        ax.plot(runs["dt"], np.maximum(runs.error.abs(), 1e-16), "o-", color=COLOURS.get(engine),
-                label=f"{engine} (order {order:.2g})")
-    _finish_log_figure(fig, ax, "time step dt (s)", f"|{metric}|", f"{case.name}: convergence in dt", path)
-
-
-STATUS_COLOURS = {"ok": "#1b9e77", "silently wrong": "#e6ab02", "stopped": "#d95f02"}
-
-
-def _outcome(status: str) -> str:
-    return "stopped" if status.startswith("stopped") else status
-
-
-def stability_map_figure(rows: pd.DataFrame, title: str, path) -> None:
-    """One stress test as tiles: a row per engine, a tile per setting, coloured by outcome,
-    labelled with the setting and the measured value."""
-    engines = list(dict.fromkeys(rows.engine))
-    width = max(rows.groupby("engine").setting.nunique())
-    fig, ax = plt.subplots(figsize=(max(4.0, 1.9 * width + 1.5), 0.9 + 0.6 * len(engines)))
-    for row, engine in enumerate(engines):
-        runs = rows[rows.engine == engine]
-        for col, setting in enumerate(dict.fromkeys(runs.setting)):
-            here = runs[runs.setting == setting]
-            outcome = _outcome(here.status.iloc[0])
-            values = "\n".join(f"{m} {v:.3g}" for m, v in zip(here.metric, here.value) if np.isfinite(v))
-            ax.add_patch(plt.Rectangle((col, row), 0.95, 0.9, color=STATUS_COLOURS.get(outcome, "0.6")))
-            ax.text(col + 0.47, row + 0.45, f"{setting}: {outcome}\n{values}", ha="center", va="center", fontsize=6)
-    ax.set_xlim(0, width)
-    ax.set_ylim(0, len(engines))
-    ax.set_yticks(np.arange(len(engines)) + 0.45, engines, fontsize=8)
-    ax.set_xticks([])
-    ax.set_title(f"{title}: ok, silently wrong (error of {WRONG:.0%} or more) or stopped by the engine", fontsize=8)
-    fig.tight_layout()
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
-
-
-def stiffness_figure(rows: pd.DataFrame, path) -> None:
-    """Free-rocking errors and the automatic time step of the native core against K_n."""
-    kn = rows.setting.str.removeprefix("kn = ").astype(float)
-    fig, (ax, ax_dt) = plt.subplots(1, 2, figsize=(9, 3.5))
-    for metric in ("quarter_period", "peak_decay"):
-        pick = rows.metric == metric
-        ax.loglog(kn[pick], np.abs(rows.value[pick]), "o-", label=metric)
-    pick = rows.metric == "dt_s"
-    ax_dt.loglog(kn[pick], rows.value[pick], "s-", color="0.3")
-    ax.set(xlabel="K_n (N/m^2)", ylabel="|relative error|", title="Free rocking, native core")
-    ax_dt.set(xlabel="K_n (N/m^2)", ylabel="automatic dt (s)", title="Time step")
-    ax.legend(fontsize=8)
-    for a in (ax, ax_dt):
-        a.grid(True, which="both", alpha=0.3)
-    fig.tight_layout()
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
-
+# --- stress tests ----------------------------------------------------------------------------------------
 
 def _stability_sections(stability: pd.DataFrame, out: Path) -> str:
     parts = []
     for k, test in enumerate(dict.fromkeys(stability.test)):
         rows = stability[stability.test == test]
         image = f"stability_{k + 1}.png"
-        stability_map_figure(rows, test, out / image)
+        figures.stability_map_figure(rows, test, WRONG, out / image)
         extra = ""
         if "contact stiffness" in test:
-            stiffness_figure(rows, out / "stability_stiffness.png")
-            extra = '<img src="stability_stiffness.png" alt="errors and time step against contact stiffness">'
-        parts.append(f"<h3>{html.escape(test)}</h3><img src=\"{image}\" alt=\"stability map: {html.escape(test)}\" "
-                     f"style=\"max-width:100%\">{extra}")
+            figures.stiffness_figure(rows, out / "stability_stiffness.png")
+            extra = _img("stability_stiffness.png", "errors and time step against contact stiffness")
+        parts.append(f"<h3>{html.escape(test)}</h3>{_img(image, f'stability map: {test}', wide=True)}{extra}")
     return "".join(parts)
 
 
-def _table_html(frame: pd.DataFrame) -> str:
-    return frame.to_html(index=False, float_format=lambda v: f"{v:.3g}", na_rep="-", border=0, classes="t")
+def _studies_html(out: Path) -> str:
+    if not STUDIES.is_dir():
+        return "<p>No studies are bundled with this checkout.</p>"
+    items = []
+    for folder in sorted(p for p in STUDIES.iterdir() if (p / "README.md").is_file()):
+        link = os.path.relpath(folder / "README.md", out.resolve())
+        items.append(f'<li><a href="{html.escape(link)}">{html.escape(folder.name)}</a></li>')
+    return ("<p>The thesis' parametric studies, run with the native core (each folder holds its figures, its "
+            "table and a README stating the trends found):</p><ul>" + "".join(items) + "</ul>")
 
 
-def write_report(table: pd.DataFrame, stability: pd.DataFrame, out: Path, *, quick: bool, run_time_s: float) -> Path:
+def _overview_row(kind, name, title, reference, verdict, note=""):
+    fastest = verdict.get("fastest")
+    if fastest is None:
+        quickest = "-"
+    elif "wall_time_s" in fastest:
+        quickest = f"{fastest.engine} at {fastest.step} ({fastest.wall_time_s:.3g} s)"
+    else:
+        quickest = f"{fastest.engine} at {fastest.step} ({fastest.median_wall_time_s:.3g} s a run)"
+    return {"Kind": kind, "Case": f'<a href="#{name}">{html.escape(title)}</a>', "Reference": html.escape(reference),
+            "Right": html.escape(", ".join(verdict["right"]) or "none"), "Fastest of them": html.escape(quickest),
+            "Note": html.escape(note)}
+
+
+def write_report(table: pd.DataFrame, stability: pd.DataFrame, out: Path, *, quick: bool, run_time_s: float,
+                 ensemble_table: pd.DataFrame | None = None, spectra_table: pd.DataFrame | None = None) -> Path:
     """Write figures, CSV tables and index.html into ``out``; returns the path of index.html."""
     out.mkdir(parents=True, exist_ok=True)
+    ensemble_table = pd.DataFrame() if ensemble_table is None else ensemble_table
+    spectra_table = pd.DataFrame() if spectra_table is None else spectra_table
     table.to_csv(out / "results.csv", index=False)
     stability.to_csv(out / "stability.csv", index=False)
-    sections = []
+    ensemble_table.to_csv(out / "ensembles.csv", index=False)
+    spectra_table.drop(columns=["transitions"], errors="ignore").to_csv(out / "spectra.csv", index=False)
+    overview, case_parts, ensemble_parts, spectrum_parts = [], [], [], []
+    for ens in ensembles.all_ensembles():
+        if len(ensemble_table) and ens.name in set(ensemble_table.ensemble):
+            section, verdict = _ensemble_section(ensemble_table, ens, out)
+            ensemble_parts.append(section)
+            reference = "rocking equation" if ens.kind == "rocking" else "rigid-plastic sliding"
+            overview.append(_overview_row("ensemble", ens.name, ens.title, f"{reference}, run by run", verdict))
+    for spec in overturning_spectra.all_spectra():
+        if len(spectra_table) and spec.name in set(spectra_table.spectrum):
+            section, verdict = _spectrum_section(spectra_table, spec, out)
+            spectrum_parts.append(section)
+            overview.append(_overview_row("spectrum", spec.name, spec.title, "rocking equation", verdict))
     for case in all_cases():
-        if case.name not in set(table.case):
-            continue
-        pareto, convergence = f"pareto_{case.name}.png", f"convergence_{case.name}.png"
-        pareto_figure(table, case, out / pareto)
-        convergence_figure(table, case, out / convergence)
-        summary = case_summary(table, case)
-        failed = table[(table.case == case.name) & (table.status != "ok")][["engine", "step", "status"]]
-        failed = failed.drop_duplicates()
-        sections.append(
-            f'<section id="{case.name}"><h2>{html.escape(case.title)}</h2>'
-            f'<p class="verdict">{html.escape(verdict(case, summary))}</p>'
-            f'<img src="{pareto}" alt="error against run time for {case.name}">'
-            f'<img src="{convergence}" alt="convergence in dt for {case.name}">'
-            f'{_table_html(summary)}'
-            + (f"<h3>Runs that stopped</h3>{_table_html(failed)}" if len(failed) else "") + "</section>")
-    stability_images = _stability_sections(stability, out) if len(stability) else ""
+        if case.name in set(table.case):
+            section, verdict = _case_section(table, case, out)
+            case_parts.append(section)
+            overview.append(_overview_row("case", case.name, case.title, verdict["reference"], verdict, case.note))
+    overview_images = ""
+    if len(ensemble_table):
+        first = next(e.name for e in ensembles.all_ensembles() if e.name in set(ensemble_table.ensemble))
+        overview_images += _img(f"ensemble_{first}.png", f"ensemble statistics of {first}", wide=True)
+    if len(spectra_table):
+        figures.spectra_overview_figure(overturning_spectra.summarise(spectra_table), out / "spectra_overview.png")
+        overview_images += _img("spectra_overview.png", "overturning-spectrum agreement against run time")
+    simulations = (len(table.drop_duplicates(["case", "engine", "step", "settings"])) + len(ensemble_table)
+                   + len(spectra_table))
+    made = provenance()
+    terms = "".join(f"<dt>{html.escape(t)}</dt><dd>{html.escape(d)}</dd>" for t, d in glossary())
+    overview_table = pd.DataFrame(overview).to_html(index=False, escape=False, border=0, classes="t")
+    stability_html = (_stability_sections(stability, out) + _table(_metric_names(stability))) if len(stability) else ""
     page = f"""<!DOCTYPE html>
 <html lang="en"><head><meta charset="utf-8"><title>Engine comparison: rocking and sliding of stone blocks</title>
-<style>body{{font-family:sans-serif;max-width:1100px;margin:2em auto;color:#222}}img{{max-width:49%}}
-table.t{{border-collapse:collapse;font-size:12px;margin:0.5em 0}}table.t td,table.t th{{border:1px solid #ccc;
-padding:2px 6px}}.verdict{{background:#f4f4f4;padding:0.5em}}</style></head><body>
+<style>{STYLE}</style></head><body>
 <h1>Engine comparison: rocking and sliding of stone blocks</h1>
-<p>{"Quick" if quick else "Full"} run of {len(table.drop_duplicates(["case", "engine", "step", "settings"]))}
-simulations over {table.case.nunique()} cases in {run_time_s:.0f} s of wall time
-({time.strftime("%Y-%m-%d %H:%M")}). Errors are relative to the analytical reference of each case
-(FORMULATION section 4) or to the native core converged in dt; wall times exclude compilation and model
-building. Tables: <a href="results.csv">results.csv</a>, <a href="stability.csv">stability.csv</a>.</p>
-{"".join(sections)}
-<section id="stability"><h2>Stability map</h2>{stability_images}{_table_html(stability)}</section>
+<p>{"Quick" if quick else "Full"} run of {simulations} simulations ({table.case.nunique()} cases,
+{ensemble_table.ensemble.nunique() if len(ensemble_table) else 0} ensembles,
+{spectra_table.spectrum.nunique() if len(spectra_table) else 0} overturning spectra) in {run_time_s:.0f} s of wall
+time, {time.strftime("%Y-%m-%d %H:%M")}. {_provenance_html(made)}</p>
+<p>Five engines: the native core under its corner contact law (<b>dem</b>) and under the thesis' overlap-area law
+(<b>dem-overlap</b>), pymunk, PyBullet and MuJoCo. Each is judged against an exact reference where one exists
+(FORMULATION section 4), and against the consensus of the other engines on the multi-block scenes, where none
+does. Errors below {exact_floor("peak_rotation"):g} (relative) or {exact_floor("drift_m"):g} m or rad count as
+exact and are not ranked. Wall times exclude compiling and building. The terms are explained in the
+<a href="#glossary">glossary</a>; the thesis' parametric studies are <a href="#studies">linked below</a>.
+Tables: <a href="results.csv">results.csv</a>, <a href="ensembles.csv">ensembles.csv</a>,
+<a href="spectra.csv">spectra.csv</a>, <a href="stability.csv">stability.csv</a>.</p>
+<ul><li><a href="#verdicts">Verdicts</a></li><li><a href="#ensembles">Ensembles under records</a></li>
+<li><a href="#spectra">Overturning spectra</a></li><li><a href="#cases">Cases</a></li>
+<li><a href="#stability">Stability map</a></li><li><a href="#studies">Studies</a></li>
+<li><a href="#glossary">Glossary</a></li></ul>
+<section id="verdicts"><h2>Verdicts</h2>
+<p>Per case, the engines that are right (within the case's accuracy, or the reference's uncertainty where that is
+larger) and the fastest of them. Single runs of rocking under records are luck; the ensembles judge accuracy.</p>
+{overview_images}{overview_table}</section>
+<section id="ensembles"><h2>Ensembles under records</h2>{"".join(ensemble_parts) or "<p>Not run.</p>"}</section>
+<section id="spectra"><h2>Overturning spectra</h2>{"".join(spectrum_parts) or "<p>Not run.</p>"}</section>
+<section id="cases"><h2>Cases</h2>{"".join(case_parts)}</section>
+<section id="stability"><h2>Stability map</h2>{stability_html}</section>
+<section id="studies"><h2>Studies</h2>{_studies_html(out)}</section>
+<section id="glossary"><h2>Glossary</h2><dl>{terms}</dl></section>
 </body></html>"""
     index = out / "index.html"
     index.write_text(page, encoding="utf-8")

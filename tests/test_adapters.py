@@ -1,5 +1,6 @@
 """The same scenes in pymunk, PyBullet and MuJoCo: every builder runs, and each engine is measured
-against the analytical references with a band of its own (the measured value is in the comment)."""
+against the analytical references with the band its case declares for it (comparisons/cases.py, where
+the measured values are)."""
 
 import warnings
 
@@ -10,7 +11,6 @@ import adapters
 from adapters import _geometry as geometry
 from adapters._driver import EngineRun, EngineUnstable, product_friction, run
 from comparisons import analytical, cases
-from comparisons.measures import first_zero_crossing, peaks_between_crossings
 from dem_core import excitation, scenes
 from dem_core.engine.geometry import polygon_properties, rectangle, transform
 
@@ -51,48 +51,36 @@ def test_every_engine_builds_and_runs_every_scene(engine, builder):
     assert np.max(np.abs(result.y[-1] - start[:, 1])) < 0.01
 
 
-# measured drift of an 8-drum column at rest over 10 s: horizontal (m), rotation (rad)
-REST_BANDS = {"pymunk": (1e-3, 3e-4), "pybullet": (1e-3, 3e-4), "mujoco": (1e-6, 1e-6)}
-# pymunk 2.4e-4 m, 6.3e-5 rad; pybullet 2.1e-4 m, 6.6e-5 rad; mujoco 1.9e-17 m, 1.1e-17 rad
-
-
 @pytest.mark.parametrize("engine", ENGINES)
 def test_resting_column_does_not_drift(engine):
+    statics = cases.case("statics")
     r = adapters.simulate(scenes.column(8), duration=10.0, engine=engine)
-    drift, rotation = REST_BANDS[engine]
-    assert np.max(np.abs(r.x - r.x[0])) < drift
-    assert np.max(np.abs(r.theta)) < rotation
+    assert np.max(np.abs(r.x - r.x[0])) < statics.band("drift_m", engine)
+    assert np.max(np.abs(r.theta)) < statics.band("rotation_rad", engine)
     assert np.max(np.abs(r.y[-1] - r.y[len(r.t) // 10])) < 1e-6  # settled after the first second
 
 
-# (quarter-period band, band on the peaks after impacts 1-5) against Housner; measured:
-# pymunk +0.61%, peaks +1.2 -1.1 -2.8 -3.9 -6.5%; pybullet +0.54%, +1.8 -2.0 -4.3 -8.7 -9.1%;
-# mujoco +0.08%, +1.2 +2.0 +2.7 0.0 -1.0%
-ROCKING_BANDS = {"pymunk": (0.015, 0.10), "pybullet": (0.015, 0.15), "mujoco": (0.005, 0.05)}
-
-
 @pytest.mark.parametrize("engine", ENGINES)
-def test_free_rocking_against_housner(engine, housner_block):
-    r = adapters.simulate(cases.housner_scene(), duration=4.0, engine=engine, output_dt=1e-3)
-    quarter_band, decay_band = ROCKING_BANDS[engine]
-    quarter = analytical.housner_period(housner_block, cases.HOUSNER_THETA0) / 4
-    assert first_zero_crossing(r.t, r.theta[:, 0]) == pytest.approx(quarter, rel=quarter_band)
-    peaks = peaks_between_crossings(r.theta[:, 0], 6)
-    reference = analytical.housner_peaks(housner_block, cases.HOUSNER_THETA0, 5)
-    np.testing.assert_allclose(peaks[1:], reference[1:], rtol=decay_band)
+def test_free_rocking_against_housner(engine):
+    """The quarter period and the peaks after impacts 1-5 against the rocking equation with Housner's impact rule."""
+    case = cases.case("free_rocking")
+    r = adapters.simulate(case.scene(), duration=case.duration, engine=engine, output_dt=case.output_dt)
+    errors = case.errors(r, case.reference())
+    for metric in ("quarter_period", "peak_decay"):
+        assert case.within_band(metric, engine, errors[metric]), (metric, errors[metric])
 
 
 @pytest.mark.parametrize("engine", ENGINES)
 @pytest.mark.parametrize("ratio", [1.5, 3.0])
 def test_newmark_sliding_pulse(engine, ratio):
-    # measured: within 5e-5 in every engine
     mu, t_p = 0.3, 0.3
     a_p = ratio * mu * analytical.G
     scene = scenes.block(1.0, 0.5, friction=mu, base_width=40.0)
     r = adapters.simulate(scene, excitation.rectangular_pulse(a_p, t_p), duration=a_p * t_p / (mu * analytical.G) + 0.3,
                           engine=engine, output_dt=1e-3)
     slip = np.max(np.abs(r.relative_x[:, 0] - r.relative_x[0, 0]))
-    assert slip == pytest.approx(analytical.newmark_max_slip(a_p, t_p, mu), rel=0.01)
+    band = cases.case("newmark").band("max_slip", engine)
+    assert slip == pytest.approx(analytical.newmark_max_slip(a_p, t_p, mu), rel=band)
 
 
 @pytest.mark.parametrize("engine", ENGINES + ["dem"])

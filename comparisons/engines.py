@@ -1,0 +1,124 @@
+"""The engines the harness judges, their steps, and one run of a scene in any of them.
+
+* ``dem``: the native core with its default contact law (springs at the corners);
+* ``dem-overlap``: the native core with the thesis' overlap-area law;
+* ``pymunk``, ``pybullet``, ``mujoco``: the adapters of :mod:`adapters`.
+
+A native run replaces the scene's contact with its law's default parameters, with K_n multiplied by
+``kn_factor`` when its settings ask for a stiffer contact (``{"kn_factor": 100}``), and stops at the
+first overturn, as :func:`dem_core.simulate` does by default.  Its step is a divisor N of the
+automatic step, labelled ``auto/N``: the step :func:`dem_core.simulate` picks when given none (the
+smaller of 0.8 of the stability limit and a tenth of the shortest impact, both for the contact it
+runs with) divided by N.  The other engines take a step in seconds and their own solver settings
+(``{"iterations": 200}``).
+"""
+
+import json
+import time
+import warnings
+from dataclasses import dataclass
+
+import numpy as np
+
+import adapters
+import dem_core
+from comparisons.case import ENGINES
+from dem_core.engine.contact import DEFAULT_NORMAL_STIFFNESS
+
+NATIVE_LAWS = {"dem": "corner", "dem-overlap": "overlap_area"}
+#: each engine's usual step: the native core's automatic one, 1e-3 s for the others (their defaults)
+USUAL_STEP = {"dem": 1, "dem-overlap": 1, "pymunk": 1e-3, "pybullet": 1e-3, "mujoco": 1e-3}
+#: (step, settings) of each engine's finest run, and of the run next to it: the consensus of a
+#: multi-block scene is made of finest runs whose answer agrees with the next-finest one.  The native
+#: core's finest is its automatic step at 100 x K_n (a stiffer contact than any other run); the others'
+#: is their finest step (more solver iterations at that step take PyBullet three times as long, and
+#: moved none of the column's answers by more than the step did)
+FINEST = {
+    "dem": (1, {"kn_factor": 100}),
+    "dem-overlap": (1, {"kn_factor": 100}),
+    "pymunk": (2.5e-4, {}),
+    "pybullet": (2.5e-4, {}),
+    "mujoco": (2.5e-4, {}),
+}
+NEXT_FINEST = {
+    "dem": (1, {"kn_factor": 10}),
+    "dem-overlap": (1, {"kn_factor": 10}),
+    "pymunk": (5e-4, {}),
+    "pybullet": (5e-4, {}),
+    "mujoco": (5e-4, {}),
+}
+
+
+def is_native(engine: str) -> bool:
+    return engine in NATIVE_LAWS
+
+
+def native_scene(scene, engine: str, kn_factor: float = 1.0):
+    """``scene`` with the contact law of ``engine`` at its default parameters, K_n times ``kn_factor``."""
+    contact = dem_core.ContactParameters(law=NATIVE_LAWS[engine], kn=kn_factor * DEFAULT_NORMAL_STIFFNESS)
+    return scene.replace(contact=contact)
+
+
+def step_label(engine: str, step, settings: dict | None = None) -> str:
+    """How a step reads in tables: ``auto/4`` (native), ``0.001`` (s, the others); a stiffer native
+    contact adds ``, 100 x K_n``."""
+    settings = settings or {}
+    if is_native(engine):
+        label = f"auto/{step:g}"
+        factor = settings.get("kn_factor", 1)
+        return label if factor == 1 else f"{label}, {factor:g} x K_n"
+    return f"{step:g}"
+
+
+def settings_label(settings: dict) -> str:
+    """Solver settings as stored in the tables (JSON, ``{}`` for the defaults)."""
+    return json.dumps(settings, sort_keys=True)
+
+
+@dataclass(frozen=True)
+class Run:
+    """One simulation as the harness records it.
+
+    result : the engine's result (up to the failure when it stopped; None if it never started).
+    status : ``"ok"``, or ``"stopped"`` when the engine raised its own stability error.
+    message : the engine's message when it stopped (whole, never cut).
+    dt : s.  label : the step as :func:`step_label` writes it.
+    wall_time_s : s of the time loop (building and compiling apart).
+    """
+
+    result: object
+    status: str
+    message: str
+    dt: float
+    label: str
+    wall_time_s: float
+    compile_time_s: float
+    steps: float
+
+
+def run(scene, motion, duration: float, engine: str, step=None, settings: dict | None = None,
+        output_dt: float | None = None) -> Run:
+    """Run ``scene`` under ``motion`` for ``duration`` s in ``engine`` at ``step`` (default its usual one)."""
+    if engine not in ENGINES:
+        raise ValueError(f"unknown engine {engine!r}; the harness judges {', '.join(ENGINES)}")
+    step = USUAL_STEP[engine] if step is None else step
+    settings = dict(settings or {})
+    label = step_label(engine, step, settings)
+    if is_native(engine):
+        scene = native_scene(scene, engine, settings.pop("kn_factor", 1.0))
+        dt = dem_core.automatic_time_step(scene) / step
+        name = "dem"
+    else:
+        dt, name = float(step), engine
+    start = time.perf_counter()
+    try:
+        with warnings.catch_warnings():
+            warnings.filterwarnings("ignore", message=".*product of their coefficients")
+            result = adapters.simulate(scene, motion, duration, engine=name, dt=dt, output_dt=output_dt, **settings)
+        status, message = "ok", ""
+    except (dem_core.SimulationUnstable, adapters.EngineUnstable) as exc:
+        result, status, message = exc.partial, "stopped", str(exc)
+    wall = time.perf_counter() - start
+    info = result.info if result is not None else {}
+    return Run(result, status, message, dt, label, float(info.get("run_time_s", wall)),
+               float(info.get("compile_time_s", np.nan)), float(info.get("steps", np.nan)))
