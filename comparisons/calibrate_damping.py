@@ -48,9 +48,9 @@ def peak_errors(width, height, theta0, n_impacts, contact, step=CALIBRATION_STEP
     return sim / reference - 1.0
 
 
-def calibrate(width=0.25, height=1.0, theta0=0.05236, n_impacts=5, kn=dem_core.contact.DEFAULT_NORMAL_STIFFNESS):
+def calibrate(width=0.25, height=1.0, theta0=0.05236, n_impacts=5, kn=dem_core.contact.DEFAULT_STIFFNESS["overlap_area"]):
     def worst(zeta):
-        cp = dem_core.ContactParameters(kn=kn, rocking_damping_ratio=zeta)
+        cp = dem_core.ContactParameters(law="overlap_area", kn=kn, rocking_damping_ratio=zeta)
         return float(np.max(np.abs(peak_errors(width, height, theta0, n_impacts, cp))))
 
     # the objective is not smooth (peaks jump between output samples): grid first, then refine locally
@@ -62,7 +62,7 @@ def calibrate(width=0.25, height=1.0, theta0=0.05236, n_impacts=5, kn=dem_core.c
 
 def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--kn", type=float, default=dem_core.contact.DEFAULT_NORMAL_STIFFNESS)
+    parser.add_argument("--kn", type=float, default=dem_core.contact.DEFAULT_STIFFNESS["overlap_area"])
     parser.add_argument("--alphas", default="0.06,0.08,0.10,0.125,0.15,0.175,0.2,0.25,0.3,0.35,0.4")
     args = parser.parse_args(argv)
     print(f"HOUSNER_DAMPING at kn = {args.kn:.3g} N/m^2 (blocks 2 m tall released from 0.2 alpha):")
@@ -72,7 +72,7 @@ def main(argv=None):
         print(f"    ({alpha}, {zeta:.3f}),  # worst peak error over 5 impacts {err:.2%}")
     zeta, err = calibrate(0.25, 1.0, 0.05236, 5, kn=args.kn)
     print(f"0.25 x 1.0 m block from 0.05236 rad alone: zeta = {zeta:.3f}, worst peak error {err:.2%}")
-    contact = dem_core.ContactParameters(kn=args.kn, rocking_damping_ratio=zeta)
+    contact = dem_core.ContactParameters(law="overlap_area", kn=args.kn, rocking_damping_ratio=zeta)
     for step in (0.8, 0.4, 0.2, None):
         errors = peak_errors(0.25, 1.0, 0.05236, 5, contact, step)
         where = "at the automatic dt" if step is None else f"at dt = {step} x the stability limit"

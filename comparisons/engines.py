@@ -23,7 +23,7 @@ import numpy as np
 import adapters
 import dem_core
 from comparisons.case import ENGINES
-from dem_core.engine.contact import DEFAULT_NORMAL_STIFFNESS
+from dem_core.engine.contact import DEFAULT_STIFFNESS
 
 NATIVE_LAWS = {"dem": "corner", "dem-overlap": "overlap_area"}
 #: each engine's usual step: the native core's automatic one, 1e-3 s for the others (their defaults)
@@ -55,7 +55,8 @@ def is_native(engine: str) -> bool:
 
 def native_scene(scene, engine: str, kn_factor: float = 1.0):
     """``scene`` with the contact law of ``engine`` at its default parameters, K_n times ``kn_factor``."""
-    contact = dem_core.ContactParameters(law=NATIVE_LAWS[engine], kn=kn_factor * DEFAULT_NORMAL_STIFFNESS)
+    law = NATIVE_LAWS[engine]
+    contact = dem_core.ContactParameters(law=law, kn=kn_factor * DEFAULT_STIFFNESS[law])
     return scene.replace(contact=contact)
 
 

@@ -80,11 +80,11 @@ def glossary() -> list:
     return [
         ("auto/N",
          "a step of the native core: the step dem_core.simulate picks when given none (the smaller of 0.8 of the "
-         "stability limit of its contacts and a tenth of the shortest impact) divided by N. auto/1 is what a user "
+         "stability limit of its contacts and a fifteenth of the shortest impact) divided by N. auto/1 is what a user "
          "gets; auto/4 is four times finer."),
         ("auto/1, 100 x K_n",
-         "the native core at its automatic step with a contact 100 times stiffer than the default "
-         "K_n = 2e10 N/m^2 (its step shrinks as K_n^-1/2)."),
+         "the native core at its automatic step with a contact 100 times stiffer than its law's default "
+         "K_n (2e11 N/m^2 for the corner law, 2e10 for the overlap-area law; the step shrinks as K_n^-1/2)."),
         ("0.001 (a step in s)", "a fixed step of pymunk, PyBullet or MuJoCo; 1e-3 s is their usual one."),
         ("dem, dem-overlap",
          "the native core with its default corner contact law, and with the thesis' overlap-area law (the same "

@@ -244,10 +244,13 @@ def test_outputs_that_would_not_fit_in_memory_are_refused_naming_output_dt():
 
 
 def test_a_long_run_is_announced_with_its_expected_wall_time():
-    """Was: a density of 1e-6 kg/m^3 took 342 s for 0.5 s of motion, with no warning."""
-    with pytest.warns(RuntimeWarning, match=r"a long run: [0-9.]+e\+08 steps .* lightest block 'drum1' 7\.5e-07 kg.*"
-                      r"expect about [0-9.]+ minutes"):
+    """Was: a density of 1e-6 kg/m^3 took 342 s for 0.5 s of motion, with no warning.  Now that run (1.7e9
+    steps) is refused naming the lightest block, and a milder one is announced."""
+    with pytest.raises(RunTooLarge, match=r"lightest block 'drum1' 7\.5e-07 kg"):
         Simulation(scenes.column(8, density=1e-6), duration=0.5)
+    with pytest.warns(RuntimeWarning, match=r"a long run: [0-9.]+e\+08 steps .* lightest block 'drum1' 7\.5e-05 kg.*"
+                      r"expect about [0-9.]+ minutes"):
+        Simulation(scenes.column(8, density=1e-4), duration=0.5)
 
 
 def test_a_run_past_the_stability_limit_says_so_in_its_result():

@@ -29,7 +29,7 @@ SQUAT = "free_rocking_squat"
 
 
 def _contact(factor):
-    return dem_core.ContactParameters(kn=factor * dem_core.contact.DEFAULT_NORMAL_STIFFNESS)
+    return dem_core.ContactParameters(kn=factor * dem_core.contact.DEFAULT_STIFFNESS["corner"])
 
 
 def _free_rocking_errors(name, factor):

@@ -64,7 +64,7 @@ def test_reference_of_equal_widths_is_one_rocking_block():
 
 
 def _impact_error(reference, factor):
-    contact = ContactParameters(kn=factor * dem_core.contact.DEFAULT_NORMAL_STIFFNESS)
+    contact = ContactParameters(kn=factor * dem_core.contact.DEFAULT_STIFFNESS["corner"])
     scene = scenes.stack(STACK_SIZES, tilt=STACK_THETA0, contact=contact)
     result = dem_core.simulate(scene, excitation.still(), duration=0.8, output_dt=1e-4)
     return first_zero_crossing(result.t, result.theta[:, 0]) / reference.impact_time - 1.0, result

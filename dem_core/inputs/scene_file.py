@@ -11,7 +11,7 @@
 
     [contact]                     # optional, fields of dem_core.ContactParameters
     law = "corner"                # corner (default) | overlap_area (the thesis' law)
-    kn = 2e10
+    kn = 2e11
 
     [excitation]                  # optional; kind = record | harmonic | rectangular_pulse |
     kind = "record"               #   sine_pulse | cosine_pulse | ramp | none
