@@ -51,6 +51,7 @@ def test_every_engine_builds_and_runs_every_scene(engine, builder):
     assert np.max(np.abs(result.y[-1] - start[:, 1])) < 0.01
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("engine", ENGINES)
 def test_resting_column_does_not_drift(engine):
     statics = cases.case("statics")
@@ -83,6 +84,7 @@ def test_newmark_sliding_pulse(engine, ratio):
     assert slip == pytest.approx(analytical.newmark_max_slip(a_p, t_p, mu), rel=band)
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("engine", ENGINES + ["dem"])
 def test_low_friction_base_isolates_the_column(engine):
     """A sliding isolator at the base (mu = 0.05) stops the rocking and lets the column slide."""

@@ -6,6 +6,7 @@ import pytest
 from comparisons import analytical
 from comparisons.measures import peaks_between_crossings
 
+@pytest.mark.slow
 
 def test_rocking_equation_reproduces_housner_peaks(housner_block):
     """Housner's peak formula counts energy with the small-angle potential, 1 - (1 - theta/alpha)^2, so the
@@ -15,6 +16,7 @@ def test_rocking_equation_reproduces_housner_peaks(housner_block):
     peaks = peaks_between_crossings(ode.theta, 6)
     np.testing.assert_allclose(peaks, analytical.housner_peaks(housner_block, theta0, 5), rtol=2e-3)
 
+@pytest.mark.slow
 
 def test_housner_period_is_the_small_angle_limit_of_the_rocking_equation():
     block = analytical.RockingBlock.from_size(0.2, 2.0)

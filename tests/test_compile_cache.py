@@ -3,6 +3,10 @@
 import subprocess
 import sys
 
+import pytest
+
+pytestmark = pytest.mark.slow  # the whole module
+
 PROBE = """
 import dem_core
 from dem_core.engine import _step

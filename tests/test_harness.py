@@ -16,6 +16,8 @@ from comparisons.__main__ import make_report
 from comparisons.case import ENGINES, EXACT_RELATIVE
 from comparisons.engines import USUAL_STEP, step_label
 
+pytestmark = pytest.mark.slow  # the whole module
+
 #: where the native core at its automatic step is more accurate today than an engine at 1e-3 s
 AHEAD = [
     ("free_rocking", "peak_decay", "pymunk"), ("free_rocking", "peak_decay", "pybullet"),

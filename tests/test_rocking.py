@@ -18,7 +18,7 @@ from comparisons import analytical, cases
 from comparisons.measures import first_exceedance, peaks_between_crossings
 from dem_core import excitation, scenes
 
-STIFFNESS_FACTORS = (1.0, 100.0)
+STIFFNESS_FACTORS = (1.0, pytest.param(100.0, marks=pytest.mark.slow))
 #: the 0.25 x 1.0 m block from 3 degrees and from 0.5 alpha, the 1 x 6 m monolith from 0.2 and 0.5 alpha
 FREE_ROCKING = ("free_rocking", "free_rocking_large", "free_rocking_slender", "free_rocking_slender_large")
 #: Housner's rule takes the impact as rigid, plastic and without slip; a compliant corner stores and returns
@@ -61,6 +61,7 @@ def test_squat_block_loses_housners_energy():
     # the band the slender blocks meet (the squat case declares none for the native core's decay)
     assert cases.case("free_rocking").within_band("peak_decay", "dem", errors["peak_decay"])
 
+@pytest.mark.slow
 
 def test_housner_closed_forms_are_the_small_angle_limit_of_the_reference(housner_block):
     """The closed forms the free-rocking cases were first judged by agree with the exact reference to the
@@ -117,6 +118,7 @@ def test_onset_mode_follows_friction_against_slenderness():
         assert (rocked, slid) == ((mode == "rocking"), (mode == "sliding")), (mu, result.peak_theta, result.total_sliding)
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("factor", STIFFNESS_FACTORS)
 def test_record_rocking_matches_the_rocking_equation(factor):
     """Northridge at 4 m/s^2 on the 1 x 6 m monolith: a case away from the jumps in the peak that records

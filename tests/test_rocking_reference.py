@@ -49,6 +49,7 @@ def _solve_ivp_reference(block, motion, duration, vertical=None):
                                        atol=1e-14)
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("case", FORCED_CASES)
 def test_agrees_with_the_solve_ivp_reference_on_every_forced_rocking_case(case):
     block, make_motion, duration = FORCED_CASES[case]
@@ -82,6 +83,7 @@ def test_overturning_time_agrees_with_the_solve_ivp_reference():
     after = compiled.t > compiled.overturn_time
     assert np.all(np.isnan(compiled.theta[after])) and np.all(np.isfinite(compiled.theta[~after]))
 
+@pytest.mark.slow
 
 def test_free_rocking_matches_the_solve_ivp_reference_and_housner():
     theta0 = cases.HOUSNER_THETA0

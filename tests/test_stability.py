@@ -72,6 +72,7 @@ def test_broad_phase_passes_only_pairs_that_can_touch():
     assert 7.5 < r.info["narrow_phase_per_step"] <= 8.0
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("law", ["corner", "overlap_area"])
 @pytest.mark.parametrize("make_scene", [
     lambda c: scenes.block(1.0, 6.0, contact=c), lambda c: scenes.column(8, contact=c),

@@ -14,7 +14,7 @@ from dem_core.engine.contact import ContactParameters
 # The corner law: the upper block tips about the lower block's corner itself, as the rigid stack does
 # (measured +0.018% at the default K_n, +0.023% at 100 x K_n); the band is the case's.
 IMPACT_BAND = cases.case("stacked_blocks").band("impact_time", "dem")
-STIFFNESS_FACTORS = (1.0, 100.0)
+STIFFNESS_FACTORS = (1.0, pytest.param(100.0, marks=pytest.mark.slow))
 
 
 @pytest.fixture(scope="module")
@@ -53,6 +53,7 @@ def test_mirror_image_release_mirrors_the_reference(stack, reference):
     assert set(mirror.pivot1) == {-1} and mirror.pivot2[-1] == -reference.pivot2[-1]
     np.testing.assert_allclose(mirror.theta2[-1], -reference.theta2[-1], rtol=1e-9)
 
+@pytest.mark.slow
 
 def test_reference_of_equal_widths_is_one_rocking_block():
     stack = TwoBlockStack(1.25, 1.25, 1.25, 2.5)

@@ -109,6 +109,7 @@ def test_restarted_sweep_skips_finished_runs(tmp_path):
         assert (tmp_path / "runs" / name).stat().st_mtime_ns == mtime  # not run again
     assert [(r.mu, r.amplitude) for r in table.itertuples()] == [(p["mu"], p["amplitude"]) for p in whole.points()]
 
+@pytest.mark.slow
 
 def test_same_sweep_on_a_dask_cluster(tmp_path):
     distributed = pytest.importorskip("distributed")
@@ -139,6 +140,7 @@ def test_bundled_example_sweep_file_builds_every_point():
     spec = sweep.build(points[-1])
     assert spec.scene.friction("drum1", "drum2") == 0.7 and spec.simulation["duration"] == 10.0
 
+@pytest.mark.slow
 
 def test_sweep_killed_midway_resumes_without_losing_runs(tmp_path):
     import os
