@@ -1,11 +1,11 @@
-"""Analytical and exact references of FORMULATION section 4.
+"""Analytical and exact references of docs/method.md section 4.
 
 Conventions as in the native core: SI units, angles counter-clockwise
 positive.  A rectangular block of width ``2b`` and height ``2h`` rocks about
 its left bottom corner when ``theta > 0`` and about its right one when
 ``theta < 0``; a positive ground acceleration (ground pushed towards +x)
 throws it onto its left corner.  ``g`` defaults to 9.81 m/s^2, the value
-FORMULATION's onset figures use.
+docs/method.md 4.6 uses.
 
 References:
   Housner, G. W. (1963) The behavior of inverted pendulum structures during
@@ -61,7 +61,7 @@ class RockingBlock:
 
 
 def housner_period(block: RockingBlock, theta0: float) -> float:
-    """Free-rocking period without energy loss from amplitude theta0 (s), FORMULATION 4.1.
+    """Free-rocking period without energy loss from amplitude theta0 (s), docs/method.md 4.1.
 
     ``T = (4 / p) arccosh(1 / (1 - theta0 / alpha))``; the first impact comes at T / 4.
     """
@@ -72,7 +72,7 @@ def housner_period(block: RockingBlock, theta0: float) -> float:
 
 
 def housner_peaks(block: RockingBlock, theta0: float, n_impacts: int) -> np.ndarray:
-    """Peak |theta| after 0..n_impacts impacts (rad), FORMULATION 4.2.
+    """Peak |theta| after 0..n_impacts impacts (rad), docs/method.md 4.2.
 
     ``theta_n = alpha (1 - sqrt(1 - r^n (1 - (1 - theta0/alpha)^2)))`` with ``r = e^2``.
     """
@@ -108,7 +108,7 @@ def rocking_response(block: RockingBlock, ground_acceleration, t_end: float, *, 
                      omega0: float = 0.0, restitution: float | None = None, vertical_acceleration=None,
                      t_eval=None, max_step: float | None = None, rtol: float = 1e-10,
                      atol: float = 1e-12) -> RockingHistory:
-    """Rocking of a rigid block on a rigid base without sliding (FORMULATION 4.3).
+    """Rocking of a rigid block on a rigid base without sliding (docs/method.md 4.3).
 
     ``theta'' = -p^2 [ sgn(theta) (1 + a_v/g) sin(alpha - |theta|) - (a_g/g) cos(alpha - |theta|) ]``
     (the sign convention of this module), the block resting while
@@ -216,7 +216,7 @@ def _first_uplift(margin, t0, t_end, step):
 def newmark_max_slip(a_p: float, t_p: float, mu: float, g: float = G) -> float:
     """Largest slip (m) of a rigid block under a rectangular pulse a_p (m/s^2) of T_p (s).
 
-    ``u_max = (a_p T_p^2 / 2) (a_p / (mu g) - 1)`` for a_p > mu g, else 0 (FORMULATION 4.4).
+    ``u_max = (a_p T_p^2 / 2) (a_p / (mu g) - 1)`` for a_p > mu g, else 0 (docs/method.md 4.4).
     """
     if a_p <= mu * g:
         return 0.0
@@ -244,7 +244,7 @@ class SlidingHistory:
 
 def rigid_plastic_sliding(acceleration, dt: float, mu: float, *, vertical=None, g: float = G,
                           t_end: float | None = None) -> SlidingHistory:
-    """Exact stick-slip response of a rigid block on a rigid base (FORMULATION 4.5).
+    """Exact stick-slip response of a rigid block on a rigid base (docs/method.md 4.5).
 
     acceleration : (n,) ground accelerations every ``dt`` s, linear in between
         (the interpolation the native core uses); zero after the last sample.
@@ -335,7 +335,7 @@ def _first_root(c0, c1, c2, span):
 
 
 def rocking_onset_acceleration(block: RockingBlock) -> float:
-    """Ground acceleration that lifts a corner, g tan(alpha) = g b / h (m/s^2), FORMULATION 4.6."""
+    """Ground acceleration that lifts a corner, g tan(alpha) = g b / h (m/s^2), docs/method.md 4.6."""
     return block.g * block.b / block.h
 
 
@@ -347,13 +347,13 @@ def sliding_onset_acceleration(mu: float, g: float = G) -> float:
 def initial_mode(block: RockingBlock, mu: float) -> str:
     """Which motion a slowly growing ground acceleration starts: ``"rocking"`` or ``"sliding"``.
 
-    Rocking first when ``mu > tan(alpha)``, sliding first when ``mu < tan(alpha)`` (FORMULATION 4.6).
+    Rocking first when ``mu > tan(alpha)``, sliding first when ``mu < tan(alpha)`` (docs/method.md 4.6).
     """
     return "rocking" if mu > block.b / block.h else "sliding"
 
 
 def slides_on_incline(slope: float, mu: float) -> bool:
-    """Whether a block on an incline of ``slope`` rad slides: tan(slope) > mu (FORMULATION 4.8)."""
+    """Whether a block on an incline of ``slope`` rad slides: tan(slope) > mu (docs/method.md 4.8)."""
     return bool(np.tan(slope) > mu)
 
 
@@ -377,7 +377,7 @@ def slide_rock_acceleration(block: RockingBlock, mu: float) -> float:
 
 def initial_mode_under_pulse(block: RockingBlock, mu: float, acceleration: float) -> str:
     """Motion a ground acceleration applied at once (a pulse with finite initial value, m/s^2) starts:
-    ``"rest"``, ``"rocking"``, ``"sliding"`` or ``"slide-rock"`` (FORMULATION 4.6).
+    ``"rest"``, ``"rocking"``, ``"sliding"`` or ``"slide-rock"`` (docs/method.md 4.6).
 
     A sliding block never tips while ``mu < b / h`` (its contact resultant stays at ``mu h`` from
     the centre line, inside the base), so with ``mu < b / h`` the choice is rest or sliding.

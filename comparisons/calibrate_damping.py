@@ -2,7 +2,7 @@
 
 Free rocking of a rectangular block released from ``theta0``: the native core's
 peak angles after each of the first ``n`` impacts are compared with Housner's
-``theta_n`` (FORMULATION 4.2), and the rocking damping ratio ``zeta_r`` of
+``theta_n`` (docs/method.md 4.2), and the rocking damping ratio ``zeta_r`` of
 :class:`dem_core.ContactParameters` (the other contact parameters at their
 defaults) that minimises the largest relative error
 is found by bounded scalar minimisation.  The value in

@@ -35,10 +35,10 @@ ROCKING_EQUATION = 1e-6
 ODE_SOLVER = 1e-8
 
 REFERENCE_KINDS = {
-    "closed form": "a closed-form solution (FORMULATION section 4)",
+    "closed form": "a closed-form solution (docs/method.md section 4)",
     "rocking equation": "the rigid rocking equation with Housner's impact rule, integrated exactly "
                         "(comparisons/rocking_reference.py)",
-    "rigid-plastic": "the exact stick-slip integration of a rigid block (FORMULATION 4.5)",
+    "rigid-plastic": "the exact stick-slip integration of a rigid block (docs/method.md 4.5)",
     "rigid stack": "the equations of motion of two rigid stacked blocks (comparisons/stacked_rocking.py)",
     "rest": "the exact answer of a resting stack: nothing moves",
     "consensus": "the converged consensus of the other engines (comparisons/consensus.py)",

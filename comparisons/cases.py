@@ -1,4 +1,4 @@
-"""The benchmark cases of FORMULATION section 4, declared once for the tests, the scripts and the report.
+"""The benchmark cases of docs/method.md section 4, declared once for the tests, the scripts and the report.
 
 Every case is a :class:`comparisons.case.Case` written with keyword fields: its scene and motion,
 its reference and how a run is judged, and the bands each engine's errors must stay within at its
@@ -22,21 +22,21 @@ from comparisons.stacked_rocking import TwoBlockStack, stack_response
 from comparisons.strong_motion import strong_motion
 from dem_core import excitation, scenes, thresholds
 
-#: FORMULATION 4.1-4.2: the 0.25 x 1.0 m granite block released from 0.05236 rad (3 degrees)
+#: docs/method.md 4.1-4.2: the 0.25 x 1.0 m granite block released from 0.05236 rad (3 degrees)
 HOUSNER_WIDTH = 0.25
 HOUSNER_HEIGHT = 1.0
 HOUSNER_THETA0 = 0.05236
 
-#: FORMULATION 4.6: the 1 x 6 m column, rocking onset at g b / h = 1.635 m/s^2
+#: docs/method.md 4.6: the 1 x 6 m column, rocking onset at g b / h = 1.635 m/s^2
 ONSET_WIDTH = 1.0
 ONSET_HEIGHT = 6.0
 ONSET_RAMP_RATE = 0.5  # m/s^2 per s
 
-#: FORMULATION 4.7: Psycharis' stack, lower block 2.5 x 2.5 m, upper 2.0 x 5.0 m, released from 0.1 rad
+#: docs/method.md 4.7: Psycharis' stack, lower block 2.5 x 2.5 m, upper 2.0 x 5.0 m, released from 0.1 rad
 STACK_SIZES = ((2.5, 2.5), (2.0, 5.0))
 STACK_THETA0 = 0.1
 
-#: FORMULATION 4.6 (Zhang-Makris): the 0.25 x 1.0 m block with mu = 0.3 > tan(alpha) = 0.25
+#: docs/method.md 4.6 (Zhang-Makris): the 0.25 x 1.0 m block with mu = 0.3 > tan(alpha) = 0.25
 SLIDE_ROCK_MU = 0.3
 SLIDE_ROCK_PULSE = 0.1  # s, rectangular pulse
 SLIDE_ROCK_SLIP = 1e-5  # m of slip that counts as sliding during the pulse

@@ -14,7 +14,7 @@ compared member by member with the reference:
 
 Peak error of a member: ``(peak - reference peak) / max(reference peak, floor)`` with the peak |theta|
 of the block (rocking) or its largest |slip| (sliding).  The floor, alpha/30 for rocking (the rocking
-criterion of FORMULATION section 3) and 0.1 mm for sliding (the onset criterion of the
+criterion of docs/method.md section 3) and 0.1 mm for sliding (the onset criterion of the
 ``sliding_onset`` case), keeps a member in which the block barely moves from turning noise into a
 large relative error.  An overturned engine's peak is alpha (it reached the critical angle); members
 whose reference overturns have no peak error (their peak is alpha by definition) and count only in

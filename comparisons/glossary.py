@@ -122,7 +122,7 @@ def glossary() -> list:
          "integration, run by run."),
         ("Peak error",
          f"(engine's peak - reference's peak) / reference's peak, with the reference's peak taken as at least "
-         f"alpha/{1 / ROCKING_FLOOR:.0f} for rocking (FORMULATION's rocking criterion) and "
+         f"alpha/{1 / ROCKING_FLOOR:.0f} for rocking (docs/method.md's rocking criterion) and "
          f"{SLIDING_FLOOR * 1e3:g} mm for sliding; an overturned engine's peak is alpha. Runs whose reference "
          "overturns count only in the agreement on overturning."),
         ("Overturning spectrum",

@@ -235,7 +235,7 @@ def write_report(table: pd.DataFrame, stability: pd.DataFrame, out: Path, *, qui
 time, {time.strftime("%Y-%m-%d %H:%M")}. {_provenance_html(made)}</p>
 <p>Five engines: the native core under its corner contact law (<b>dem</b>) and under the thesis' overlap-area law
 (<b>dem-overlap</b>), pymunk, PyBullet and MuJoCo. Each is judged against an exact reference where one exists
-(FORMULATION section 4), and against the consensus of the other engines on the multi-block scenes, where none
+(docs/method.md section 4), and against the consensus of the other engines on the multi-block scenes, where none
 does. Errors below {exact_floor("peak_rotation"):g} (relative) or {exact_floor("drift_m"):g} m or rad count as
 exact and are not ranked. Wall times exclude compiling and building. The terms are explained in the
 <a href="#glossary">glossary</a>; the thesis' parametric studies are <a href="#studies">linked below</a>.

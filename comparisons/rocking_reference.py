@@ -1,7 +1,7 @@
 """The rocking equation under sampled ground motion, compiled: the reference for records and ensembles.
 
 The rigid block of :class:`comparisons.analytical.RockingBlock` on a rigid base, no sliding
-(FORMULATION 4.3, in the sign convention of :mod:`comparisons.analytical`):
+(docs/method.md 4.3, in the sign convention of :mod:`comparisons.analytical`):
 
     theta'' = -p^2 [ s (1 + a_v/g) sin(alpha - s theta) - (a_g/g) cos(alpha - s theta) ]
 
@@ -36,7 +36,7 @@ Outputs fall on step ends (the default output grid is the step grid) or between 
 they are the cubic Hermite interpolants of ``theta`` (slopes ``omega``) and of ``omega``
 (slopes ``theta''``) over the piece of the step they fall in.
 
-References: Housner (1963) BSSA 53(2): 403-417; FORMULATION 4.3.
+References: Housner (1963) BSSA 53(2): 403-417; docs/method.md 4.3.
 """
 
 import math
@@ -282,7 +282,7 @@ def rocking_response(block: RockingBlock, ground, duration: float | None = None,
                      vertical=None, theta0: float = 0.0, omega0: float = 0.0, restitution: float | None = None,
                      substeps: int | None = None, sample_dt: float = ANALYTIC_SAMPLE_DT, output_dt: float | None = None,
                      max_steps: int | None = None) -> RockingHistory:
-    """Rocking of a rigid block on a rigid base without sliding under a ground motion (FORMULATION 4.3).
+    """Rocking of a rigid block on a rigid base without sliding under a ground motion (docs/method.md 4.3).
 
     block : the rectangular block (``p``, ``alpha``, ``g``).
     ground : a :class:`dem_core.inputs.excitation.GroundMotion` (sampled records are taken on their

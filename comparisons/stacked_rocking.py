@@ -1,4 +1,4 @@
-"""Two rigid blocks stacked on rigid ground, rocking without sliding (FORMULATION 4.7).
+"""Two rigid blocks stacked on rigid ground, rocking without sliding (docs/method.md 4.7).
 
 The exact reference up to the first impact: after it, the rigid model needs an
 impact rule, and Psycharis' (1990) rule is one assumption among several, so

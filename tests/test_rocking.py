@@ -104,7 +104,7 @@ def test_rocking_onset_under_a_ramp_is_the_rigid_value(rigid_ramp_onset, factor)
 
 
 def test_onset_mode_follows_friction_against_slenderness():
-    """FORMULATION 4.6: rocking first when mu > tan(alpha), sliding first when mu < tan(alpha)."""
+    """docs/method.md 4.6: rocking first when mu > tan(alpha), sliding first when mu < tan(alpha)."""
     block = analytical.RockingBlock.from_size(1.0, 2.0)  # tan(alpha) = 0.5
     g = block.g
     assert analytical.initial_mode(block, mu=0.7) == "rocking"

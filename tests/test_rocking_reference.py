@@ -1,5 +1,5 @@
 """The compiled rocking reference: the solve_ivp reference's answers, fast, convergent, conservative
-and mirror-symmetric (FORMULATION 4.1-4.3)."""
+and mirror-symmetric (docs/method.md 4.1-4.3)."""
 
 import time
 

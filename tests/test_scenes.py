@@ -1,4 +1,4 @@
-"""Scene description: builders for FORMULATION section 3 and errors that name the block at fault."""
+"""Scene description: builders for docs/method.md section 3 and errors that name the block at fault."""
 
 import numpy as np
 import pytest

@@ -23,7 +23,7 @@ def _mode_difference(scene, motion, duration, refine=1):
     (lambda: scenes.column(3), excitation.harmonic(0.02, 1.5), 2.0),
 ])
 def test_moving_base_and_inertial_load_give_the_same_relative_response(make_scene, motion, duration):
-    """FORMULATION 2: both ways must agree, up to the error of sampling the ground motion at step times."""
+    """docs/method.md 2: both ways must agree, up to the error of sampling the ground motion at step times."""
     assert _mode_difference(make_scene(), motion, duration) < 0.01
 
 

@@ -1,4 +1,4 @@
-"""Sliding of a squat block against Newmark's pulse and the exact rigid-plastic integration (FORMULATION 4.4, 4.5, 4.8).
+"""Sliding of a squat block against Newmark's pulse and the exact rigid-plastic integration (docs/method.md 4.4, 4.5, 4.8).
 
 The bands are those the cases of comparisons/cases.py declare for the native core ("dem").
 """
@@ -105,7 +105,7 @@ def test_sliding_converges_as_dt_shrinks():
 
 @pytest.mark.parametrize("mu", [0.3, 0.6])
 def test_block_on_an_incline_slides_only_beyond_the_friction_angle(mu):
-    """FORMULATION 4.8.  A slope beta is a steady ground acceleration g tan(beta) (the tilted gravity);
+    """docs/method.md 4.8.  A slope beta is a steady ground acceleration g tan(beta) (the tilted gravity);
     it is reached by a slow ramp so that no transient overshoots."""
     for factor in (0.95, 1.05):
         slope = np.arctan(factor * mu)

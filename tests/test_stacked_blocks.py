@@ -1,4 +1,4 @@
-"""Two stacked blocks released from a tilt (Psycharis 1990, FORMULATION 4.7): the rigid reference and the core."""
+"""Two stacked blocks released from a tilt (Psycharis 1990, docs/method.md 4.7): the rigid reference and the core."""
 
 import numpy as np
 import pytest

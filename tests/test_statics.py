@@ -1,4 +1,4 @@
-"""Statics and invariants: a resting stack stays put, energy does not grow (FORMULATION 4.8)."""
+"""Statics and invariants: a resting stack stays put, energy does not grow (docs/method.md 4.8)."""
 
 import numpy as np
 import pytest
