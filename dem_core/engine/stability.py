@@ -131,13 +131,19 @@ def _bound_limit(springs: Springs, mass) -> float:
         np.add.at(total, pairs[:, 1], coupling)
         return float(np.max(total))
 
-    lo, hi = 0.0, 1.0
+    hi = 1.0
     while bound(hi) <= 4.0:
-        lo, hi = hi, 2.0 * hi
+        hi *= 2.0
+    return _largest_stable(lambda dt: bound(dt) <= 4.0, 0.0, hi, 1e-4)
+
+
+def _largest_stable(stable, lo: float, hi: float, tolerance: float) -> float:
+    """Bisection between a stable ``lo`` and an unstable ``hi`` step until they are ``tolerance`` (relative)
+    apart; returns the stable end."""
     for _ in range(60):
         mid = 0.5 * (lo + hi)
-        lo, hi = (mid, hi) if bound(mid) <= 4.0 else (lo, mid)
-        if hi - lo < 1e-4 * hi:
+        lo, hi = (mid, hi) if stable(mid) else (lo, mid)
+        if hi - lo < tolerance * hi:
             break
     return lo
 
@@ -169,14 +175,8 @@ def _energy_limit(springs: Springs, mass) -> float:
         return eigh(dt * dt * k_mod + 2.0 * dt * c_mod, eigvals_only=True, subset_by_index=[len(mass) - 1] * 2)[0]
 
     omega = np.sqrt(eigh(k_mod, eigvals_only=True, subset_by_index=[len(mass) - 1] * 2)[0])
-    hi = 2.0 / omega  # the undamped limit: damping only lowers it
-    lo = 0.0
-    for _ in range(60):
-        mid = 0.5 * (lo + hi)
-        lo, hi = (mid, hi) if largest(mid) <= 4.0 else (lo, mid)
-        if hi - lo < 1e-5 * hi:
-            break
-    return lo
+    # the undamped limit 2 / omega is the most damping can leave
+    return _largest_stable(lambda dt: largest(dt) <= 4.0, 0.0, 2.0 / omega, 1e-5)
 
 
 def _amplification_limit(springs: Springs, mass) -> float:
@@ -202,12 +202,7 @@ def _amplification_limit(springs: Springs, mass) -> float:
         return hi
     while not stable(lo):
         lo *= 0.5
-    for _ in range(30):
-        mid = 0.5 * (lo + hi)
-        lo, hi = (mid, hi) if stable(mid) else (lo, mid)
-        if hi - lo < 1e-3 * lo:
-            break
-    return lo
+    return _largest_stable(stable, lo, hi, 1e-3)
 
 
 def impact_duration(scene, model: Model | None = None) -> float:
