@@ -60,9 +60,13 @@ def save(fig, name: str, file: str) -> str:
 
 
 def write_readme(name: str, title: str, findings: list, figures: list, started: float, script: str, *,
-                 resumes: bool = True) -> None:
-    lines = [f"# {title}", "", *[f"- {f}" for f in findings], ""]
-    lines += [f"![{f}]({f})" for f in figures]
+                 resumes: bool = True, tables: list = ()) -> None:
+    """README.md of a study: ``tables`` (markdown lines) first, then the findings as bullets, the figures
+    (file names, or (file name, what it shows) pairs) and the command that regenerates it."""
+    lines = [f"# {title}", "", *tables, *[f"- {f}" for f in findings], ""]
+    for figure in figures:
+        file, caption = figure if isinstance(figure, tuple) else (figure, "")
+        lines += [f"![{file}]({file})", "", *([caption, ""] if caption else [])]
     if resumes:
         runs = sum(len(t) for t in _SWEPT)
         compute = sum(t.wall_time_s.sum() for t in _SWEPT)
