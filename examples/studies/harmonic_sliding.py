@@ -47,6 +47,7 @@ def run(frequency, amplitude):
                base_slip_peak=float(np.max(np.abs(slips[("base", "drum1")]))),
                peak_theta=float(np.max(np.abs(result.theta))), dt=result.dt, wall_time_s=time.perf_counter() - started)
     row["sliding_ratio"] = row["total_sliding"] / travel
+    row["start_drift"] = (amplitude * 2 * np.pi * frequency) ** 2 / (2 * FRICTION * G)
     row["base_slip_over_amplitude"] = row["base_slip_peak"] / amplitude
     return row
 
@@ -59,15 +60,18 @@ def main():
              f"{FRICTION * G:.3g} m/s^2, rocking at g b/h = {G / 6:.3g} m/s^2 for a rigid column), default contact law "
              f"(corner, K_n {DEFAULT_NORMAL_STIFFNESS:.0e} N/m^2); u_g = A sin(2 pi f t) for {DURATION:g} s (or up to "
              "an overturn). Total sliding: the slip accumulated at every interface (paths, summed); ground travel: "
-             "4 A f times the run's length.", ""]
+             "4 A f times the run's length. The motion starts with the ground at its peak velocity A 2 pi f: a column "
+             "at rest that slides at once drifts by (A 2 pi f)^2 / (2 mu g) before friction stops it (start drift).",
+             ""]
     ok = table[table.status == "ok"]
     rows = [[f"{r.amplitude * 1e3:g}", f"{r.frequency:g}", f"{r.pga:.3g}", r.mode,
              "yes" if r.overturned else "no", f"{r.total_sliding * 1e3:.3g}", f"{r.ground_travel * 1e3:.3g}",
-             f"{r.sliding_ratio:.3f}", f"{r.base_slip_over_amplitude:.3f}", f"{r.peak_theta * 1e3:.3g}"]
+             f"{r.sliding_ratio:.3f}", f"{r.base_slip_over_amplitude:.3f}", f"{r.start_drift / r.amplitude:.3g}",
+             f"{r.peak_theta * 1e3:.3g}"]
             for r in ok.itertuples(index=False)]
     setup += markdown_table(["A (mm)", "f (Hz)", "PGA (m/s^2)", "mode", "overturned", "total sliding (mm)",
                              "ground travel (mm)", "sliding / ground travel", "peak base slip / A",
-                             "peak rotation (mrad)"], rows)
+                             "start drift / A", "peak rotation (mrad)"], rows)
     findings = []
     for a in AMPLITUDES:
         runs = ok[ok.amplitude == a].sort_values("frequency")
@@ -85,14 +89,17 @@ def figure(table):
     fig, ax = plt.subplots(figsize=(6.5, 4))
     for a in AMPLITUDES:
         runs = table[table.amplitude == a].sort_values("frequency")
-        ax.plot(runs.frequency, runs.sliding_ratio, "o-", label=f"A = {a * 1e3:g} mm")
+        line = ax.plot(runs.frequency, runs.sliding_ratio, "o-", label=f"A = {a * 1e3:g} mm")[0]
+        fallen = runs[runs.overturned]
+        ax.plot(fallen.frequency, fallen.sliding_ratio, "x", color=line.get_color(), ms=12, mew=2)
     ax.set(xscale="log", xlabel="frequency (Hz)", ylabel="total sliding / ground travel",
            title=f"8-drum column, friction {FRICTION:g}, default contact law")
     ax.grid(alpha=0.3, which="both")
     ax.legend(fontsize=8)
     fig.tight_layout()
     return (save(fig, NAME, "harmonic_sliding.png"),
-            "The table's ratio of total sliding to the ground's travel against frequency, one line per amplitude.")
+            "The table's ratio of total sliding to the ground's travel against frequency, one line per amplitude; a "
+            "cross marks a run that overturned (its ratio up to the overturn).")
 
 
 if __name__ == "__main__":
