@@ -50,7 +50,8 @@ def rigid_body(scene, g: float = G) -> tuple[RockingBlock, float]:
     return equivalent_block(np.arctan2(half_width, height), p, g), 1.0 - 2.0 * mass * half_width ** 2 / inertia
 
 
-def rocking_frame(column: RockingBlock, n_columns: int, column_mass: float, beam_mass: float) -> tuple[RockingBlock, float]:
+def rocking_frame(column: RockingBlock, n_columns: int, column_mass: float,
+                  beam_mass: float) -> tuple[RockingBlock, float]:
     """Makris and Vassiliou's frame of ``n_columns`` columns like ``column`` under a beam:
     ``(equivalent block, restitution)``."""
     gamma = beam_mass / (n_columns * column_mass)

@@ -108,7 +108,8 @@ def main():
                  "open diamond at the bottom: run failed)", fontsize=10)
     fig.tight_layout()
     figures = [(save(fig, NAME, "epistyle_type_density.png"),
-                "Peak rotation (top) and epistyle displacement (bottom) against frequency, one panel per epistyle type, "
+                "Peak rotation (top) and epistyle displacement (bottom) against frequency, one panel per epistyle "
+                "type, "
                 "one line per epistyle density; crosses along the top are runs that overturned, open diamonds along "
                 "the bottom runs that failed.")]
 

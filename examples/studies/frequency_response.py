@@ -64,7 +64,8 @@ def findings(table, label, mu_ref):
             high = standing[standing.frequency == standing.frequency.max()].iloc[0]
             out.append(f"{label}, PGA {pga:g} m/s^2, mu {mu_ref:g}: of the runs left standing, the largest mean "
                        f"rocking is at {top.frequency:g} Hz ({top.mean_rocking_rad * 1e3:.3g} mrad), the one at the "
-                       f"highest frequency ({high.frequency:g} Hz) {high.mean_rocking_rad * 1e3:.3g} mrad; overturned at "
+                       f"highest frequency ({high.frequency:g} Hz) {high.mean_rocking_rad * 1e3:.3g} mrad; "
+                       "overturned at "
                        + (", ".join(f"{f:g}" for f in fallen.frequency) + " Hz" if len(fallen) else "no frequency")
                        + ".")
     by_mu = ok[~ok.overturned].groupby("mu").total_sliding_m.median()

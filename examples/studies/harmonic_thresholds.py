@@ -109,7 +109,8 @@ def figure(table):
     ax.legend(fontsize=8)
     fig.tight_layout()
     return (save(fig, NAME, "harmonic_thresholds.png"),
-            "The table's thresholds against frequency: rocking onset and smallest overturning PGA of the 8-drum column, "
+            "The table's thresholds against frequency: rocking onset and smallest overturning PGA of the 8-drum "
+            "column, "
             "and the rigid monolith's smallest overturning PGA; the dotted line is the rigid uplift g b/h.")
 
 

@@ -55,7 +55,8 @@ def main():
         survived = finished[~finished.overturned].sort_values(["interface", "mu"])
         findings.append(f"{n} blocks: {len(survived)} of {len(table)} runs stay up: "
                         + ("; ".join(f"weak interface {int(r.interface)} (0 = base) at mu {r.mu:g}, total sliding "
-                                     f"{r.total_sliding_m * 1e3:.3g} mm, mean rocking {r.mean_rocking_rad * 1e3:.3g} mrad"
+                                     f"{r.total_sliding_m * 1e3:.3g} mm, mean rocking "
+                                     f"{r.mean_rocking_rad * 1e3:.3g} mrad"
                                      for r in survived.itertuples()) or "none") + ".")
         fallen = finished[finished.overturned]
         findings.append(f"{n} blocks: the others overturn after {fallen.overturn_time_s.min():.3g} to "
@@ -71,7 +72,8 @@ def main():
                         "(0 = base): " + ", ".join(f"{int(r.interface)}: {r.total_sliding_m * 1e3:.3g} mm"
                                                    for r in low.sort_values("interface").itertuples()) + ".")
     fig.suptitle(f"One weak interface, harmonic {AMPLITUDE:g} m at {FREQUENCY:g} Hz "
-                 f"(PGA {AMPLITUDE * (2 * np.pi * FREQUENCY) ** 2:.2f} m/s^2; sliding up to the end of the run or the overturn)", fontsize=10)
+                 f"(PGA {AMPLITUDE * (2 * np.pi * FREQUENCY) ** 2:.2f} m/s^2; sliding up to the end of the run or the "
+                 "overturn)", fontsize=10)
     fig.tight_layout()
     figures = [(save(fig, NAME, "weak_interface.png"),
                 "Left: total sliding per second standing against the weak interface's friction, one line per weak "

@@ -32,7 +32,7 @@ STEP, TOLERANCE = 0.02, 0.005
 G = 9.80665
 UPLIFT = G * 1.0 / 6.0  # m/s^2, g b / h of every column here
 LOW = 0.8 * UPLIFT
-CAP = {"el_centro_1940": 15.0, "mexico_city_1985": 8.0, "northridge_1994": 15.0, "kalamata_1986": 30.0}  # m/s^2
+CAP = {"el_centro_1940": 12.0, "mexico_city_1985": 6.0, "northridge_1994": 12.0, "kalamata_1986": 30.0}  # m/s^2
 #: the check passes when the native core's smallest overturning PGA is within this of the rocking equation's
 RIGID_AGREEMENT = 0.05
 CHECK_STIFFNESS = (DEFAULT_NORMAL_STIFFNESS, 100.0 * DEFAULT_NORMAL_STIFFNESS)
@@ -68,7 +68,8 @@ def check_rows():
             row.update(threshold_columns(found, f"{stiffness_key(kn)}_"))
         row["wall_time_s"] = time.perf_counter() - started
         print(f"check {record}: rigid {row['rigid_smallest']:.3g}, " + ", ".join(
-            f"K_n {kn:.0e} {row[stiffness_key(kn) + '_smallest']:.3g}" for kn in CHECK_STIFFNESS), file=sys.stderr, flush=True)
+            f"K_n {kn:.0e} {row[stiffness_key(kn) + '_smallest']:.3g}" for kn in CHECK_STIFFNESS), file=sys.stderr,
+            flush=True)
         rows.append(row)
     return pd.DataFrame(rows)
 
@@ -151,15 +152,17 @@ def report(check, table, started):
     findings = []
     for k, stiffness in zip(kn, CHECK_STIFFNESS):
         close = (np.abs(check[f"{k}_smallest"] / check.rigid_smallest - 1) <= RIGID_AGREEMENT)
-        findings.append(f"Check at K_n {stiffness:.0e} N/m^2: {int(close.sum())} of {len(check)} records within {RIGID_AGREEMENT:.0%} of "
-                        "the rocking equation" + ("" if close.all() else ": not " + ", ".join(check.record[~close])) + ".")
+        findings.append(f"Check at K_n {stiffness:.0e} N/m^2: {int(close.sum())} of {len(check)} records within "
+                        f"{RIGID_AGREEMENT:.0%} of the rocking equation"
+                        + ("" if close.all() else ": not " + ", ".join(check.record[~close])) + ".")
     for record in recs:
         runs = table[(table.record == record) & np.isfinite(table.smallest)]
         if len(runs):
             low, high = runs.loc[runs.smallest.idxmin()], runs.loc[runs.smallest.idxmax()]
             findings.append(f"{record}: lowest {low.kind}, {low.n_drums} drum(s) ({low.smallest:.3g} m/s^2), highest "
                             f"{high.kind}, {high.n_drums} drum(s) ({high.smallest:.3g} m/s^2); "
-                            f"{int((table.record == record).sum() - len(runs))} systems overturned nowhere in the scan.")
+                            f"{int((table.record == record).sum() - len(runs))} systems overturned nowhere in the "
+                            "scan.")
         colonnade = table[(table.record == record) & (table.kind == "colonnade")].sort_values("n_drums")
         values = colonnade.smallest.to_numpy()
         trend = ("rises" if np.all(np.diff(values) > 0) else "falls" if np.all(np.diff(values) < 0) else

@@ -46,6 +46,10 @@ RECORDS = {  # name: (label, component, the thesis' record PGA m/s^2, top of the
     "kalamata_1986": ("Kalamata 1986", None, 2.67, 30.0),
 }
 ATHENS = "Athens 1999"
+#: the overlap-area law at 1e8 with the project's damping (zeta_n 0.3, rocking dashpot calibrated on Housner's
+#: energy loss): how much the thesis' almost undamped contacts move the answer, for the 1-drum systems
+DAMPED = ("overlap-area 1e8, damped", ContactParameters(law="overlap_area", kn=1e8))
+DAMPED_SYSTEMS = ("bare_1", "loaded_1", "colonnade_1")
 STEP, TOLERANCE = 0.02, 0.005
 RAMP_RATE = 0.5  # m/s^2 per s
 STEP_CHECK_DIVISOR = 4  # the overlap-area law's thresholds rerun at dt / this
@@ -169,7 +173,10 @@ def main():
                     row.update(rigid)
     table = pd.DataFrame(rows)
     table.to_parquet(out_dir(NAME) / "results.parquet", index=False)
-    write_report(table, started)
+    damped = pd.DataFrame([search(key, build, record, *DAMPED)[0] | {"label": label}
+                           for key, label, _, build, _, _ in systems() if key in DAMPED_SYSTEMS for record in RECORDS])
+    damped.to_parquet(out_dir(NAME) / "damping_check.parquet", index=False)
+    write_report(table, damped, started)
 
 
 def side_by_side(table):
@@ -181,7 +188,8 @@ def side_by_side(table):
         out.append({"system": key, "label": first.label, "table": first.table, "record": record,
                     "thesis": first.thesis,
                     **{law: by_law.loc[law, "smallest"] for law in LAWS},
-                    **{f"{law} flags": (by_law.loc[law, "non_monotonic"], by_law.loc[law, "failed_runs"]) for law in LAWS},
+                    **{f"{law} flags": (by_law.loc[law, "non_monotonic"], by_law.loc[law, "failed_runs"])
+                       for law in LAWS},
                     "rigid": first.get("rigid_smallest", np.nan)})
     return pd.DataFrame(out)
 
@@ -216,9 +224,11 @@ def thesis_findings(wide):
     findings = []
     evidence, ok = {}, {}
     for law in LAWS:
-        pairs = [(n, r, value(f"colonnade_{n}", r, law), value(f"loaded_{n}", r, law)) for n in (1, 2, 3) for r in RECORDS]
+        pairs = [(n, r, value(f"colonnade_{n}", r, law), value(f"loaded_{n}", r, law))
+                 for n in (1, 2, 3) for r in RECORDS]
         ok[law] = holds([(s, c) for _, _, c, s in pairs], True)
-        evidence[law] = ", ".join(f"{n} drum(s) {RECORDS[r][0].split()[0]}: {fmt(c)} vs {fmt(s)}" for n, r, c, s in pairs)
+        evidence[law] = ", ".join(f"{n} drum(s) {RECORDS[r][0].split()[0]}: {fmt(c)} vs {fmt(s)}"
+                                  for n, r, c, s in pairs)
     findings.append(("A colonnade needs a larger PGA to fail than the standalone column carrying the epistyle load "
                      "(table 7.1, every drum count and record).", verdict(ok), evidence))
     evidence, ok = {}, {}
@@ -244,7 +254,8 @@ def thesis_findings(wide):
                      f"drums; here: within {DRUM_INSENSITIVE:.0%}).", verdict(ok), evidence))
     evidence, ok = {}, {}
     for law in LAWS:
-        series = {kind: [value(f"{kind}_{n}", "kalamata_1986", law) for n in (1, 2, 3)] for kind in ("colonnade", "loaded")}
+        series = {kind: [value(f"{kind}_{n}", "kalamata_1986", law) for n in (1, 2, 3)]
+                  for kind in ("colonnade", "loaded")}
         ok[law] = None if not np.any(np.isfinite(list(series.values()))) else all(
             np.all(np.diff(np.nan_to_num(v, nan=np.inf)) > 0) for v in series.values())
         evidence[law] = "; ".join(f"{'colonnades' if k == 'colonnade' else 'loaded columns'} with 1, 2, 3 drums: "
@@ -254,8 +265,8 @@ def thesis_findings(wide):
     evidence, ok = {}, {}
     for law in LAWS:
         kalamata_cap = RECORDS["kalamata_1986"][3]  # nothing overturned below it: the ratio is at least cap / Mexico
-        ratios = [np.nan_to_num(value(key, "kalamata_1986", law), nan=kalamata_cap) / value(key, "mexico_city_1985", law)
-                  for key in wide.system.unique()]
+        ratios = [np.nan_to_num(value(key, "kalamata_1986", law), nan=kalamata_cap)
+                  / value(key, "mexico_city_1985", law) for key in wide.system.unique()]
         known = [r for r in ratios if np.isfinite(r)]
         ok[law] = None if not known else all(r >= 2.0 for r in known)
         evidence[law] = (f"Kalamata over Mexico City {min(known):.2g} to {max(known):.2g} (a lower bound where "
@@ -274,7 +285,7 @@ def thesis_findings(wide):
     return findings
 
 
-def write_report(table, started):
+def write_report(table, damped, started):
     wide = side_by_side(table)
     laws = list(LAWS)
     rows = [[r.label, RECORDS[r.record][0], fmt(r.thesis)] + [fmt(r[law], *r[f"{law} flags"]) for law in laws]
@@ -294,9 +305,29 @@ def write_report(table, started):
     lines += ["Every search: the time step the law chose (s), the rigid uplift acceleration g b / h_G and the model's "
               "own rocking onset under a 0.5 m/s^2/s ramp (theta_cr/30; m/s^2), the scanned range, the overturning "
               "windows found, finished and failed runs, and whether the overlap-area law's threshold holds at a "
-              f"quarter of its step (the PGA that overturned still overturns, the one below still stands).", "",
+              "quarter of its step (the PGA that overturned still overturns, the one below still stands).", "",
               *markdown_table(["system", "record", "law", "dt (s)", "rigid uplift", "ramp onset", "scanned",
                                "overturning windows", "runs", "failed", "dt/4 agrees"], detail_rows)]
+    section = []
+    for law in laws:
+        cells = {(r.system, r.record): r[law] for _, r in wide.iterrows()}
+        section.append([law] + [" / ".join(fmt(cells.get((f"{kind}_{n}", record), np.nan))
+                                           for kind in ("colonnade", "loaded", "bare"))
+                                for n in (1, 2, 3) for record in RECORDS])
+    lines += ["Section 7.1's three cases side by side, smallest overturning PGA (m/s^2): colonnade / standalone "
+              "column with the epistyle load / standalone column without it.", "",
+              *markdown_table(["law"] + [f"{n} drum{'s' * (n > 1)}, {RECORDS[record][0]}" for n in (1, 2, 3)
+                                         for record in RECORDS], section)]
+    thesis_law = table[table.law == "overlap-area 1e8"].set_index(["system", "record"])
+    lines += ["Damping check, 1-drum systems: the overlap-area law at 1e8 N/m^2 with the thesis' C_n = 1e3 N s/m and "
+              "no rotational dashpot, against the same law with the project's damping (normal damping ratio 0.3, "
+              "the rotational dashpot calibrated on Housner's energy loss per impact); smallest overturning PGA "
+              "(m/s^2).", "",
+              *markdown_table(["system", "record", "thesis' damping", "project's damping", "thesis"], [
+                  [r.label, RECORDS[r.record][0], fmt(thesis_law.loc[(r.system, r.record), "smallest"]),
+                   fmt(r.smallest, r.non_monotonic, r.failed_runs),
+                   fmt(table[(table.system == r.system) & (table.record == r.record)].thesis.iloc[0])]
+                  for r in damped.itertuples(index=False)])]
     setup = [
         f"Set-up: friction {FRICTION:g} at every interface; columns {WIDTH:g} m x {HEIGHT:g} m, stone "
         f"{DENSITY:g} kg/m^3; colonnades of {N_COLUMNS} columns at {SPACING:g} m under one epistyle of type a, "
@@ -365,7 +396,8 @@ def figure(wide):
         y = np.arange(len(runs))
         for k, (column, style) in enumerate((("thesis", "ks"), *((law, m) for law, m in zip(LAWS, ("o", "^"))),
                                              ("rigid", "kx"))):
-            ax.plot(runs[column], y + 0.12 * (k - 1.5), style, label=column, ms=6, mfc="none" if column == "thesis" else None)
+            ax.plot(runs[column], y + 0.12 * (k - 1.5), style, label=column, ms=6,
+                    mfc="none" if column == "thesis" else None)
         ax.set_yticks(y, runs.label, fontsize=7)
         ax.set_xscale("log")
         ax.set_xlabel("smallest overturning PGA (m/s$^2$)")
