@@ -9,7 +9,7 @@ from dem_core.inputs.scene import SceneError
 
 def test_a_load_on_a_column_lowers_its_uplift_acceleration_to_g_b_over_the_centre_height():
     bare = scenes.column(1)
-    loaded = scenes.column(1, load=(2.0, 0.8, 2700.0))
+    loaded = scenes.loaded_column((2.0, 0.8, 2700.0), 1)
     mass, load_mass = 1.0 * 6.0 * 2700.0, 2.0 * 0.8 * 2700.0
     centre = (mass * 3.0 + load_mass * 6.4) / (mass + load_mass)
     assert loaded.rocking_slenderness == pytest.approx(np.arctan(0.5 / centre), rel=1e-12)
@@ -19,6 +19,6 @@ def test_a_load_on_a_column_lowers_its_uplift_acceleration_to_g_b_over_the_centr
 
 def test_a_load_must_be_a_width_height_density_triple():
     with pytest.raises(SceneError, match="load"):
-        scenes.column(1, load=(2.0, 0.8))
+        scenes.loaded_column((2.0, 0.8), 1)
     with pytest.raises(SceneError, match="load_density"):
-        scenes.column(1, load=(2.0, 0.8, -1.0))
+        scenes.loaded_column((2.0, 0.8, -1.0), 1)

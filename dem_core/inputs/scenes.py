@@ -173,8 +173,8 @@ def _column_blocks(n_drums, width, height, taper, capital, x_centre, y0, density
 
 
 def column(n_drums: int = 8, width: float = 1.0, height: float = 6.0, *, taper: float = 0.0,
-           capital: tuple | None = None, load: tuple | None = None, density: float = 2700.0, friction: float = 0.7,
-           depth: float = 1.0, contact: ContactParameters | None = None, interface_friction: dict | None = None,
+           capital: tuple | None = None, density: float = 2700.0, friction: float = 0.7, depth: float = 1.0,
+           contact: ContactParameters | None = None, interface_friction: dict | None = None,
            base_width: float | None = None) -> Scene:
     """A standalone column of ``n_drums`` equal-height drums, total ``height`` (m).
 
@@ -182,22 +182,39 @@ def column(n_drums: int = 8, width: float = 1.0, height: float = 6.0, *, taper: 
     taper : (W_bottom - W_top) / W_bottom, with the mean width kept at
         ``width`` so a tapered column has the prismatic column's mass.
     capital : (width, height) in m of a block on top, or None.
-    load : (width m, height m, density kg/m^3) of a block named ``load`` resting on the top (on the
-        capital, if any), or None: the share of an epistyle that a column of a colonnade carries
-        (L. Papaloizou 2009, section 7.1).  It is a mass, free to slide and rock on the column like an
-        epistyle: it lowers the uplift acceleration of the column to ``g b / h_G``, ``b`` the half
-        width of the base and ``h_G`` the height of the combined centre of mass, and the scene's
-        rocking slenderness becomes ``atan(b / h_G)``.
     """
+    return _column_scene(n_drums, width, height, taper, capital, None, density, friction, depth, contact,
+                         interface_friction, base_width)
+
+
+def loaded_column(load: tuple, n_drums: int = 8, width: float = 1.0, height: float = 6.0, *, taper: float = 0.0,
+                  capital: tuple | None = None, density: float = 2700.0, friction: float = 0.7, depth: float = 1.0,
+                  contact: ContactParameters | None = None, interface_friction: dict | None = None,
+                  base_width: float | None = None) -> Scene:
+    """A standalone :func:`column` carrying a block named ``load`` on its top (on the capital, if any).
+
+    load : (width m, height m, density kg/m^3) of that block: the share of an epistyle that a column of a
+        colonnade carries (L. Papaloizou 2009, section 7.1).  It is a mass, free to slide and rock on the
+        column like an epistyle: it lowers the column's uplift acceleration to ``g b / h_G``, ``b`` the half
+        width of the base and ``h_G`` the height of the combined centre of mass, and the scene's rocking
+        slenderness is ``atan(b / h_G)``.  Other arguments as :func:`column`.
+    """
+    if isinstance(load, (str, bytes)) or np.shape(load) != (3,):
+        raise SceneError(f"load must be a (width m, height m, density kg/m^3) triple, got {load!r}")
+    _positive(load_width=load[0], load_height=load[1], load_density=load[2])
+    return _column_scene(n_drums, width, height, taper, capital, load, density, friction, depth, contact,
+                         interface_friction, base_width)
+
+
+def _column_scene(n_drums, width, height, taper, capital, load, density, friction, depth, contact,
+                  interface_friction, base_width) -> Scene:
+    """The scene of :func:`column` and :func:`loaded_column` (``load`` checked, or None)."""
     n_drums = _check_column(n_drums, width, height, taper, capital)
     _not_too_many(n_drums, f"n_drums = {n_drums}")
     _materials(density, friction, depth)
     blocks, top = _column_blocks(n_drums, width, height, taper, capital, 0.0, 0.0, density, friction, depth, "")
     slenderness = np.arctan2(width, top)
     if load is not None:
-        if isinstance(load, (str, bytes)) or np.shape(load) != (3,):
-            raise SceneError(f"load must be a (width m, height m, density kg/m^3) triple, got {load!r}")
-        _positive(load_width=load[0], load_height=load[1], load_density=load[2])
         blocks.append(Block("load", rectangle(load[0], load[1], -load[0] / 2.0, top), density=load[2], depth=depth,
                             friction=friction))
         mass = np.array([b.mass for b in blocks])

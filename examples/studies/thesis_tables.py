@@ -61,7 +61,9 @@ G = 9.80665
 
 
 def column_scene(n_drums, load, contact):
-    return scenes.column(n_drums, WIDTH, HEIGHT, load=LOAD if load else None, friction=FRICTION, contact=contact)
+    if load:
+        return scenes.loaded_column(LOAD, n_drums, WIDTH, HEIGHT, friction=FRICTION, contact=contact)
+    return scenes.column(n_drums, WIDTH, HEIGHT, friction=FRICTION, contact=contact)
 
 
 def colonnade_scene(n_drums, contact):
