@@ -68,10 +68,13 @@ def report(table, started):
         v = runs.smallest.to_numpy()
         finite = np.isfinite(v)
         if finite.sum() >= 2:
-            low, high = runs[finite].iloc[np.argmin(v[finite])], runs[finite].iloc[np.argmax(v[finite])]
-            findings.append(f"{r}, {n} drum(s): lowest {low.smallest:.3g} m/s^2 at mu {low.mu:g}, highest "
-                            f"{high.smallest:.3g} m/s^2 at mu {high.mu:g}; from mu 0.485 to 1.0 the threshold changes "
-                            f"by {v[-1] / v[list(runs.mu).index(0.485)] - 1:+.0%}.")
+            known = runs[finite]
+            at_low = known[np.isclose(known.smallest, known.smallest.min(), rtol=TOLERANCE)].mu
+            at_high = known[np.isclose(known.smallest, known.smallest.max(), rtol=TOLERANCE)].mu
+            findings.append(f"{r}, {n} drum(s): lowest {known.smallest.min():.3g} m/s^2 at mu "
+                            f"{', '.join(f'{m:g}' for m in at_low)}, highest {known.smallest.max():.3g} m/s^2 at mu "
+                            f"{', '.join(f'{m:g}' for m in at_high)}; from mu 0.485 to 1.0 the threshold changes by "
+                            f"{v[-1] / v[list(runs.mu).index(0.485)] - 1:+.0%}.")
         else:
             findings.append(f"{r}, {n} drum(s): overturned at {int(finite.sum())} of {len(v)} frictions.")
     findings.append(f"Searches with a PGA left standing above one that toppled: {int(table.non_monotonic.sum())} of "
