@@ -50,3 +50,37 @@ def test_weak_interface_gets_its_friction_and_the_others_0_48():
 def test_colonnade_study_scenes(builder, params, blocks):
     spec = getattr(_load("colonnades"), builder)(params)
     assert len(spec.scene.blocks) == blocks
+
+
+def test_thesis_tables_use_the_thesis_set_up():
+    study = _load("thesis_tables")
+    systems = {key: (build, reference, thesis) for key, _, _, build, reference, thesis in study.systems()}
+    thesis_law = study.LAWS["overlap-area 1e8"]
+    assert (thesis_law.law, thesis_law.kn, thesis_law.cn, thesis_law.cr) == ("overlap_area", 1e8, 1e3, 0.0)
+    colonnade = systems["colonnade_2"][0](thesis_law)
+    assert [b.name for b in colonnade.blocks].count("epistyle") == 1 and len(colonnade.blocks) == 3 * 2 + 1
+    loaded = systems["loaded_3"][0](thesis_law)
+    load = [b for b in loaded.blocks if b.name == "load"][0]
+    epistyle = [b for b in colonnade.blocks if b.name == "epistyle"][0]
+    assert load.mass == pytest.approx(epistyle.mass / 3)  # one column's share of the epistyle
+    assert loaded.friction("drum1", "drum2") == colonnade.friction("base", "c1_drum1") == 0.485
+    assert systems["loaded_1"][2]["mexico_city_1985"] == 1.15 and systems["column_8"][2]["kalamata_1986"] == 18.7
+    mexico = study.motion_for("mexico_city_1985")(1.0)
+    assert np.max(np.abs(mexico.horizontal.samples)) == pytest.approx(1.0, rel=1e-3)  # after baseline correction
+    from dem_core import excitation
+    north_south = excitation.record("mexico_city_1985", component=1).horizontal.peak_acceleration
+    assert north_south == pytest.approx(0.0995 * 9.80665, rel=2e-3)  # the thesis' 0.98 m/s^2
+
+
+def test_rigid_references_of_the_studies():
+    rigid = _load("_rigid")
+    from comparisons.analytical import RockingBlock
+    from dem_core import scenes
+    monolith = RockingBlock.from_size(1.0, 6.0)
+    block, restitution = rigid.rigid_body(scenes.column(1))
+    assert block.p == pytest.approx(monolith.p) and block.alpha == pytest.approx(monolith.alpha)
+    assert restitution == pytest.approx(monolith.restitution)
+    frame, e = rigid.rocking_frame(monolith, 3, 1.0, 0.0)  # no beam: three free columns
+    assert frame.p == pytest.approx(monolith.p) and e == pytest.approx(monolith.restitution)
+    heavy, _ = rigid.rocking_frame(monolith, 3, 1.0, 3.0)  # gamma = 1: p^2 (1 + 2) / (1 + 3)
+    assert heavy.p == pytest.approx(monolith.p * np.sqrt(3.0 / 4.0)) and heavy.alpha == pytest.approx(monolith.alpha)

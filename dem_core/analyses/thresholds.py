@@ -1,19 +1,22 @@
 """Thresholds of a scene under a family of ground motions: overturning, onset of rocking and of sliding.
 
-* :func:`overturning_threshold`: the smallest scale (PGA, amplitude, record
-  factor: whatever ``motion_at(scale)`` takes) at which a block overturns, by
-  a scan for the first overturning scale and bisection between it and the
-  last surviving one, to a stated tolerance;
-* :func:`onset_threshold`: the same for the start of rocking (a rotation
-  above theta_cr / 30, docs/method.md section 3) or of sliding (an interface
-  slipping more than ``slip`` m);
-* :func:`onset_under_ramp`: both onsets from one run under a monotonic ramp,
-  as ground accelerations.
+* :func:`scan_and_refine`: the search every threshold here uses.  It runs the scene at every scale
+  of a fine scan (geometric steps of ``step``, 2% by default, or evenly spaced points when ``scan``
+  gives their number), then refines *every* change between neighbouring scales (standing to
+  overturned and back) by bisection to ``tolerance``.  The result keeps every run, every window of
+  scales where the event happened, and the runs that failed (a run that lost stability is neither a
+  survivor nor a collapse);
+* :func:`overturning_threshold`: the smallest scale (PGA, amplitude, record factor: whatever
+  ``motion_at(scale)`` takes) at which a block overturns;
+* :func:`onset_threshold`: the same for the start of rocking (a rotation above theta_cr / 30,
+  docs/method.md section 3) or of sliding (an interface slipping more than ``slip`` m);
+* :func:`onset_under_ramp`: both onsets from one run under a monotonic ramp, as ground accelerations.
 
-The response of rocking structures need not be monotonic in the scale (a
-larger motion can leave standing what a smaller one toppled); the scan looks
-for the *first* change, and :class:`Threshold` keeps every run so the caller
-can see the pattern.
+The response of rocking structures is not monotonic in the scale: under a record a block can
+overturn at one PGA and stand at a larger one (Yim, Chopra and Penzien 1980; Makris and
+Konstantinidis 2003).  A coarse scan that stops at its first collapse then reports a threshold
+above windows it stepped over; hence the fine scan over the whole range, started just below the
+uplift acceleration (below which nothing rocks, so nothing overturns).
 """
 
 from collections.abc import Callable
@@ -21,78 +24,162 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from ..engine.simulation import SimulationUnstable, simulate
 from ..inputs.excitation import ramp
 from ..inputs.scene import Scene
-from ..engine.simulation import simulate
 
 ROCKING_FRACTION = 1.0 / 30.0  # rocking starts at theta_cr / 30
 SLIP_THRESHOLD = 1e-4  # m
+SCAN_STEP = 0.02  # relative step of the scan
+TOLERANCE = 0.005  # relative width of a refined change
+
+
+@dataclass(frozen=True)
+class Window:
+    """Scales where every completed run had the event: ``first`` and ``last`` of them, and the nearest
+    event-free scales run on either side (``below``, ``above``; None where none was run)."""
+
+    first: float
+    last: float
+    below: float | None
+    above: float | None
 
 
 @dataclass(frozen=True)
 class Threshold:
     """Result of a threshold search.
 
-    value : the threshold (midpoint of the final bracket), NaN if the scan never crossed it
-        (``below`` is None: it crosses at or below the smallest scale tried; ``above`` is None:
-        not even at the largest).
-    below, above : the final bracket: largest scale without the event, smallest with it.
-    runs : ((scale, event happened), ...) in the order they ran.
+    runs : ((scale, event happened), ...) of the runs that finished, in the order they ran.
+    failures : ((scale, message), ...) of the runs that did not (unstable, or another listed failure).
+    tolerance : relative width to which each change was refined.
     """
 
     criterion: str
-    value: float
-    below: float | None
-    above: float | None
-    tolerance: float
     runs: tuple = field(default=())
+    failures: tuple = field(default=())
+    tolerance: float = TOLERANCE
+
+    @property
+    def windows(self) -> tuple:
+        """The :class:`Window` of every range of scales with the event, lowest first."""
+        ordered = sorted(dict(self.runs).items())
+        found, start = [], None
+        for k, (scale, happened) in enumerate(ordered):
+            if happened and start is None:
+                start = k
+            if start is not None and (not happened or k == len(ordered) - 1):
+                end = k if happened else k - 1
+                found.append(Window(ordered[start][0], ordered[end][0],
+                                    ordered[start - 1][0] if start > 0 else None,
+                                    ordered[end + 1][0] if end + 1 < len(ordered) else None))
+                start = None
+        return tuple(found)
+
+    @property
+    def smallest(self) -> float:
+        """Smallest scale at which the event happened (NaN if it never did)."""
+        windows = self.windows
+        return windows[0].first if windows else float("nan")
+
+    @property
+    def value(self) -> float:
+        """The threshold: the smallest scale with the event, if a smaller scale ran without it (else NaN:
+        the event happened already at the smallest scale tried, or never)."""
+        windows = self.windows
+        return windows[0].first if windows and windows[0].below is not None else float("nan")
+
+    @property
+    def below(self) -> float | None:
+        """Largest scale without the event below the smallest with it (None if none ran)."""
+        windows = self.windows
+        if windows:
+            return windows[0].below
+        return max((s for s, _ in self.runs), default=None)
+
+    @property
+    def above(self) -> float | None:
+        """Smallest scale with the event (None if it never happened)."""
+        windows = self.windows
+        return windows[0].first if windows else None
 
     @property
     def monotonic(self) -> bool:
-        """Whether every run below the bracket was event-free and every run above it had the event."""
-        if self.above is None or self.below is None:
-            return True
-        return all(happened == (scale >= self.above) for scale, happened in self.runs)
+        """Whether no scale ran without the event above one that had it."""
+        windows = self.windows
+        return not windows or (len(windows) == 1 and windows[0].above is None)
+
+    @property
+    def survives_above_collapse(self) -> bool:
+        """The flag of a non-monotonic response: a larger scale left standing what a smaller one toppled."""
+        return not self.monotonic
 
 
-def bracket_and_bisect(happens: Callable[[float], bool], low: float, high: float, *, tolerance: float = 0.02,
-                       scan: int = 6, criterion: str = "",
-                       on_run: Callable[[float, bool], None] | None = None) -> Threshold:
-    """Smallest scale in [low, high] for which ``happens(scale)`` is True.
+def scan_grid(low: float, high: float, *, step: float = SCAN_STEP, absolute_step: float | None = None,
+              scan: int | None = None) -> np.ndarray:
+    """Scales of a scan from ``low`` to ``high`` (both included).
 
-    Scans ``scan`` evenly spaced scales upwards, stops at the first with the event, then
-    bisects between it and the previous one until the bracket is narrower than
-    ``tolerance`` times its upper end.  ``on_run(scale, event happened)`` is called after
-    every run (a progress report).
+    scan : a number of evenly spaced scales; otherwise each next scale is the last times (1 + ``step``),
+        the increment capped at ``absolute_step`` (same unit as the scale) when given.
     """
     if not 0 < low < high:
         raise ValueError(f"need 0 < low < high, got low = {low}, high = {high}")
-    if scan < 2:
-        raise ValueError(f"scan needs at least 2 scales, got {scan}")
-    runs = []
+    if scan is not None:
+        if scan < 2:
+            raise ValueError(f"scan needs at least 2 scales, got {scan}")
+        return np.linspace(low, high, int(scan))
+    if not step > 0 or (absolute_step is not None and not absolute_step > 0):
+        raise ValueError(f"scan steps must be positive, got step = {step}, absolute_step = {absolute_step}")
+    grid = [float(low)]
+    while grid[-1] < high:
+        grid.append(grid[-1] + min(step * grid[-1], absolute_step if absolute_step is not None else np.inf))
+    grid[-1] = float(high)
+    if len(grid) > 2 and grid[-1] - grid[-2] < 0.25 * (grid[-2] - grid[-3]):
+        del grid[-2]  # no sliver of a step at the top
+    return np.array(grid)
+
+
+def scan_and_refine(happens: Callable[[float], bool], low: float, high: float, *, step: float = SCAN_STEP,
+                    absolute_step: float | None = None, scan: int | None = None, tolerance: float = TOLERANCE,
+                    criterion: str = "", failures: tuple = (SimulationUnstable,),
+                    on_run: Callable[[float, bool | None], None] | None = None) -> Threshold:
+    """Every scale of :func:`scan_grid` (``low``, ``high``, ``step``, ``absolute_step``, ``scan``), then
+    bisection of each change between neighbouring finished runs until its bracket is narrower than
+    ``tolerance`` times its upper end.
+
+    happens : scale -> whether the event happened; an exception of a type in ``failures`` marks the
+        run as failed (kept in :attr:`Threshold.failures`); any other exception propagates.
+    on_run : called as ``on_run(scale, happened)`` after each run, ``happened`` None for a failure.
+    """
+    if not tolerance > 0:
+        raise ValueError(f"tolerance must be positive, got {tolerance}")
+    runs, failed = [], []
 
     def test(scale):
-        outcome = bool(happens(scale))
-        runs.append((float(scale), outcome))
+        scale = float(scale)
+        try:
+            outcome = bool(happens(scale))
+        except failures as exc:
+            failed.append((scale, f"{type(exc).__name__}: {exc}"))
+            outcome = None
+        else:
+            runs.append((scale, outcome))
         if on_run is not None:
-            on_run(float(scale), outcome)
+            on_run(scale, outcome)
         return outcome
 
-    below = above = None
-    for scale in np.linspace(low, high, scan):
-        if test(scale):
-            above = float(scale)
-            break
-        below = float(scale)
-    if above is None or below is None:
-        return Threshold(criterion, float("nan"), below, above, tolerance, tuple(runs))
-    while above - below > tolerance * above:
-        middle = 0.5 * (below + above)
-        if test(middle):
-            above = middle
-        else:
-            below = middle
-    return Threshold(criterion, 0.5 * (below + above), below, above, tolerance, tuple(runs))
+    scanned = [(s, test(s)) for s in scan_grid(low, high, step=step, absolute_step=absolute_step, scan=scan)]
+    finished = [(s, o) for s, o in scanned if o is not None]
+    for (lo, lo_event), (hi, hi_event) in zip(finished, finished[1:]):
+        while lo_event != hi_event and hi - lo > tolerance * hi:
+            middle = 0.5 * (lo + hi)
+            outcome = test(middle)
+            if outcome is None:
+                break
+            if outcome == lo_event:
+                lo = middle
+            else:
+                hi = middle
+    return Threshold(criterion, tuple(runs), tuple(failed), tolerance)
 
 
 def interface_slip_history(scene: Scene, result) -> dict:
@@ -147,29 +234,31 @@ def motion_mode(scene: Scene, result, slip: float = SLIP_THRESHOLD) -> str:
             (True, True): "slide-rock"}[(rocks(scene, result), slides(scene, result, slip))]
 
 
-def overturning_threshold(scene: Scene, motion_at: Callable, low: float, high: float, *, tolerance: float = 0.02,
-                          scan: int = 6, on_run: Callable[[float, bool], None] | None = None,
+def overturning_threshold(scene: Scene, motion_at: Callable, low: float, high: float, *, step: float = SCAN_STEP,
+                          absolute_step: float | None = None, scan: int | None = None, tolerance: float = TOLERANCE,
+                          on_run: Callable[[float, bool | None], None] | None = None,
                           **simulate_options) -> Threshold:
-    """Smallest scale at which ``simulate(scene, motion_at(scale))`` overturns a block.
+    """Scales at which ``simulate(scene, motion_at(scale))`` overturns a block (:func:`scan_and_refine`).
 
     motion_at : scale -> GroundMotion, e.g. ``lambda pga: excitation.record("el_centro_1940", pga=pga)``.
-    low, high : the range searched; tolerance : relative width of the final bracket.
-    on_run : called as ``on_run(scale, overturned)`` after every run (a progress report).
+    low, high : the range scanned; start ``low`` just below the scene's uplift acceleration.
+    step, absolute_step, scan, tolerance, on_run : as :func:`scan_and_refine`.
     simulate_options : passed to :func:`dem_core.simulate` (duration, dt, ...); runs stop at the
-        first overturn.
+        first overturn; a run that loses stability is a failure, not a survivor.
     """
     def overturns(scale):
         return simulate(scene, motion_at(scale), stop_at_overturn=True, **simulate_options).overturned
 
-    return bracket_and_bisect(overturns, low, high, tolerance=tolerance, scan=scan, criterion="overturning",
-                              on_run=on_run)
+    return scan_and_refine(overturns, low, high, step=step, absolute_step=absolute_step, scan=scan,
+                           tolerance=tolerance, criterion="overturning", on_run=on_run)
 
 
 def onset_threshold(scene: Scene, motion_at: Callable, low: float, high: float, *, criterion: str = "rocking",
-                    tolerance: float = 0.02, scan: int = 6, slip: float = SLIP_THRESHOLD,
-                    on_run: Callable[[float, bool], None] | None = None, **simulate_options) -> Threshold:
-    """Smallest scale that starts ``criterion`` ("rocking": theta above theta_cr/30; "sliding": an
-    interface slipping more than ``slip`` m).  Arguments as :func:`overturning_threshold`."""
+                    step: float = SCAN_STEP, absolute_step: float | None = None, scan: int | None = None,
+                    tolerance: float = TOLERANCE, slip: float = SLIP_THRESHOLD,
+                    on_run: Callable[[float, bool | None], None] | None = None, **simulate_options) -> Threshold:
+    """Scales that start ``criterion`` ("rocking": theta above theta_cr/30; "sliding": an interface
+    slipping more than ``slip`` m).  Arguments as :func:`overturning_threshold`."""
     if criterion not in ("rocking", "sliding"):
         raise ValueError(f"criterion must be 'rocking' or 'sliding', got {criterion!r}")
     simulate_options.setdefault("output_dt", 1e-3)
@@ -178,7 +267,8 @@ def onset_threshold(scene: Scene, motion_at: Callable, low: float, high: float, 
         result = simulate(scene, motion_at(scale), **simulate_options)
         return rocks(scene, result) if criterion == "rocking" else slides(scene, result, slip)
 
-    return bracket_and_bisect(starts, low, high, tolerance=tolerance, scan=scan, criterion=criterion, on_run=on_run)
+    return scan_and_refine(starts, low, high, step=step, absolute_step=absolute_step, scan=scan,
+                           tolerance=tolerance, criterion=criterion, on_run=on_run)
 
 
 @dataclass(frozen=True)

@@ -183,11 +183,44 @@ def column(n_drums: int = 8, width: float = 1.0, height: float = 6.0, *, taper: 
         ``width`` so a tapered column has the prismatic column's mass.
     capital : (width, height) in m of a block on top, or None.
     """
+    return _column_scene(n_drums, width, height, taper, capital, None, density, friction, depth, contact,
+                         interface_friction, base_width)
+
+
+def loaded_column(load: tuple, n_drums: int = 8, width: float = 1.0, height: float = 6.0, *, taper: float = 0.0,
+                  capital: tuple | None = None, density: float = 2700.0, friction: float = 0.7, depth: float = 1.0,
+                  contact: ContactParameters | None = None, interface_friction: dict | None = None,
+                  base_width: float | None = None) -> Scene:
+    """A standalone :func:`column` carrying a block named ``load`` on its top (on the capital, if any).
+
+    load : (width m, height m, density kg/m^3) of that block: the share of an epistyle that a column of a
+        colonnade carries (L. Papaloizou 2009, section 7.1).  It is a mass, free to slide and rock on the
+        column like an epistyle: it lowers the column's uplift acceleration to ``g b / h_G``, ``b`` the half
+        width of the base and ``h_G`` the height of the combined centre of mass, and the scene's rocking
+        slenderness is ``atan(b / h_G)``.  Other arguments as :func:`column`.
+    """
+    if isinstance(load, (str, bytes)) or np.shape(load) != (3,):
+        raise SceneError(f"load must be a (width m, height m, density kg/m^3) triple, got {load!r}")
+    _positive(load_width=load[0], load_height=load[1], load_density=load[2])
+    return _column_scene(n_drums, width, height, taper, capital, load, density, friction, depth, contact,
+                         interface_friction, base_width)
+
+
+def _column_scene(n_drums, width, height, taper, capital, load, density, friction, depth, contact,
+                  interface_friction, base_width) -> Scene:
+    """The scene of :func:`column` and :func:`loaded_column` (``load`` checked, or None)."""
     n_drums = _check_column(n_drums, width, height, taper, capital)
     _not_too_many(n_drums, f"n_drums = {n_drums}")
     _materials(density, friction, depth)
     blocks, top = _column_blocks(n_drums, width, height, taper, capital, 0.0, 0.0, density, friction, depth, "")
-    return _scene(blocks, base_width, friction, depth, contact, interface_friction, np.arctan2(width, top))
+    slenderness = np.arctan2(width, top)
+    if load is not None:
+        blocks.append(Block("load", rectangle(load[0], load[1], -load[0] / 2.0, top), density=load[2], depth=depth,
+                            friction=friction))
+        mass = np.array([b.mass for b in blocks])
+        centre_height = np.array([b.centroid[1] for b in blocks]) @ mass / mass.sum()
+        slenderness = np.arctan2(0.5 * np.ptp(blocks[0].vertices[:, 0]), centre_height)
+    return _scene(blocks, base_width, friction, depth, contact, interface_friction, slenderness)
 
 
 def _epistyles(kind, centres, col_top_width, y, thickness, density, friction, depth, prefix):

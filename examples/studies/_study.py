@@ -5,23 +5,26 @@ run) and ``README.md`` (the trend found, computed from the results, and the comm
 Sweeps run in ``.study_cache/<name>/`` (not committed), so an interrupted study resumes.
 """
 
+import json
 import sys
 import time
 from pathlib import Path
 
 import matplotlib
+from _checkout import ROOT
 
 matplotlib.use("Agg")
-import matplotlib.pyplot as plt
-import numpy as np
-from matplotlib import transforms
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+from matplotlib import transforms  # noqa: E402
 
-from dem_core.analyses.sweep import Sweep, run_sweep
+from dem_core.analyses.sweep import Sweep, run_sweep  # noqa: E402
+from dem_core.analyses.thresholds import Threshold  # noqa: E402
 
-ROOT = Path(__file__).resolve().parents[2]
 REPORTS = ROOT / "reports" / "studies"
 CACHE = ROOT / ".study_cache"
 _SWEPT = []  # tables of the sweeps run by this process, for the compute time in the README
+_SEARCHED = []  # seconds each threshold search of this process took when it first ran (NaN: not recorded)
 
 
 def out_dir(name: str) -> Path:
@@ -30,7 +33,11 @@ def out_dir(name: str) -> Path:
     return path
 
 
-def sweep(name: str, build, parameters: dict, *, workers=None, mode="grid"):
+#: sweeps run on one worker: the machine is shared, and a study's run time is then comparable between runs
+WORKERS = 1
+
+
+def sweep(name: str, build, parameters: dict, *, workers=WORKERS, mode="grid"):
     """Run (or resume) a sweep of the study and return its table; failures are kept as rows."""
     table = run_sweep(Sweep(build, parameters, mode=mode), CACHE / name, workers=workers)
     _SWEPT.append(table)
@@ -41,15 +48,56 @@ def sweep(name: str, build, parameters: dict, *, workers=None, mode="grid"):
     return table
 
 
-def curve(ax, x, y, overturned, label, row=0, **style):
-    """A line through the runs that stayed up; runs that overturned as crosses along the top edge,
-    one row of crosses per series (their measures stop at the overturn and are not comparable)."""
+def cached_threshold(name: str, key: str, search) -> Threshold:
+    """The threshold search ``search()`` of study ``name``, kept under ``.study_cache/<name>/<key>.json`` so
+    that a study started again does not repeat it."""
+    path = CACHE / name / f"{key}.json"
+    if path.exists():
+        data = json.loads(path.read_text())
+        _SEARCHED.append(data.get("wall_time_s", float("nan")))
+        return Threshold(data["criterion"], tuple(map(tuple, data["runs"])), tuple(map(tuple, data["failures"])),
+                         data["tolerance"])
+    started = time.perf_counter()
+    found = search()
+    _SEARCHED.append(time.perf_counter() - started)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    path.write_text(json.dumps({"criterion": found.criterion, "runs": found.runs, "failures": found.failures,
+                                "tolerance": found.tolerance, "wall_time_s": _SEARCHED[-1]}))
+    return found
+
+
+def threshold_columns(found: Threshold, prefix: str = "") -> dict:
+    """Table columns of a threshold search: the smallest scale with the event, its windows, whether a larger
+    scale survived a smaller one's collapse, failed and finished runs."""
+    return {f"{prefix}smallest": found.smallest,
+            f"{prefix}standing_below": found.below if found.below is not None else np.nan,
+            f"{prefix}windows": "; ".join(f"{w.first:.3g}-{w.last:.3g}" for w in found.windows),
+            f"{prefix}non_monotonic": found.survives_above_collapse, f"{prefix}failed_runs": len(found.failures),
+            f"{prefix}runs": len(found.runs)}
+
+
+def markdown_table(header: list, rows: list) -> list:
+    """Lines of a markdown table."""
+    return ["| " + " | ".join(header) + " |", "|" + "---|" * len(header),
+            *["| " + " | ".join(str(c) for c in row) + " |" for row in rows], ""]
+
+
+def curve(ax, x, y, overturned, label, row=0, failed=None, **style):
+    """A line through the runs that finished standing; runs that overturned as crosses along the top edge and runs
+    that failed (unstable) as open diamonds along the bottom edge, one row of markers per series (neither kind's
+    measures are comparable with the standing runs')."""
     x, y, overturned = map(np.asarray, (x, y, overturned))
-    line = ax.plot(x[~overturned], y[~overturned], "o-", ms=3, label=label, **style)[0]
+    failed = np.zeros(len(x), bool) if failed is None else np.asarray(failed, bool)
+    overturned = overturned & ~failed
+    standing = ~overturned & ~failed
+    line = ax.plot(x[standing], y[standing], "o-", ms=3, label=label, **style)[0]
+    edge = transforms.blended_transform_factory(ax.transData, ax.transAxes)
     if overturned.any():
-        top = transforms.blended_transform_factory(ax.transData, ax.transAxes)
         ax.plot(x[overturned], np.full(overturned.sum(), 0.97 - 0.05 * row), "x", color=line.get_color(), ms=7, mew=1.5,
-                transform=top, clip_on=False)
+                transform=edge, clip_on=False)
+    if failed.any():
+        ax.plot(x[failed], np.full(failed.sum(), 0.03 + 0.05 * row), "D", mfc="none", color=line.get_color(), ms=6,
+                transform=edge, clip_on=False)
     return line
 
 
@@ -60,14 +108,22 @@ def save(fig, name: str, file: str) -> str:
 
 
 def write_readme(name: str, title: str, findings: list, figures: list, started: float, script: str, *,
-                 resumes: bool = True) -> None:
-    lines = [f"# {title}", "", *[f"- {f}" for f in findings], ""]
-    lines += [f"![{f}]({f})" for f in figures]
+                 resumes: bool = True, tables: list = ()) -> None:
+    """README.md of a study: ``tables`` (markdown lines) first, then the findings as bullets, the figures
+    (file names, or (file name, what it shows) pairs) and the command that regenerates it."""
+    lines = [f"# {title}", "", *tables, *[f"- {f}" for f in findings], ""]
+    for figure in figures:
+        file, caption = figure if isinstance(figure, tuple) else (figure, "")
+        lines += [f"![{file}]({file})", "", *([caption, ""] if caption else [])]
     if resumes:
         runs = sum(len(t) for t in _SWEPT)
         compute = sum(t.wall_time_s.sum() for t in _SWEPT)
-        cost = (f"{runs} runs, {compute:.0f} s of computing in all, spread over the cores; an interrupted or "
+        cost = (f"{runs} runs, {compute:.0f} s of computing in all on {WORKERS} worker(s); an interrupted or "
                 "repeated run resumes from `.study_cache/`")
+    elif _SEARCHED:
+        cost = (f"{len(_SEARCHED)} threshold searches, {np.nansum(_SEARCHED):.0f} s of computing in all on one worker "
+                f"when each first ran; they are cached in `.study_cache/`, and this run took "
+                f"{time.perf_counter() - started:.0f} s")
     else:
         cost = f"{time.perf_counter() - started:.0f} s on the machine that wrote this"
     lines += ["", f"Regenerate: `python examples/studies/{script}` ({cost})."]

@@ -9,6 +9,9 @@ from _study import save, sweep, write_readme
 
 from dem_core import excitation, scenes
 from dem_core.analyses.sweep import RunSpec
+from dem_core.engine.contact import DEFAULT_STIFFNESS
+
+CORNER_STIFFNESS = DEFAULT_STIFFNESS["corner"]  # N/m^2 per m, the default law's
 
 NAME = "interface_friction"
 MU_ELSEWHERE = 0.48
@@ -34,7 +37,9 @@ def main():
     tables = {n: sweep(f"{NAME}/column_{n}", column, {"blocks": [n], "interface": list(range(n)), "mu": MUS})
               for n in (4, 8)}
     fig, axes = plt.subplots(2, 2, figsize=(12, 7.5))
-    findings = []
+    findings = [f"Set-up: columns 6 m x 1 m of 4 and 8 blocks, friction {MU_ELSEWHERE:g} except at one interface, "
+                f"default contact law (corner, K_n {CORNER_STIFFNESS:.0e} N/m^2), harmonic ground motion "
+                f"{AMPLITUDE:g} m at {FREQUENCY:g} Hz for {DURATION:g} s."]
     for row, (n, table) in enumerate(tables.items()):
         for k in range(n):
             runs = table[table.interface == k].sort_values("mu")
@@ -48,25 +53,33 @@ def main():
             ax.set_xlabel(f"mu at the weak interface (elsewhere {MU_ELSEWHERE:g})")
             ax.grid(alpha=0.3)
         axes[row, 0].legend(fontsize=7, ncol=2)
-        survived = table[~table.overturned].sort_values(["interface", "mu"])
+        finished = table[table.status == "ok"]
+        survived = finished[~finished.overturned].sort_values(["interface", "mu"])
         findings.append(f"{n} blocks: {len(survived)} of {len(table)} runs stay up: "
                         + ("; ".join(f"weak interface {int(r.interface)} (0 = base) at mu {r.mu:g}, total sliding "
-                                     f"{r.total_sliding_m * 1e3:.3g} mm, mean rocking {r.mean_rocking_rad * 1e3:.3g} mrad"
+                                     f"{r.total_sliding_m * 1e3:.3g} mm, mean rocking "
+                                     f"{r.mean_rocking_rad * 1e3:.3g} mrad"
                                      for r in survived.itertuples()) or "none") + ".")
-        fallen = table[table.overturned]
+        fallen = finished[finished.overturned]
         findings.append(f"{n} blocks: the others overturn after {fallen.overturn_time_s.min():.3g} to "
                         f"{fallen.overturn_time_s.max():.3g} s (median {fallen.overturn_time_s.median():.3g} s); "
                         "by weak interface, median time standing: " + ", ".join(
                             f"{k}: {v:.3g} s" for k, v in fallen.groupby("interface").overturn_time_s.median().items())
                         + ".")
-        low = table[table.mu == min(MUS)]
+        bad = table[table.status != "ok"]
+        findings.append(f"{n} blocks: {len(bad)} runs failed (counted neither as standing nor as overturned)"
+                        + (f": {bad.status.value_counts().to_dict()}" if len(bad) else "") + ".")
+        low = finished[finished.mu == min(MUS)]
         findings.append(f"{n} blocks, mu {min(MUS):g}: total sliding up to the end or the overturn, by weak interface "
                         "(0 = base): " + ", ".join(f"{int(r.interface)}: {r.total_sliding_m * 1e3:.3g} mm"
                                                    for r in low.sort_values("interface").itertuples()) + ".")
     fig.suptitle(f"One weak interface, harmonic {AMPLITUDE:g} m at {FREQUENCY:g} Hz "
-                 f"(PGA {AMPLITUDE * (2 * np.pi * FREQUENCY) ** 2:.2f} m/s^2; sliding up to the end of the run or the overturn)", fontsize=10)
+                 f"(PGA {AMPLITUDE * (2 * np.pi * FREQUENCY) ** 2:.2f} m/s^2; sliding up to the end of the run or the "
+                 "overturn)", fontsize=10)
     fig.tight_layout()
-    figures = [save(fig, NAME, "weak_interface.png")]
+    figures = [(save(fig, NAME, "weak_interface.png"),
+                "Left: total sliding per second standing against the weak interface's friction, one line per weak "
+                "interface; right: time standing (the run's length for a column that survived).")]
     write_readme(NAME, "Different friction at different interfaces", findings, figures, started,
                  "interface_friction.py")
 

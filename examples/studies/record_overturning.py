@@ -1,102 +1,214 @@
-"""The PGA that overturns standalone columns and colonnades of 3 columns (1, 2 and 3 drums) under each bundled
-record: the record scaled to a PGA, the smallest overturning PGA found by a scan and bisection (2%)."""
+"""The smallest PGA that overturns columns and colonnades under each bundled record, and the check of the
+search against the rigid rocking equation.
 
+1. Check: the 6 m x 1 m monolith on a rigid base (friction 2: no sliding) under each bundled record, as
+   bundled, in the native core at the default stiffness and at 100 times it, against the rocking
+   equation (comparisons/rocking_reference.py); both by the same search.
+2. Study, in the thesis' set-up (friction 0.485; Mexico City SCT north-south): standalone columns of 1 to 3
+   drums and colonnades of three columns of 1, 2, 3 and 5 drums under one epistyle (type a, 2.5 m spacing), in
+   the default contact law.
+
+Every search (:func:`dem_core.analyses.thresholds.overturning_threshold`): 2% steps from 0.8 of the rigid
+uplift acceleration g b / h up to a cap per record, each change refined to 0.5%; every overturning window
+is kept, and runs that lost stability are counted apart.
+"""
+
+import sys
 import time
-from concurrent.futures import ProcessPoolExecutor
 
 import matplotlib.pyplot as plt
 import numpy as np
 import pandas as pd
-from _study import out_dir, save, write_readme
+from _rigid import overturning as rigid_overturning
+from _study import cached_threshold, markdown_table, out_dir, save, threshold_columns, write_readme
 
-from dem_core import SimulationUnstable, excitation, records, scenes
+from comparisons.analytical import RockingBlock
+from dem_core import ContactParameters, excitation, records, scenes
 from dem_core.analyses.thresholds import overturning_threshold
+from dem_core.engine.contact import DEFAULT_STIFFNESS
+
+CORNER_STIFFNESS = DEFAULT_STIFFNESS["corner"]  # N/m^2 per m, the default law's
 
 NAME = "record_overturning"
-LOW, HIGH = 0.5, 20.0  # m/s^2
-SCAN = 8
-TOLERANCE = 0.02
-SCENES = {**{f"column, {n} drum{'s' * (n > 1)}": ("column", n) for n in (1, 2, 3)},
-          **{f"colonnade, {n} drum{'s' * (n > 1)}": ("colonnade", n) for n in (1, 2, 3)}}
+STEP, TOLERANCE = 0.02, 0.005
+G = 9.80665
+UPLIFT = G * 1.0 / 6.0  # m/s^2, g b / h of every column here
+LOW = 0.8 * UPLIFT
+CAP = {"el_centro_1940": 12.0, "mexico_city_1985": 6.0, "northridge_1994": 12.0, "kalamata_1986": 30.0}  # m/s^2
+#: the check passes when the native core's smallest overturning PGA is within this of the rocking equation's
+RIGID_AGREEMENT = 0.05
+CHECK_STIFFNESS = (CORNER_STIFFNESS, 100.0 * CORNER_STIFFNESS)
+CHECK_FRICTION = 2.0
+FRICTION = 0.485
+COMPONENT = {"mexico_city_1985": 1}  # the study uses Mexico City's north-south component, as the thesis
+COLUMN_DRUMS = (1, 2, 3)
+COLONNADE_DRUMS = (1, 2, 3, 5)
 
 
-def build(kind, n_drums):
-    if kind == "column":
-        return scenes.column(n_drums)
-    return scenes.colonnade(3, n_drums, spacing=2.5, epistyle="a")
+def stiffness_key(kn: float) -> str:
+    """Column prefix of a stiffness, e.g. ``kn2e10``."""
+    return f"kn{kn:.0e}".replace("+", "")
 
 
-def search(task):
-    label, (kind, n_drums), record = task
-    row = {"scene": label, "kind": kind, "n_drums": n_drums, "record": record}
-    started = time.perf_counter()
-    try:
-        found = overturning_threshold(build(kind, n_drums), lambda pga: excitation.record(record, pga=pga), LOW,
-                                      HIGH, tolerance=TOLERANCE, scan=SCAN, output_dt=0.05)
-        row.update(overturning_pga=found.value, below=found.below, above=found.above, monotonic=found.monotonic,
-                   runs=len(found.runs), error="")
-    except SimulationUnstable as exc:
-        row.update(overturning_pga=np.nan, error=str(exc))
-    row["wall_time_s"] = time.perf_counter() - started
-    return row
+def motion(record, component=None):
+    return lambda pga: excitation.record(record, component=component, pga=pga)
+
+
+def check_rows():
+    """The monolith against the rocking equation under each bundled record (Mexico City as bundled: east-west)."""
+    block = RockingBlock.from_size(1.0, 6.0)
+    rows = []
+    for record in records.BUNDLED:
+        started = time.perf_counter()
+        rigid = cached_threshold(NAME, f"check_{record}_rigid", lambda: rigid_overturning(
+            block, block.restitution, motion(record), LOW, CAP[record], step=STEP, tolerance=TOLERANCE))
+        row = {"record": record, **threshold_columns(rigid, "rigid_")}
+        for kn in CHECK_STIFFNESS:
+            scene = scenes.column(1, friction=CHECK_FRICTION, contact=ContactParameters(kn=kn))
+            found = cached_threshold(NAME, f"check_{record}_{stiffness_key(kn)}", lambda: overturning_threshold(
+                scene, motion(record), LOW, CAP[record], step=STEP, tolerance=TOLERANCE, output_dt=0.05))
+            row.update(threshold_columns(found, f"{stiffness_key(kn)}_"))
+        row["wall_time_s"] = time.perf_counter() - started
+        print(f"check {record}: rigid {row['rigid_smallest']:.3g}, " + ", ".join(
+            f"K_n {kn:.0e} {row[stiffness_key(kn) + '_smallest']:.3g}" for kn in CHECK_STIFFNESS), file=sys.stderr,
+            flush=True)
+        rows.append(row)
+    return pd.DataFrame(rows)
+
+
+def study_scenes():
+    for n in COLUMN_DRUMS:
+        yield "column", n, scenes.column(n, friction=FRICTION)
+    for n in COLONNADE_DRUMS:
+        yield "colonnade", n, scenes.colonnade(3, n, spacing=2.5, epistyle="a", friction=FRICTION)
+
+
+def study_rows():
+    rows = []
+    for record in records.BUNDLED:
+        for kind, n, scene in study_scenes():
+            started = time.perf_counter()
+            found = cached_threshold(NAME, f"{kind}_{n}_{record}", lambda: overturning_threshold(
+                scene, motion(record, COMPONENT.get(record)), LOW, CAP[record], step=STEP, tolerance=TOLERANCE,
+                output_dt=0.05))
+            peak = float(np.max(np.abs(excitation.record(record, component=COMPONENT.get(record)).horizontal.samples)))
+            rows.append({"kind": kind, "n_drums": n, "record": record, "record_pga": peak, **threshold_columns(found),
+                         "wall_time_s": time.perf_counter() - started})
+            print(f"{kind} {n} {record}: {rows[-1]['smallest']:.3g} ({rows[-1]['windows']})", file=sys.stderr,
+                  flush=True)
+    table = pd.DataFrame(rows)
+    table["scale_factor"] = table.smallest / table.record_pga
+    return table
+
+
+def fmt(value, non_monotonic=False, failed=0):
+    text = f"{value:.3g}" if np.isfinite(value) else "none in range"
+    return text + ("*" if non_monotonic else "") + (f" ({failed} failed)" if failed else "")
 
 
 def main():
     started = time.perf_counter()
-    tasks = [(label, spec, record) for record in records.BUNDLED for label, spec in SCENES.items()]
-    with ProcessPoolExecutor() as pool:
-        table = pd.DataFrame(list(pool.map(search, tasks)))
-    table["record_pga"] = [float(np.max(np.abs(excitation.record(r).horizontal.samples))) for r in table.record]
-    table["scale_factor"] = table.overturning_pga / table.record_pga
+    check = check_rows()
+    check.to_parquet(out_dir(NAME) / "rigid_check.parquet", index=False)
+    table = study_rows()
     table.to_parquet(out_dir(NAME) / "results.parquet", index=False)
-    names = list(records.BUNDLED)
-    fig, ax = plt.subplots(figsize=(10, 4.5))
-    width = 0.8 / len(SCENES)
-    for k, label in enumerate(SCENES):
-        rows = table[table.scene == label].set_index("record").loc[names]
-        bars = ax.bar(np.arange(len(names)) + (k - len(SCENES) / 2 + 0.5) * width, rows.overturning_pga, width,
-                      label=label, hatch="//" if "colonnade" in label else None)
-        for bar, mono in zip(bars, rows.monotonic):
-            if mono is False:
+    report(check, table, started)
+
+
+def report(check, table, started):
+    kn = [stiffness_key(k) for k in CHECK_STIFFNESS]
+    check_lines = ["Check: smallest overturning PGA (m/s^2) of the 1 x 6 m monolith (friction 2) under each bundled "
+                   "record as bundled, native core at two K_n (corner law) against the rocking equation; * a larger "
+                   "PGA survived where a smaller one toppled.", ""]
+    rows = []
+    for _, r in check.iterrows():
+        cells = [r.record, fmt(r.rigid_smallest, r.rigid_non_monotonic)]
+        for k in kn:
+            ratio = r[f"{k}_smallest"] / r.rigid_smallest
+            cells += [fmt(r[f"{k}_smallest"], r[f"{k}_non_monotonic"], r[f"{k}_failed_runs"]),
+                      f"{ratio - 1:+.1%}" if np.isfinite(ratio) else "-",
+                      "yes" if abs(ratio - 1) <= RIGID_AGREEMENT else "no" if np.isfinite(ratio) else "-"]
+        rows.append(cells)
+    header = ["record", "rocking equation"] + [c for k in CHECK_STIFFNESS for c in
+                                               (f"K_n {k:.0e}", "difference", f"within {RIGID_AGREEMENT:.0%}")]
+    check_lines += markdown_table(header, rows)
+    check_lines += markdown_table(["record", "rocking equation: windows"] + [f"K_n {k:.0e}: windows"
+                                                                             for k in CHECK_STIFFNESS],
+                                  [[r.record, r.rigid_windows] + [r[f"{k}_windows"] for k in kn]
+                                   for _, r in check.iterrows()])
+    study_lines = [f"Study: smallest overturning PGA (m/s^2), friction {FRICTION:g}, default law "
+                   f"(corner, K_n {CORNER_STIFFNESS:.0e} N/m^2); Mexico City north-south; (scale factor "
+                   "over the record's own PGA).", ""]
+    labels = [(kind, n) for kind, n, _ in study_scenes()]
+    recs = list(records.BUNDLED)
+    cell = {(r.kind, r.n_drums, r.record): r for r in table.itertuples(index=False)}
+    study_lines += markdown_table(
+        ["system"] + [f"{r} (PGA {cell[labels[0] + (r,)].record_pga:.3g})" for r in recs],
+        [[f"{kind}, {n} drum{'s' * (n > 1)}"] + [
+            f"{fmt(cell[(kind, n, r)].smallest, cell[(kind, n, r)].non_monotonic, cell[(kind, n, r)].failed_runs)}"
+            + (f" ({cell[(kind, n, r)].scale_factor:.2f}x)" if np.isfinite(cell[(kind, n, r)].smallest) else "")
+            for r in recs] for kind, n in labels])
+    study_lines += ["Overturning windows (m/s^2):", ""] + markdown_table(
+        ["system"] + recs, [[f"{kind}, {n}"] + [cell[(kind, n, r)].windows or "-" for r in recs] for kind, n in labels])
+
+    findings = []
+    for k, stiffness in zip(kn, CHECK_STIFFNESS):
+        close = (np.abs(check[f"{k}_smallest"] / check.rigid_smallest - 1) <= RIGID_AGREEMENT)
+        findings.append(f"Check at K_n {stiffness:.0e} N/m^2: {int(close.sum())} of {len(check)} records within "
+                        f"{RIGID_AGREEMENT:.0%} of the rocking equation"
+                        + ("" if close.all() else ": not " + ", ".join(check.record[~close])) + ".")
+    for record in recs:
+        runs = table[(table.record == record) & np.isfinite(table.smallest)]
+        if len(runs):
+            low, high = runs.loc[runs.smallest.idxmin()], runs.loc[runs.smallest.idxmax()]
+            findings.append(f"{record}: lowest {low.kind}, {low.n_drums} drum(s) ({low.smallest:.3g} m/s^2), highest "
+                            f"{high.kind}, {high.n_drums} drum(s) ({high.smallest:.3g} m/s^2); "
+                            f"{int((table.record == record).sum() - len(runs))} systems overturned nowhere in the "
+                            "scan.")
+        colonnade = table[(table.record == record) & (table.kind == "colonnade")].sort_values("n_drums")
+        values = colonnade.smallest.to_numpy()
+        trend = ("rises" if np.all(np.diff(values) > 0) else "falls" if np.all(np.diff(values) < 0) else
+                 "is not monotonic" if np.all(np.isfinite(values)) else "cannot be ranked (not all overturned)")
+        findings.append(f"{record}, colonnades of {', '.join(str(n) for n in colonnade.n_drums)} drums: "
+                        f"{', '.join(fmt(v) for v in values)} m/s^2: the threshold {trend} with the number of drums.")
+    both = table[table.n_drums.isin(COLUMN_DRUMS)].pivot_table(index=["record", "n_drums"], columns="kind",
+                                                                 values="smallest")
+    ratio = (both.colonnade / both.column).dropna()
+    if len(ratio):
+        findings.append(f"Colonnade over standalone column, same record and drums ({len(ratio)} pairs): "
+                        f"{ratio.min():.2f} to {ratio.max():.2f}, median {ratio.median():.2f}.")
+    odd = table[table.non_monotonic]
+    findings.append(f"{len(odd)} of {len(table)} searches found a PGA left standing above one that toppled (*).")
+    failed = table[table.failed_runs > 0]
+    findings.append(f"Failed (unstable) runs: {int(table.failed_runs.sum())}"
+                    + (" in " + ", ".join(f"{r.kind} {r.n_drums} / {r.record}" for r in failed.itertuples())
+                       if len(failed) else "") + ".")
+    figures = [figure(table, labels, recs)]
+    write_readme(NAME, "Overturning PGA of columns and colonnades under the bundled records", findings, figures,
+                 started, "record_overturning.py", resumes=False, tables=check_lines + study_lines)
+
+
+def figure(table, labels, recs):
+    fig, ax = plt.subplots(figsize=(11, 4.8))
+    width = 0.8 / len(labels)
+    for k, (kind, n) in enumerate(labels):
+        rows = table[(table.kind == kind) & (table.n_drums == n)].set_index("record").loc[recs]
+        bars = ax.bar(np.arange(len(recs)) + (k - len(labels) / 2 + 0.5) * width, rows.smallest, width,
+                      label=f"{kind}, {n} drum{'s' * (n > 1)}", hatch="//" if kind == "colonnade" else None)
+        for bar, odd in zip(bars, rows.non_monotonic):
+            if odd:
                 ax.text(bar.get_x() + bar.get_width() / 2, bar.get_height(), "*", ha="center", va="bottom")
-    ax.set_xticks(np.arange(len(names)), names)
-    ax.set_ylabel("overturning PGA (m/s$^2$)")
-    ax.set_title(f"Smallest PGA that overturns (scan of {SCAN} PGAs in {LOW:g}-{HIGH:g} m/s$^2$, bisection to "
-                 f"{TOLERANCE:.0%}; * response not monotonic in PGA)", fontsize=9)
+    ax.set_xticks(np.arange(len(recs)), recs)
+    ax.set_ylabel("smallest overturning PGA (m/s$^2$)")
+    ax.set_title(f"Friction {FRICTION:g}, default contact law; scan in {STEP:.0%} steps from {LOW:.2f} m/s$^2$, "
+                 "refined to 0.5%; * a larger PGA survived", fontsize=9)
     ax.grid(axis="y", alpha=0.3)
     ax.legend(fontsize=7, ncol=2)
     fig.tight_layout()
-    figures = [save(fig, NAME, "overturning_pga.png")]
-    findings = []
-    for record in names:
-        rows = table[table.record == record]
-        best = rows.loc[rows.overturning_pga.idxmax()]
-        worst = rows.loc[rows.overturning_pga.idxmin()]
-        findings.append(f"{record} (recorded PGA {worst.record_pga:.3g} m/s^2): most vulnerable {worst.scene} "
-                        f"({worst.overturning_pga:.3g} m/s^2, {worst.scale_factor:.2f} x the record), most robust "
-                        f"{best.scene} ({best.overturning_pga:.3g} m/s^2, {best.scale_factor:.2f} x).")
-    for kind in ("column", "colonnade"):
-        mean = table[table.kind == kind].groupby("n_drums").overturning_pga.mean()
-        findings.append(f"{kind}s, mean over the records: " + ", ".join(f"{n} drum(s) {v:.3g} m/s^2"
-                                                                        for n, v in mean.items()) + ".")
-    ratio = (table[table.kind == "colonnade"].set_index(["record", "n_drums"]).overturning_pga
-             / table[table.kind == "column"].set_index(["record", "n_drums"]).overturning_pga)
-    findings.append(f"Colonnade over standalone column, same record and drums: ratio {ratio.min():.2f} to "
-                    f"{ratio.max():.2f} (median {ratio.median():.2f}).")
-    odd = table[table.monotonic == False]
-    if len(odd):
-        findings.append(f"{len(odd)} searches saw a PGA that overturned below one that did not (marked *): "
-                        + "; ".join(f"{r.scene} / {r.record}" for r in odd.itertuples()) + ".")
-    else:
-        findings.append(f"No search saw a smaller PGA overturn what a larger one left standing, among the "
-                        f"{int(table.runs.sum())} runs made ({SCAN} scanned PGAs, then bisection); a finer scan "
-                        "could still find such windows below the thresholds given.")
-    failed = table[table.error != ""]
-    if len(failed):
-        findings.append(f"{len(failed)} searches stopped on an unstable run: "
-                        + "; ".join(f"{r.scene} / {r.record}" for r in failed.itertuples()) + ".")
-    write_readme(NAME, "Overturning PGA of columns and colonnades under the bundled records", findings, figures,
-                 started, "record_overturning.py", resumes=False)
+    return (save(fig, NAME, "overturning_pga.png"),
+            "The study table as bars: for each record, the smallest overturning PGA of each system (hatched: "
+            "colonnades); a star marks a search where a larger PGA left standing what a smaller one toppled; a missing "
+            "bar, nothing overturned up to the cap.")
 
 
 if __name__ == "__main__":
