@@ -106,3 +106,33 @@ def test_threads_and_the_broad_phase_margin_do_not_change_the_trajectory(monkeyp
     for other in runs[1:]:
         np.testing.assert_array_equal(other.x, runs[0].x)
         np.testing.assert_array_equal(other.theta, runs[0].theta)
+
+
+THREADED_KERNEL_CHECK = """
+from dem_core import excitation, scenes
+from dem_core.engine import _step
+from dem_core.engine.simulation import Simulation
+scene = scenes.colonnade(2, 2, epistyle="a")
+for parallel in {order}:
+    Simulation(scene, excitation.harmonic(pga=1.0, frequency=2.0), duration=0.01, parallel=parallel).advance(5)
+threaded = _step.advance_parallel
+info = threaded.get_metadata(threaded.signatures[0])["parfor_diagnostics"]
+print(info.count_parfors())
+"""
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("order", [(False, True), (True, False)])
+def test_the_threaded_kernel_is_compiled_with_its_parallel_loops_whichever_kernel_compiles_first(order, tmp_path):
+    """Numba's disk cache files a kernel by name, line and bytecode, not by ``parallel=True``: the two
+    kernels must not share an entry (the threaded one then loaded the serial code and ran on one thread),
+    and the threaded one must compile in a fresh process before the serial one does."""
+    import os
+    import subprocess
+    import sys
+
+    env = dict(os.environ, NUMBA_CACHE_DIR=str(tmp_path))
+    done = subprocess.run([sys.executable, "-c", THREADED_KERNEL_CHECK.format(order=order)], env=env,
+                          capture_output=True, text=True, timeout=1200)
+    assert done.returncode == 0, done.stderr[-2000:]
+    assert int(done.stdout.split()[-1]) > 0  # the threaded kernel was compiled here, with parallel loops

@@ -63,14 +63,16 @@ def reference_code(side, face):
 
 
 @nb.njit(cache=True, inline="always")
-def corner_manifold(wx, wy, wnx, wny, a0, na, acx, acy, b0, nb_, bcx, bcy, previous, points, keys):
+def corner_manifold(wx, wy, wnx, wny, a0, na, acx, acy, b0, nb_, bcx, bcy, previous, points, keys, row):
     """Contact points of convex polygons A (``a0``, ``na``, centre of mass ``acx``, ``acy``) and B.
 
     previous : last step's reference code of this pair (-1 if none): its side is kept unless the
         other polygon's best face penetrates less by ``REFERENCE_HYSTERESIS`` of the penetration.
-    points : (2, 3) output, per point x, y (m) where the force acts (midway between the incident
-        point and the reference face) and depth (m, >= 0).
-    keys : (2,) int64 output, the points' feature keys.
+    points : (n, 2, 3) output, in ``points[row]`` per point x, y (m) where the force acts (midway
+        between the incident point and the reference face) and depth (m, >= 0).
+    keys : (n, 2) int64 output, in ``keys[row]`` the points' feature keys.
+    (Whole arrays and a row, not the row's view: a view taken in a parallel loop updates its parent's
+    reference count atomically from every thread, which serialises them.)
 
     Returns ``(count, nx, ny, code)``: the number of points (0 when the polygons do not overlap),
     the reference face's outward normal (pointing from the reference polygon into the incident one)
@@ -149,9 +151,9 @@ def corner_manifold(wx, wy, wnx, wny, a0, na, acx, acy, b0, nb_, bcx, bcy, previ
         py = p0y if q == 0 else p1y
         depth = -(nx * (px - v1x) + ny * (py - v1y))
         if depth >= 0.0:
-            points[count, 0] = px + 0.5 * depth * nx
-            points[count, 1] = py + 0.5 * depth * ny
-            points[count, 2] = depth
-            keys[count] = (code << POINT_BITS) | (f0 if q == 0 else f1)
+            points[row, count, 0] = px + 0.5 * depth * nx
+            points[row, count, 1] = py + 0.5 * depth * ny
+            points[row, count, 2] = depth
+            keys[row, count] = (code << POINT_BITS) | (f0 if q == 0 else f1)
             count += 1
     return count, nx, ny, code

@@ -22,6 +22,7 @@ to every array of a tuple it passes, which would cost more than the contact itse
 """
 
 import math
+import types
 
 import numba as nb
 import numpy as np
@@ -84,7 +85,7 @@ def corner_pair(p, ids, constants, memory, forces, interface_slip, pos, vel, pai
 
     zeta_n, zeta_t : damping ratios of the points' dashpots (used where the pair has no explicit
     dashpot constants) against the pair's effective mass at each point.  limit : m, the deepest
-    contact a stable run can have.  points (2, 3), keys (2,) : scratch.
+    contact a stable run can have.  points (n, 2, 3), keys (n, 2) : scratch, the pair's row ``p``.
     Returns ``(points in contact, depth past the limit or 0)``.
     """
     i = ids[p, PAIR_I]
@@ -92,7 +93,7 @@ def corner_pair(p, ids, constants, memory, forces, interface_slip, pos, vel, pai
     n_i = vstart[i + 1] - vstart[i]
     n_j = vstart[j + 1] - vstart[j]
     count, nx, ny, code = corner_manifold(wx, wy, wnx, wny, vstart[i], n_i, pos[i, 0], pos[i, 1], vstart[j], n_j,
-                                          pos[j, 0], pos[j, 1], memory[p, REFERENCE], points, keys)
+                                          pos[j, 0], pos[j, 1], memory[p, REFERENCE], points, keys, p)
     memory[p, REFERENCE] = code
     old_key0 = memory[p, POINT_KEY]
     old_key1 = memory[p, POINT_KEY + 1]
@@ -108,9 +109,9 @@ def corner_pair(p, ids, constants, memory, forces, interface_slip, pos, vel, pai
     ty = nx
     slipped = 0.0
     for q in range(count):
-        px = points[q, 0]
-        py = points[q, 1]
-        depth = points[q, 2]
+        px = points[p, q, 0]
+        py = points[p, q, 1]
+        depth = points[p, q, 2]
         if depth > limit:
             return count, depth
         rix = px - pos[inc, 0]
@@ -125,7 +126,7 @@ def corner_pair(p, ids, constants, memory, forces, interface_slip, pos, vel, pai
         c_n = dashpot(constants[p, C_N], zeta_n, constants[p, K_N], m_n)
         fn = normal_force(depth, -(rvx * nx + rvy * ny), constants[p, K_N], c_n)
         v_t = rvx * tx + rvy * ty
-        key = keys[q]
+        key = keys[p, q]
         elastic = old_force0 if old_key0 == key else (old_force1 if old_key1 == key else 0.0)
         m_t = effective_mass(tx, ty, rix, riy, inv_mass[inc], inv_inertia[inc], rrx, rry, inv_mass[ref],
                              inv_inertia[ref])
@@ -305,6 +306,10 @@ def _advance(model, run, pos, vel, contacts, retired, tracking, ground, n_steps,
     dt = run.dt
     gravity = model.gravity
     half_skin = 0.5 * law.skin
+    # scalars, not fields of a tuple, inside the parallel loop: numba fails to lower a prange body that
+    # reads a named tuple's fields when the kernel compiles in parallel before any serial compilation
+    zeta_n = law.zeta_n
+    zeta_t = law.zeta_t
     ids, constants, memory, forces = contacts.ids, contacts.constants, contacts.memory, contacts.forces
     n_pairs = contacts.count[0]
     # per-pair outputs and scratch: the pair loop may run in parallel, each pair touching only its own rows
@@ -349,8 +354,8 @@ def _advance(model, run, pos, vel, contacts, retired, tracking, ground, n_steps,
                 continue
             if corner:
                 touching, excess = corner_pair(p, ids, constants, memory, forces, interface_slip, pos, vel, pair_force,
-                                               wx, wy, wnx, wny, vstart, inv_mass, inv_inertia, law.zeta_n, law.zeta_t,
-                                               min(limits[i], limits[j]), dt, points[p], keys[p])
+                                               wx, wy, wnx, wny, vstart, inv_mass, inv_inertia, zeta_n, zeta_t,
+                                               min(limits[i], limits[j]), dt, points, keys)
             else:
                 touching, excess = overlap_pair(p, ids, constants, forces, interface_slip, pos, vel, pair_force, wx,
                                                 wy, vstart, limits, dt, ox[p], oy[p], clip_scratch[p])
@@ -410,7 +415,18 @@ def _advance(model, run, pos, vel, contacts, retired, tracking, ground, n_steps,
     return STATUS_OK, 0, 0, contacts, retired
 
 
+def _renamed(function, name):
+    """``function`` under another name.  Numba's on-disk cache files a kernel by its name, line and bytecode,
+    not by its compile options: two dispatchers of one function, serial and parallel, would load each
+    other's machine code (the threaded kernel then ran on one thread, or failed to compile first)."""
+    clone = types.FunctionType(function.__code__, function.__globals__, name, function.__defaults__,
+                               function.__closure__)
+    clone.__qualname__ = name
+    clone.__doc__ = function.__doc__
+    return clone
+
+
 #: the stepping kernel, serial
 advance = nb.njit(cache=True)(_advance)
 #: the same kernel with the pair loop and the gather spread over numba's threads
-advance_parallel = nb.njit(cache=True, parallel=True)(_advance)
+advance_parallel = nb.njit(cache=True, parallel=True)(_renamed(_advance, "_advance_parallel"))

@@ -44,9 +44,6 @@ GROUND_MOTION_MODES = ("inertial", "moving_base")
 COLLAPSE_STEP_FACTOR = 0.25
 #: wall time (s) a chunk of steps aims at between progress updates
 CHUNK_SECONDS = 0.25
-#: scenes of at least this many blocks run the kernel whose pair loop uses all of numba's threads (below it
-#: the threads cost more than they save: python -m comparisons.scaling)
-PARALLEL_BLOCKS = 256
 
 
 class SimulationUnstable(RuntimeError):
@@ -82,7 +79,7 @@ class Simulation:
     def __init__(self, scene, excitation: GroundMotion | None = None, duration: float | None = None,
                  dt: float | None = None, output_dt: float | None = None, *, ground_motion: str = "inertial",
                  safety: float = DEFAULT_SAFETY, steps_per_impact: float = DEFAULT_STEPS_PER_IMPACT,
-                 stop_at_overturn: bool = True, enforce_stability_limit: bool = True, parallel: bool | None = None):
+                 stop_at_overturn: bool = True, enforce_stability_limit: bool = True, parallel: bool = False):
         excitation = still() if excitation is None else excitation
         if ground_motion not in GROUND_MOTION_MODES:
             raise ValueError(f"ground_motion must be one of {GROUND_MOTION_MODES}, got {ground_motion!r}")
@@ -118,8 +115,7 @@ class Simulation:
             speed_limit=_speed_limit(scene, excitation, duration),
             energy_tolerance=ENERGY_TOLERANCE, energy_scale=float(scene.gravity * np.sum(b.radius * b.mass)),
             stop_at_overturn=bool(stop_at_overturn))
-        use_threads = len(scene.blocks) >= PARALLEL_BLOCKS and numba.get_num_threads() > 1
-        self.kernel = _step.advance_parallel if (use_threads if parallel is None else parallel) else _step.advance
+        self.kernel = _step.advance_parallel if parallel and numba.get_num_threads() > 1 else _step.advance
         self.out_pos = np.full((n_out, len(b.mass), 3), np.nan)
         self.out_slip = np.full((n_out, len(self.model.interface_keys)), np.nan)
         self.out_step = np.zeros(n_out, np.int64)
@@ -297,7 +293,7 @@ def simulate(scene, excitation: GroundMotion | None = None, duration: float | No
              ground_motion: str = "inertial", safety: float = DEFAULT_SAFETY,
              steps_per_impact: float = DEFAULT_STEPS_PER_IMPACT,
              stop_at_overturn: bool = True, enforce_stability_limit: bool = True, progress=None,
-             parallel: bool | None = None) -> Result:
+             parallel: bool = False) -> Result:
     """Simulate ``scene`` under ``excitation`` with the native soft-contact DEM.
 
     scene : :class:`~dem_core.inputs.scene.Scene` (its ``contact.law`` chooses the contact law).
@@ -324,8 +320,11 @@ def simulate(scene, excitation: GroundMotion | None = None, duration: float | No
         (``comparisons/stability_probe.py``); such a result says so in ``info``.
     progress : None, or a callable ``(steps done, steps in all)`` called every quarter second
         or so (the command line passes a progress bar).
-    parallel : spread the contacts over numba's threads (``NUMBA_NUM_THREADS``); None: for scenes of
-        ``PARALLEL_BLOCKS`` blocks or more.  Results are the same to round-off either way.
+    parallel : spread the contacts over numba's threads (``NUMBA_NUM_THREADS``).  Off by default: on
+        the 2-vCPU machine the project is developed on, 2 threads ran a 2,049-block colonnade 0.73 to
+        1.8 times as fast as one, changing from process to process (median 0.85 over 17 runs of
+        ``python -m comparisons.scaling``); measure yours before turning it on.  The trajectory is the
+        serial kernel's, bit for bit.
 
     Raises ``ValueError`` for bad arguments (a dt above the stability limit
     among them) and :class:`SimulationUnstable`, carrying the result up to

@@ -5,6 +5,8 @@ run) and ``README.md`` (the trend found, computed from the results, and the comm
 Sweeps run in ``.study_cache/<name>/`` (not committed), so an interrupted study resumes.
 """
 
+import functools
+import hashlib
 import json
 import sys
 import time
@@ -48,10 +50,22 @@ def sweep(name: str, build, parameters: dict, *, workers=WORKERS, mode="grid"):
     return table
 
 
+@functools.cache
+def core_fingerprint() -> str:
+    """A digest of the native core's source (every ``dem_core/**/*.py``): its defaults and kernels decide
+    every threshold, so a search cached under another core is never reused."""
+    digest = hashlib.sha256()
+    for path in sorted((ROOT / "dem_core").rglob("*.py")):
+        digest.update(path.relative_to(ROOT).as_posix().encode())
+        digest.update(path.read_bytes())
+    return digest.hexdigest()[:12]
+
+
 def cached_threshold(name: str, key: str, search) -> Threshold:
-    """The threshold search ``search()`` of study ``name``, kept under ``.study_cache/<name>/<key>.json`` so
-    that a study started again does not repeat it."""
-    path = CACHE / name / f"{key}.json"
+    """The threshold search ``search()`` of study ``name``, kept under
+    ``.study_cache/<name>/<key>-<core fingerprint>.json`` so that a study started again with the same core
+    does not repeat it."""
+    path = CACHE / name / f"{key}-{core_fingerprint()}.json"
     if path.exists():
         data = json.loads(path.read_text())
         _SEARCHED.append(data.get("wall_time_s", float("nan")))
