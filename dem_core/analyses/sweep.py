@@ -396,12 +396,13 @@ def _changed_keys(old, new) -> list:
 
 # --- running ---------------------------------------------------------------------------------------
 
-def run_sweep(sweep: Sweep, out, *, workers: int | None = None, scheduler=None, progress: bool = True,
+def run_sweep(sweep: Sweep, out, *, workers: int | None = None, scheduler=None, progress: bool | None = None,
               retry_failed: bool = False, overwrite: bool = False) -> pd.DataFrame:
     """Run every point of ``sweep`` not already finished in ``out`` and return the sweep's rows.
 
     workers : processes on this machine (default: one per core); ignored with a scheduler.
     scheduler : address of a running Dask scheduler, or a ``distributed.Client``.
+    progress : a progress bar on stderr; None: only when stderr is a terminal (quiet in logs and CI).
     retry_failed : run again the points recorded as failed or unstable.
     overwrite : delete whatever results ``out`` holds and run every point; without it, the results
         of another sweep in ``out`` raise :class:`SweepError` and those of this sweep are resumed.
@@ -423,7 +424,7 @@ def run_sweep(sweep: Sweep, out, *, workers: int | None = None, scheduler=None, 
         _write_atomic(pd.DataFrame([_failed_row(point, point.error)]), runs_dir / f"{point.run_id}.parquet")
     todo = [p for p in todo if p.spec is not None]
     with tqdm(total=len(points), initial=len(points) - len(todo), unit="run", desc="sweep",
-              disable=not progress, smoothing=0.1) as bar:
+              disable=None if progress is None else not progress, smoothing=0.1) as bar:
         for row in _run(todo, None if history_dir is None else str(history_dir), workers, scheduler):
             _write_atomic(pd.DataFrame([row]), runs_dir / f"{row['run_id']}.parquet")
             bar.update()

@@ -52,10 +52,12 @@ def sweep(name: str, build, parameters: dict, *, workers=WORKERS, mode="grid"):
 
 @functools.cache
 def core_fingerprint() -> str:
-    """A digest of the native core's source (every ``dem_core/**/*.py``): its defaults and kernels decide
-    every threshold, so a search cached under another core is never reused."""
+    """A digest of the source that decides a threshold (the engine, the inputs: scenes, records, motions,
+    and the search itself), so that a search cached under another core or default is never reused."""
+    core = ROOT / "dem_core"
     digest = hashlib.sha256()
-    for path in sorted((ROOT / "dem_core").rglob("*.py")):
+    for path in sorted([*(core / "engine").rglob("*.py"), *(core / "inputs").rglob("*.py"),
+                        core / "analyses" / "thresholds.py"]):
         digest.update(path.relative_to(ROOT).as_posix().encode())
         digest.update(path.read_bytes())
     return digest.hexdigest()[:12]
