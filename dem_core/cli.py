@@ -36,6 +36,7 @@ import math
 import re
 import sys
 import time
+import warnings
 from importlib import resources
 from pathlib import Path
 
@@ -161,7 +162,14 @@ def main(argv=None) -> int:
         return _records()
     commands = {"run": _run, "sweep": _sweep, "threshold": _threshold, "ramp": _ramp, "animate": _animate,
                 "spectrum": _spectrum, "stiffness": _stiffness}
-    return commands[args.command](args)
+    with warnings.catch_warnings():
+        warnings.showwarning = _show_warning
+        return commands[args.command](args)
+
+
+def _show_warning(message, category, filename, lineno, file=None, line=None):
+    """Warnings as a line a user reads ("warning: a long run: ..."), not Python's file, line and source."""
+    print(f"warning: {message}", file=sys.stderr if file is None else file, flush=True)
 
 
 def _records() -> int:

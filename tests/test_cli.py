@@ -149,3 +149,16 @@ def test_every_command_that_runs_a_scene_takes_a_duration(command, capsys):
     with pytest.raises(SystemExit):
         main([command, "--help"])
     assert "--duration" in capsys.readouterr().out
+
+
+def test_warnings_print_as_one_line_a_user_reads(monkeypatch, capsys):
+    """The long-run warning printed as Python's 'cli.py:206: RuntimeWarning: ...' and the source line."""
+    import warnings
+
+    def warn(args):
+        warnings.warn("a long run: 1.7e+08 steps; expect about 4.6 minutes", RuntimeWarning)
+        return 0
+
+    monkeypatch.setattr(cli, "_spectrum", warn)
+    assert main(["spectrum", "el_centro_1940"]) == 0
+    assert capsys.readouterr().err == "warning: a long run: 1.7e+08 steps; expect about 4.6 minutes\n"

@@ -33,7 +33,8 @@ class Bodies(NamedTuple):
     area : (nb,) m^2.  width : (nb,) m, horizontal extent at the start.  size : (nb,) m, the smaller
     of width and height.  depth : (nb,) m.  friction : (nb,) the blocks' own coefficients.
     critical_angle : (nb,) rad, atan(b/h) of each block.  y_start : (nb,) m, height of the centre of
-    mass at the start.  drop_limit : (nb,) m, a centre of mass this far below its start has fallen.
+    mass at the start.  drop_limit : (nb,) m, a centre of mass this far below its start has fallen (inf for a block
+    that starts free, :attr:`~dem_core.Scene.free_bodies`).
     angle0 : (nb,) rad, starting angles.  centroid0 : (nb, 2) m, starting centres of mass.
     """
 
@@ -136,6 +137,8 @@ def compile_bodies(scene) -> Bodies:
         inv_mass = np.where(mass > 0, 1.0 / np.where(mass > 0, mass, 1.0), 0.0)
         inv_inertia = np.where(inertia > 0, 1.0 / np.where(inertia > 0, inertia, 1.0), 0.0)
     size = np.array([min(b.width, b.height) for b in bodies])
+    drop_limit = 0.5 * size
+    drop_limit[list(scene.free_bodies)] = np.inf  # a block released in the air falls; it has not overturned
     return Bodies(
         local_x=np.ascontiguousarray(allv[:, 0]), local_y=np.ascontiguousarray(allv[:, 1]),
         normal_x=np.ascontiguousarray(normals[:, 0]), normal_y=np.ascontiguousarray(normals[:, 1]),
@@ -144,7 +147,7 @@ def compile_bodies(scene) -> Bodies:
         width=np.array([b.width for b in bodies]), size=size, depth=np.array([b.depth for b in bodies]),
         friction=np.array([b.friction for b in bodies]),
         critical_angle=np.array([b.critical_angle for b in bodies]), y_start=centroids[:, 1].copy(),
-        drop_limit=0.5 * size, angle0=angle0, centroid0=centroids)
+        drop_limit=drop_limit, angle0=angle0, centroid0=centroids)
 
 
 def compile_law(scene, bodies: Bodies) -> Law:

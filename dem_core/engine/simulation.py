@@ -97,6 +97,10 @@ class Simulation:
         self.impact = stability.impact_duration(scene, self.model)
         auto_dt = dt is None
         dt = _time_step(scene, dt, self.limit, self.impact, safety, steps_per_impact, enforce_stability_limit)
+        if dt > self.limit:
+            warnings.warn(f"dt = {dt:.4g} s is {dt / self.limit:.2f} times the stability limit {self.limit:.4g} s "
+                          f"(enforce_stability_limit=False): the result says so in info['beyond_stability_limit']",
+                          RuntimeWarning, stacklevel=3)
         if auto_dt and not stop_at_overturn:
             dt *= COLLAPSE_STEP_FACTOR
         n_steps = math.ceil(duration / dt - 1e-9)

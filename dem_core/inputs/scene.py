@@ -195,6 +195,13 @@ class Scene:
         self._check_start()
 
     @property
+    def free_bodies(self) -> tuple:
+        """Indices into :attr:`bodies` (0 is the base) of the blocks that start out of contact with the
+        base and with everything resting on it (only with ``allow_free_blocks``).  Their fall is not an
+        overturn: the falling-block rule of the overturn check does not apply to them."""
+        return self._free_bodies
+
+    @property
     def rocking_slenderness(self) -> float:
         """Slenderness angle (rad) used for the default contact damping."""
         if self.slenderness is not None:
@@ -288,8 +295,7 @@ class Scene:
             if contact is not None or _distance(p.vertices, q.vertices) <= SUPPORT_GAP * _smaller_extent(p, q):
                 neighbours[i].add(j)
                 neighbours[j].add(i)
-        if not self.allow_free_blocks:
-            self._check_supported(neighbours)
+        self._check_supported(neighbours)
 
     def _check_supported(self, neighbours):
         supported, frontier = {0}, [0]
@@ -298,7 +304,8 @@ class Scene:
                 supported.add(k)
                 frontier.append(k)
         free = [k for k in range(1, len(self.bodies)) if k not in supported]
-        if not free:
+        object.__setattr__(self, "_free_bodies", tuple(free))
+        if not free or self.allow_free_blocks:
             return
         bodies = self.bodies
         gaps = []
