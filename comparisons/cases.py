@@ -260,7 +260,7 @@ def all_cases() -> list:
     newmark_bands = {  # measured |max slip error| 2e-4 or less (dem-overlap 4e-3 at a_p/(mu g) = 1.25)
         "max_slip": {e: 0.01 for e in every}}
     pulse_bands = {
-        # measured on the four pulse cases: dem 0.1% to 2.7% (the cosine pulse), dem-overlap 0.7% to 1.6% on the
+        # measured on the four pulse cases: dem 0.08% to 0.9% (the cosine pulse), dem-overlap 0.8% to 1.3% on the
         # sine pulses (16% on the cosine pulse, its bias: no band there), pymunk 0.1% to 1.2%, pybullet 1.0% to
         # 1.8%, mujoco 0.03% to 1.0%
         "peak_rotation": {"dem": 0.03, "dem-overlap": 0.05, "pymunk": 0.05, "pybullet": 0.05, "mujoco": 0.05},
@@ -335,7 +335,7 @@ def all_cases() -> list:
         Case(name="onset_ramp", title="Rocking onset of the 1 x 6 m monolith under a 0.5 m/s^2/s ramp "
              "(4.6; criterion alpha/30)", scene=lambda: scenes.block(ONSET_WIDTH, ONSET_HEIGHT),
              motion=lambda: excitation.ramp(ONSET_RAMP_RATE), duration=4.5,
-             # measured: dem -0.03%, dem-overlap -8.9% (its lever arm is a third of the overlap short)
+             # measured: dem -0.003%, dem-overlap -9.0% (its lever arm is a third of the overlap short)
              bands={"onset_acceleration": {"dem": 0.005, "dem-overlap": 0.10}}, **_ramp_onset()),
         Case(name="newmark_low", title="Sliding block under a rectangular pulse, a_p/(mu g) = 1.25 (Newmark 4.4)",
              scene=lambda: sliding_block(newmark_mu),
@@ -365,7 +365,7 @@ def all_cases() -> list:
         Case(name="stacked_blocks", title="Two stacked blocks (2.5 x 2.5 m under 2.0 x 5.0 m) released from 0.1 rad, "
              "up to the first impact (Psycharis 4.7)", scene=lambda: scenes.stack(STACK_SIZES, tilt=STACK_THETA0),
              motion=excitation.still, duration=0.8,
-             # measured: dem +0.02%; dem-overlap -9.0% (its joint opens at once: the upper block's resultant
+             # measured: dem +0.06%; dem-overlap -9.0% (its joint opens at once: the upper block's resultant
              # starts 0.7% of its half width inside the edge); pymunk, pybullet, mujoco within 0.2%
              bands={"impact_time": {"dem": 0.01, "dem-overlap": 0.10, "pymunk": 0.01, "pybullet": 0.01,
                                     "mujoco": 0.01}}, **_stacked_blocks()),
