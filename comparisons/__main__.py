@@ -9,6 +9,7 @@ from pathlib import Path
 from comparisons.ensembles import run_ensembles
 from comparisons.harness import run_harness
 from comparisons.overturning_spectra import run_spectra
+from comparisons.provenance import provenance
 from comparisons.report import write_report
 from comparisons.stress import run_stress
 
@@ -17,6 +18,7 @@ def make_report(quick: bool, out: Path, progress: bool = True) -> tuple[Path, di
     """Run every part and write the report into ``out``: ``(index.html, {part: tidy table})``; prints the
     time each part took."""
     start = time.perf_counter()
+    made = provenance()  # the code the numbers come from: the checkout may move while the report runs
     parts = {}
     for name, run in (("cases", run_harness), ("ensembles", run_ensembles), ("spectra", run_spectra),
                       ("stress tests", run_stress)):
@@ -25,7 +27,7 @@ def make_report(quick: bool, out: Path, progress: bool = True) -> tuple[Path, di
         print(f"{name}: {time.perf_counter() - began:.0f} s", flush=True)
     index = write_report(parts["cases"], parts["stress tests"], Path(out), quick=quick,
                          run_time_s=time.perf_counter() - start, ensemble_table=parts["ensembles"],
-                         spectra_table=parts["spectra"])
+                         spectra_table=parts["spectra"], made=made)
     return index, parts
 
 

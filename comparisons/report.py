@@ -186,8 +186,11 @@ def _overview_row(kind, name, title, reference, verdict, note=""):
 
 
 def write_report(table: pd.DataFrame, stability: pd.DataFrame, out: Path, *, quick: bool, run_time_s: float,
-                 ensemble_table: pd.DataFrame | None = None, spectra_table: pd.DataFrame | None = None) -> Path:
-    """Write figures, CSV tables and index.html into ``out``; returns the path of index.html."""
+                 ensemble_table: pd.DataFrame | None = None, spectra_table: pd.DataFrame | None = None,
+                 made: dict | None = None) -> Path:
+    """Write figures, CSV tables and index.html into ``out``; returns the path of index.html.
+
+    made : :func:`~comparisons.provenance.provenance` taken when the runs started (default: now)."""
     out.mkdir(parents=True, exist_ok=True)
     ensemble_table = pd.DataFrame() if ensemble_table is None else ensemble_table
     spectra_table = pd.DataFrame() if spectra_table is None else spectra_table
@@ -221,7 +224,7 @@ def write_report(table: pd.DataFrame, stability: pd.DataFrame, out: Path, *, qui
         overview_images += _img("spectra_overview.png", "overturning-spectrum agreement against run time")
     simulations = (len(table.drop_duplicates(["case", "engine", "step", "settings"])) + len(ensemble_table)
                    + len(spectra_table))
-    made = provenance()
+    made = provenance() if made is None else made
     terms = "".join(f"<dt>{html.escape(t)}</dt><dd>{html.escape(d)}</dd>" for t, d in glossary())
     overview_table = pd.DataFrame(overview).to_html(index=False, escape=False, border=0, classes="t")
     stability_html = (_stability_sections(stability, out) + _table(_metric_names(stability))) if len(stability) else ""
