@@ -8,6 +8,8 @@ K_n^(-1/3).  Its rocking dashpot couple is calibrated against Housner's decay at
 comparisons/cases.py take their bands from the case's declaration for "dem-overlap".
 """
 
+import warnings
+
 import numpy as np
 import pytest
 
@@ -113,7 +115,11 @@ def test_mirrored_runs_stay_mirror_images_up_to_the_stability_limit():
     limit = stability.stability_limit(scene)
     for dt, symmetric in ((limit, True), (1.3 * limit, False)):
         run = {"duration": 0.6, "output_dt": 1e-3, "dt": dt, "enforce_stability_limit": False}
-        a = dem_core.simulate(scene, excitation.sine_pulse(3.0, 0.4), **run)
-        b = dem_core.simulate(scene, excitation.sine_pulse(-3.0, 0.4), **run)
+        with warnings.catch_warnings(record=True) as said:
+            warnings.simplefilter("always")
+            a = dem_core.simulate(scene, excitation.sine_pulse(3.0, 0.4), **run)
+            b = dem_core.simulate(scene, excitation.sine_pulse(-3.0, 0.4), **run)
+        past = [w for w in said if "times the stability limit" in str(w.message)]
+        assert len(past) == (0 if symmetric else 2)  # a run past the limit says so when it starts
         asymmetry = np.max(np.abs(a.theta + b.theta)) / np.max(np.abs(a.theta))
         assert (asymmetry < 1e-9) == symmetric, (dt / limit, asymmetry)
