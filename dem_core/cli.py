@@ -201,6 +201,8 @@ def _run(args) -> int:
         return 2
     if args.exaggerate != 1 and not args.animate:
         print("note: --exaggerate applies to the animation: add --animate run.gif", file=sys.stderr)
+    if args.animate and not _movie_name_ok(args.animate, "--animate"):
+        return 2
     out = Path(args.out) if args.out else Path("results") / path.stem
     out.mkdir(parents=True, exist_ok=True)
     settings = dict(spec.simulation)
@@ -423,6 +425,11 @@ def _animate(args) -> int:
     if not args.exaggerate > 0:
         print(f"error: --exaggerate must be positive, got {args.exaggerate:g}", file=sys.stderr)
         return 2
+    if not _movie_name_ok(args.out, "--out"):
+        return 2
+    if not (args.fps > 0 and args.speed > 0):
+        print(f"error: --fps and --speed must be positive, got {args.fps} and {args.speed:g}", file=sys.stderr)
+        return 2
     settings["output_dt"] = min(settings.get("output_dt", 0.01), args.speed / args.fps)
     print(f"scene {path} ({len(spec.scene.blocks)} blocks), ground motion: {_motion_text(spec.excitation)}")
     try:
@@ -437,6 +444,14 @@ def _animate(args) -> int:
     _write_animation(spec, result, movie, movie.with_name(movie.stem + "_snapshots.png"), path.stem, args.fps,
                      args.speed, args.exaggerate)
     return 0
+
+
+def _movie_name_ok(name: str, option: str) -> bool:
+    """Whether an animation file name has a format we write; says why not before any run starts."""
+    if Path(name).suffix.lower() in (".gif", ".mp4"):
+        return True
+    print(f"error: {option} {name}: an animation file must end in .gif or .mp4", file=sys.stderr)
+    return False
 
 
 def _spectrum(args) -> int:

@@ -162,3 +162,13 @@ def test_warnings_print_as_one_line_a_user_reads(monkeypatch, capsys):
     monkeypatch.setattr(cli, "_spectrum", warn)
     assert main(["spectrum", "el_centro_1940"]) == 0
     assert capsys.readouterr().err == "warning: a long run: 1.7e+08 steps; expect about 4.6 minutes\n"
+
+
+@pytest.mark.parametrize("argv", [["animate", "--out", "anim"], ["animate", "--out", "movie.avi"],
+                                  ["run", "--animate", "run.png", "--no-plots"]])
+def test_an_animation_name_without_gif_or_mp4_is_refused_before_the_run(argv, tmp_path, capsys, monkeypatch):
+    """Was: the whole run, then a raw ValueError traceback from the animation writer."""
+    monkeypatch.chdir(tmp_path)
+    monkeypatch.setattr(cli, "simulate", lambda *a, **k: pytest.fail("the run started"))
+    assert main(argv) == 2
+    assert "must end in .gif or .mp4" in capsys.readouterr().err
