@@ -290,7 +290,7 @@ def _sweep(args) -> int:
     print(f"sweep {args.spec}: {points} runs over {', '.join(sweep.parameters)} on {where}")
     try:
         table = run_sweep(sweep, args.out, workers=args.workers, scheduler=args.scheduler,
-                          progress=not args.no_progress, retry_failed=args.retry_failed, overwrite=args.overwrite)
+                          progress=False if args.no_progress else None, retry_failed=args.retry_failed, overwrite=args.overwrite)
     except SweepError as exc:
         print(f"error: {exc}", file=sys.stderr)
         return 2
@@ -448,9 +448,16 @@ def _animate(args) -> int:
 
 def _movie_name_ok(name: str, option: str) -> bool:
     """Whether an animation file name has a format we write; says why not before any run starts."""
-    if Path(name).suffix.lower() in (".gif", ".mp4"):
+    from .pictures.animation import can_write_mp4
+
+    suffix = Path(name).suffix.lower()
+    if suffix == ".gif" or (suffix == ".mp4" and can_write_mp4()):
         return True
-    print(f"error: {option} {name}: an animation file must end in .gif or .mp4", file=sys.stderr)
+    if suffix == ".mp4":
+        print(f"error: {option} {name}: writing MP4 needs ffmpeg: install it, or pip install imageio-ffmpeg "
+              "(pip install -e .[video]), or write a .gif", file=sys.stderr)
+    else:
+        print(f"error: {option} {name}: an animation file must end in .gif or .mp4", file=sys.stderr)
     return False
 
 

@@ -172,3 +172,13 @@ def test_an_animation_name_without_gif_or_mp4_is_refused_before_the_run(argv, tm
     monkeypatch.setattr(cli, "simulate", lambda *a, **k: pytest.fail("the run started"))
     assert main(argv) == 2
     assert "must end in .gif or .mp4" in capsys.readouterr().err
+
+
+def test_mp4_without_ffmpeg_is_refused_before_the_run(tmp_path, capsys, monkeypatch):
+    from dem_core.pictures import animation
+
+    monkeypatch.chdir(tmp_path)
+    monkeypatch.setattr(animation, "can_write_mp4", lambda: False)
+    monkeypatch.setattr(cli, "simulate", lambda *a, **k: pytest.fail("the run started"))
+    assert main(["animate", "--out", "run.mp4"]) == 2
+    assert "writing MP4 needs ffmpeg" in capsys.readouterr().err

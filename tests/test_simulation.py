@@ -131,8 +131,31 @@ def test_the_threaded_kernel_is_compiled_with_its_parallel_loops_whichever_kerne
     import subprocess
     import sys
 
-    env = dict(os.environ, NUMBA_CACHE_DIR=str(tmp_path))
+    env = dict(os.environ, NUMBA_CACHE_DIR=str(tmp_path), NUMBA_NUM_THREADS="2")  # a 1-CPU runner too
     done = subprocess.run([sys.executable, "-c", THREADED_KERNEL_CHECK.format(order=order)], env=env,
                           capture_output=True, text=True, timeout=1200)
     assert done.returncode == 0, done.stderr[-2000:]
     assert int(done.stdout.split()[-1]) > 0  # the threaded kernel was compiled here, with parallel loops
+
+
+def test_a_run_pickled_halfway_continues_to_the_same_trajectory_in_another_process(tmp_path):
+    """A Simulation stopped, saved and loaded in a fresh process (where it finds its kernel by name, not
+    as a pickled dispatcher) ends where the uninterrupted run ends, bit for bit."""
+    import pickle
+    import subprocess
+    import sys
+
+    from dem_core.engine.simulation import Simulation
+
+    scene, motion = scenes.column(3), excitation.harmonic(pga=3.0, frequency=1.0)
+    whole = Simulation(scene, motion, duration=0.5).run().result()
+    half = Simulation(scene, motion, duration=0.5)
+    half.advance(half.settings.last_step // 2)
+    saved = tmp_path / "half.pkl"
+    saved.write_bytes(pickle.dumps(half))
+    script = ("import pickle, sys, numpy as np; run = pickle.loads(open(sys.argv[1], 'rb').read()); "
+              "r = run.run().result(); np.save(sys.argv[2], np.stack([r.x, r.theta]))")
+    done = subprocess.run([sys.executable, "-c", script, str(saved), str(tmp_path / "end.npy")],
+                          capture_output=True, text=True, timeout=600)
+    assert done.returncode == 0, done.stderr[-2000:]
+    np.testing.assert_array_equal(np.load(tmp_path / "end.npy"), np.stack([whole.x, whole.theta]))

@@ -21,8 +21,10 @@ The stages called per pair and per step take arrays, not the named tuples: numba
 to every array of a tuple it passes, which would cost more than the contact itself.
 """
 
+import hashlib
 import math
 import types
+from pathlib import Path
 
 import numba as nb
 import numpy as np
@@ -426,7 +428,18 @@ def _renamed(function, name):
     return clone
 
 
+def _engine_digest() -> str:
+    """A digest of the engine's source.  Numba checks only the kernel's own file before loading it from
+    its cache, but the kernel inlines the stages of the other modules (the manifold, the contact law, the
+    checks): with the digest in the kernel's name, editing any of them compiles the kernel afresh."""
+    digest = hashlib.sha256()
+    for path in sorted(Path(__file__).parent.glob("*.py")):
+        digest.update(path.read_bytes())
+    return digest.hexdigest()[:10]
+
+
+_DIGEST = _engine_digest()
 #: the stepping kernel, serial
-advance = nb.njit(cache=True)(_advance)
+advance = nb.njit(cache=True)(_renamed(_advance, f"_advance_{_DIGEST}"))
 #: the same kernel with the pair loop and the gather spread over numba's threads
-advance_parallel = nb.njit(cache=True, parallel=True)(_renamed(_advance, "_advance_parallel"))
+advance_parallel = nb.njit(cache=True, parallel=True)(_renamed(_advance, f"_advance_parallel_{_DIGEST}"))

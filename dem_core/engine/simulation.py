@@ -127,6 +127,16 @@ class Simulation:
         self.compile_time = _ensure_compiled(self)
         self.run_time = 0.0
 
+    def __getstate__(self) -> dict:
+        # the kernel by its name in _step: a compiled dispatcher does not travel between processes
+        state = dict(self.__dict__)
+        state["kernel"] = "advance_parallel" if self.kernel is _step.advance_parallel else "advance"
+        return state
+
+    def __setstate__(self, state: dict) -> None:
+        state["kernel"] = getattr(_step, state["kernel"])
+        self.__dict__.update(state)
+
     @property
     def dt(self) -> float:
         return self.settings.dt

@@ -184,6 +184,11 @@ def _ffmpeg():
     return imageio_ffmpeg.get_ffmpeg_exe()
 
 
+def can_write_mp4() -> bool:
+    """Whether an ffmpeg (on the PATH, or from imageio-ffmpeg) is there to write MP4."""
+    return _ffmpeg() is not None
+
+
 def _ground_strip(ax, result, excitation):
     """The ground motion over the run (acceleration in m/s^2 and g, else displacement in m), an
     overturn marker, and the cursor (returned) that follows the clock."""

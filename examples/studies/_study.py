@@ -52,11 +52,13 @@ def sweep(name: str, build, parameters: dict, *, workers=WORKERS, mode="grid"):
 
 @functools.cache
 def core_fingerprint() -> str:
-    """A digest of the source that decides a threshold (the engine, the inputs: scenes, records, motions,
-    and the search itself), so that a search cached under another core or default is never reused."""
+    """A digest of what decides a threshold (the engine, the inputs: scenes, record readers and the
+    bundled records, motions, and the search itself), so that a search cached under another core, default
+    or record file is never reused."""
     core = ROOT / "dem_core"
     digest = hashlib.sha256()
     for path in sorted([*(core / "engine").rglob("*.py"), *(core / "inputs").rglob("*.py"),
+                        *(p for p in (core / "data").rglob("*") if p.is_file()),
                         core / "analyses" / "thresholds.py"]):
         digest.update(path.relative_to(ROOT).as_posix().encode())
         digest.update(path.read_bytes())
