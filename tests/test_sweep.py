@@ -233,6 +233,7 @@ def test_failing_first_point_of_a_sweep_file_is_a_failed_row(tmp_path):
     failed = table[table["scene.friction"] == -0.1]
     assert set(failed.status) == {"failed"} and failed.error.str.contains("friction must be >= 0").all()
     assert set(table[table["scene.friction"] == 0.7].status) == {"ok"}
+    assert table.attempts.dtype.kind == "i" and set(failed.attempts) == {0}  # never run; was NaN (floats)
 
 
 def test_sweep_file_with_a_value_of_the_wrong_type_is_refused_at_once(tmp_path):

@@ -286,8 +286,9 @@ def run_point(spec: RunSpec, params: dict, run: str, history_dir: str | None = N
 
 
 def _failed_row(point: _Point, error: str) -> dict:
+    """The row of a point that could not be built: no run was attempted (``attempts`` 0)."""
     return {"run_id": point.run_id, **point.params, "status": "failed", "error": error, "wall_time_s": 0.0,
-            "worker": ""}
+            "worker": "", "attempts": 0}
 
 
 def _write_atomic(frame: pd.DataFrame, path: Path) -> None:
@@ -408,7 +409,8 @@ def run_sweep(sweep: Sweep, out, *, workers: int | None = None, scheduler=None, 
         of another sweep in ``out`` raise :class:`SweepError` and those of this sweep are resumed.
     Returns the table also written to ``out/results.parquet``: one row per point with its
     parameters, ``status`` ("ok", "unstable", "failed"), ``error`` and the measures of
-    :func:`measures`, ``wall_time_s``, and (local runs) ``attempts``: 2 when the first worker died.
+    :func:`measures`, ``wall_time_s``, and (local runs) ``attempts``: 2 when the first worker died,
+    0 for a point that could not be built.
     """
     out = Path(out)
     points = _plan(sweep)
