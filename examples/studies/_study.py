@@ -18,9 +18,9 @@ from _checkout import ROOT
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
-from matplotlib import transforms  # noqa: E402
+from matplotlib import ticker, transforms  # noqa: E402
 
-from dem_core.analyses.sweep import Sweep, run_sweep  # noqa: E402
+from dem_core.analyses.sweep import Sweep, SweepError, run_sweep  # noqa: E402
 from dem_core.analyses.thresholds import Threshold  # noqa: E402
 
 REPORTS = ROOT / "reports" / "studies"
@@ -41,7 +41,12 @@ WORKERS = 1
 
 def sweep(name: str, build, parameters: dict, *, workers=WORKERS, mode="grid"):
     """Run (or resume) a sweep of the study and return its table; failures are kept as rows."""
-    table = run_sweep(Sweep(build, parameters, mode=mode), CACHE / name, workers=workers)
+    spec = Sweep(build, parameters, mode=mode)
+    try:
+        table = run_sweep(spec, CACHE / name, workers=workers)
+    except SweepError as refusal:  # the cache holds an older sweep (other code or values): it is only a cache
+        print(f"running the sweep again: {refusal}", file=sys.stderr)
+        table = run_sweep(spec, CACHE / name, workers=workers, overwrite=True)
     _SWEPT.append(table)
     table.to_parquet(out_dir(name.split("/")[0]) / f"{name.replace('/', '_')}.parquet", index=False)
     bad = table[table.status != "ok"]
@@ -117,6 +122,14 @@ def curve(ax, x, y, overturned, label, row=0, failed=None, **style):
         ax.plot(x[failed], np.full(failed.sum(), 0.03 + 0.05 * row), "D", mfc="none", color=line.get_color(), ms=6,
                 transform=edge, clip_on=False)
     return line
+
+
+def plain_log_ticks(axis) -> None:
+    """Label a logarithmic axis (``ax.xaxis`` or ``ax.yaxis``) with plain numbers (1, 2, 5, 10, 20), not
+    powers of ten."""
+    axis.set_major_locator(ticker.LogLocator(subs=(1.0, 2.0, 5.0)))
+    axis.set_major_formatter(ticker.FuncFormatter(lambda value, _: f"{value:g}"))
+    axis.set_minor_formatter(ticker.NullFormatter())
 
 
 def save(fig, name: str, file: str) -> str:

@@ -5,7 +5,7 @@ import time
 
 import matplotlib.pyplot as plt
 import numpy as np
-from _study import curve, save, sweep, write_readme
+from _study import curve, plain_log_ticks, save, sweep, write_readme
 
 from dem_core import excitation, scenes
 from dem_core.analyses.sweep import RunSpec
@@ -45,6 +45,7 @@ def figure(table, title, mu_ref):
         axes[row, 1].set_ylabel("mean |rotation| (mrad)")
     for ax in axes.ravel():
         ax.set_xscale("log")
+        plain_log_ticks(ax.xaxis)
         ax.grid(True, which="both", alpha=0.3)
     for ax in axes[-1]:
         ax.set_xlabel("frequency (Hz)")

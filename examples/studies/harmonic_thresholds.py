@@ -14,7 +14,8 @@ import matplotlib.pyplot as plt
 import numpy as np
 import pandas as pd
 from _rigid import overturning as rigid_overturning
-from _study import cached_threshold, markdown_table, out_dir, save, threshold_columns, write_readme
+from _study import (cached_threshold, markdown_table, out_dir, plain_log_ticks, save, threshold_columns,
+                    write_readme)
 
 from comparisons.analytical import RockingBlock
 from dem_core import excitation, scenes
@@ -107,6 +108,9 @@ def figure(table):
     ax.axhline(UPLIFT, color="0.5", ls=":", label="g b/h")
     ax.set(xscale="log", yscale="log", xlabel="frequency (Hz)", ylabel="PGA (m/s$^2$)",
            title=f"Harmonic motion, {DURATION:g} s, friction {FRICTION:g}, default contact law")
+    plain_log_ticks(ax.xaxis)
+    plain_log_ticks(ax.yaxis)
+    ax.set_xticks(sorted(table.frequency.unique()))  # the frequencies run
     ax.grid(alpha=0.3, which="both")
     ax.legend(fontsize=8)
     fig.tight_layout()

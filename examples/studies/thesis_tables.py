@@ -22,7 +22,7 @@ import numpy as np
 import pandas as pd
 from _rigid import overturning as rigid_overturning
 from _rigid import rigid_body, rocking_frame
-from _study import cached_threshold, markdown_table, out_dir, save, threshold_columns, write_readme
+from _study import cached_threshold, markdown_table, out_dir, plain_log_ticks, save, threshold_columns, write_readme
 
 import dem_core
 from comparisons.analytical import RockingBlock
@@ -417,6 +417,7 @@ def figure(wide):
                     mfc="none" if column == "thesis" else None)
         ax.set_yticks(y, runs.label, fontsize=7)
         ax.set_xscale("log")
+        plain_log_ticks(ax.xaxis)
         ax.set_xlabel("smallest overturning PGA (m/s$^2$)")
         ax.set_title(RECORDS[record][0], fontsize=10)
         ax.grid(alpha=0.3, which="both")
