@@ -187,14 +187,9 @@ def ensemble_verdict(summary: pd.DataFrame, overturning: bool = True, median_lev
         text += (f"Agreeing on overturning most often ({summary.overturn_agreement.max():.0%} of the runs): "
                  f"{_leaders(summary, 'overturn_agreement')}. ")
         condition += f", agreeing on overturning in {agreement_level:.0%} of the runs or more"
-    right = list(dict.fromkeys(ok.engine))
-    if right:
-        fastest = ok.loc[ok.median_wall_time_s.idxmin()]
-        text += (f"Right ({condition}): {', '.join(right)}; fastest of them: {fastest.engine} at {fastest.step} "
-                 f"({fastest.median_wall_time_s:.3g} s a run).")
-    else:
-        fastest = None
-        text += f"No engine is right ({condition})."
+    right, fastest = _right_and_fastest(ok)
+    text += (f"Right ({condition}): {', '.join(right)}; fastest of them: {fastest.engine} at {fastest.step} "
+             f"({fastest.median_wall_time_s:.3g} s a run)." if right else f"No engine is right ({condition}).")
     return {"right": right, "fastest": fastest, "text": text}
 
 
@@ -206,12 +201,14 @@ def spectrum_verdict(summary: pd.DataFrame, agreement_level: float = 0.95) -> di
     best = summary.agreement.max()
     text = (f"Best agreement ({best:.0%} of {summary.points.iloc[0]} points): "
             f"{_leaders(summary, 'agreement')}. ")
-    right = list(dict.fromkeys(ok.engine))
-    if right:
-        fastest = ok.loc[ok.median_wall_time_s.idxmin()]
-        text += (f"Right (agreeing on {agreement_level:.0%} of the points or more): {', '.join(right)}; fastest of "
-                 f"them: {fastest.engine} ({fastest.median_wall_time_s:.3g} s a run).")
-    else:
-        fastest = None
-        text += f"No engine agrees on {agreement_level:.0%} of the points."
+    right, fastest = _right_and_fastest(ok)
+    text += (f"Right (agreeing on {agreement_level:.0%} of the points or more): {', '.join(right)}; fastest of "
+             f"them: {fastest.engine} ({fastest.median_wall_time_s:.3g} s a run)." if right
+             else f"No engine agrees on {agreement_level:.0%} of the points.")
     return {"right": right, "fastest": fastest, "text": text}
+
+
+def _right_and_fastest(ok: pd.DataFrame) -> tuple[list, pd.Series | None]:
+    """The engines of the rows judged right, in order, and the row of the fastest of them (None if none)."""
+    right = list(dict.fromkeys(ok.engine))
+    return right, (ok.loc[ok.median_wall_time_s.idxmin()] if right else None)
