@@ -1,70 +1,139 @@
 """Do multi-block scenes' answers depend on the contact stiffness?  An ensemble at several K_n.
 
 The 8-drum column and a three-column colonnade (three drums each, a single epistyle of 8000 kg/m^3)
-under each bundled record's strong motion (:mod:`comparisons.strong_motion`) at five amplitudes from
-1.2 to 3 times the scene's uplift acceleration ``g tan(alpha)``, with the native core's default contact
-law at multiples of its default stiffness.  Printed per stiffness: how many members overturn, the
-median peak rotation (largest |theta| of any block) over the members that stand at every stiffness,
-and, against the stiffest, the median ratio of those peaks and the agreement on overturning.  A member
-near a jump of the response can change by a factor under any change; the ensemble median is the measure.
+under each bundled record's strong motion (:mod:`comparisons.strong_motion`) at ``--scales`` amplitudes
+(default 10) from 1.2 to 3 times the scene's uplift acceleration ``g tan(alpha)``, with the native core's
+default contact law at multiples of its default stiffness.  Printed per stiffness: how many members
+overturn, the median peak rotation (largest |theta| of any block) over the members that stand at every
+stiffness with its change against the stiffest and a bootstrap 90% interval of that change (members
+resampled), the median and geometric mean of the member-by-member ratios of the peaks, and the agreement
+on overturning.  A member near a jump of the response can change by a factor under any change, and the
+median of a few tens of peaks jumps when one member crosses it: read the interval before the change.
+``--perturb EPS`` also reruns the first stiffness with every amplitude times ``1 + EPS`` and prints the
+same measures against the unperturbed run, with the median |log| of the member-by-member ratios for
+every comparison: how far members move under a change nobody would call physical, the floor below
+which a stiffness dependence cannot be told from the response's own sensitivity.
 
-    python -m comparisons.stiffness_ensembles [--scene column|colonnade] [--factors 1 10 100]
+    python -m comparisons.stiffness_ensembles [--scene column|colonnade] [--factors 1 10 100] [--scales 10]
+        [--perturb 0.001] [--members FILE.csv]
+    python -m comparisons.stiffness_ensembles --summarise FILE.csv
 """
 
 import argparse
 import time
 
 import numpy as np
+import pandas as pd
 
 import dem_core
 from comparisons.strong_motion import strong_motion
 from dem_core import records, scenes
 
-SCALES = (1.2, 1.65, 2.1, 2.55, 3.0)
+SCALE_RANGE = (1.2, 3.0)  # amplitudes, in multiples of the uplift acceleration g tan(alpha)
+BOOTSTRAP = 2000  # resamplings of the members for the interval of the median's change
 SCENES = {
     "column": lambda: scenes.column(8),
     "colonnade": lambda: scenes.colonnade(3, 3, spacing=2.5, epistyle="a", epistyle_density=8000.0),
 }
 
 
-def peaks(scene, factor: float) -> tuple:
-    """(peak |theta| (members,) rad, overturned (members,) bool) of the ensemble at ``factor`` x K_n."""
+def members(n_scales: int) -> list:
+    """(record, amplitude in multiples of the uplift acceleration) of each member."""
+    return [(name, float(scale)) for name in records.BUNDLED for scale in np.linspace(*SCALE_RANGE, n_scales)]
+
+
+def peaks(scene, factor: float, ensemble: list, amplitude_factor: float = 1.0) -> tuple:
+    """(peak |theta| (members,) rad, overturned (members,) bool) of ``ensemble`` at ``factor`` x K_n, every
+    amplitude times ``amplitude_factor``; a run that lost stability counts as overturned, with a NaN peak."""
     contact = dem_core.ContactParameters(kn=factor * dem_core.ContactParameters().kn)
     scene = scene.replace(contact=contact)
     uplift = scene.gravity * np.tan(scene.rocking_slenderness)
     out, over = [], []
-    for name in records.BUNDLED:
-        for scale in SCALES:
-            motion = strong_motion(name, scale * uplift)
-            try:
-                result = dem_core.simulate(scene, motion, duration=motion.end_time)
-                out.append(float(np.max(result.peak_theta)))
-                over.append(bool(result.overturned))
-            except dem_core.SimulationUnstable:
-                out.append(np.nan)
-                over.append(True)
+    for name, scale in ensemble:
+        motion = strong_motion(name, scale * amplitude_factor * uplift)
+        try:
+            result = dem_core.simulate(scene, motion, duration=motion.end_time)
+            out.append(float(np.max(result.peak_theta)))
+            over.append(bool(result.overturned))
+        except dem_core.SimulationUnstable:
+            out.append(np.nan)
+            over.append(True)
     return np.array(out), np.array(over)
+
+
+def median_change_interval(peak, reference, level: float = 0.9, seed: int = 0) -> tuple:
+    """Bootstrap interval (low, high) of median(peak) / median(reference) - 1 over members resampled together."""
+    rng = np.random.default_rng(seed)
+    picks = rng.integers(0, len(peak), size=(BOOTSTRAP, len(peak)))
+    change = np.median(peak[picks], axis=1) / np.median(reference[picks], axis=1) - 1.0
+    return tuple(np.quantile(change, [(1.0 - level) / 2.0, (1.0 + level) / 2.0]))
+
+
+def compare(label: str, peak, over, reference_peak, reference_over, standing) -> str:
+    """One line: ``peak``/``over`` (members,) against the reference run, the peaks over the members ``standing``
+    in every run."""
+    median = np.median(peak[standing])
+    low, high = median_change_interval(peak[standing], reference_peak[standing])
+    log_ratio = np.log(peak[standing] / reference_peak[standing])
+    error = log_ratio.std(ddof=1) / np.sqrt(len(log_ratio)) if len(log_ratio) > 1 else np.nan
+    return (f"  {label}: overturned {over.sum()}, median peak {median:.5f} rad "
+            f"({median / np.median(reference_peak[standing]) - 1:+.1%}, 90% interval {low:+.1%} to {high:+.1%}); "
+            f"member by member: median ratio {np.exp(np.median(log_ratio)):.4f}, geometric mean ratio "
+            f"{np.exp(log_ratio.mean()):.4f} (standard error {error:.1%}), median |log ratio| "
+            f"{np.median(np.abs(log_ratio)):.3f}; agrees on overturning {np.mean(over == reference_over):.0%}")
+
+
+def run_ensemble(scene, factors: list, n_scales: int, perturb: float | None = None, name: str = "") -> pd.DataFrame:
+    """One row per member (record, scale) with ``peak_<run>`` (rad) and ``overturned_<run>`` for each run:
+    ``<factor>x`` per stiffness factor, and ``<first factor>x_perturbed`` (amplitudes x (1 + perturb))."""
+    ensemble = members(n_scales)
+    table = pd.DataFrame(ensemble, columns=["record", "scale"])
+    plan = [(f"{f:g}x", f, 1.0) for f in factors]
+    if perturb:
+        plan.append((f"{factors[0]:g}x_perturbed", factors[0], 1.0 + perturb))
+    for key, factor, amplitude in plan:
+        started = time.perf_counter()
+        table[f"peak_{key}"], table[f"overturned_{key}"] = peaks(scene, factor, ensemble, amplitude)
+        print(f"{name}: {factor:g} x K_n" + (f", amplitudes x {amplitude:g}" if amplitude != 1.0 else "")
+              + f" done in {time.perf_counter() - started:.0f} s", flush=True)
+    return table
+
+
+def summarise(table: pd.DataFrame, name: str = "") -> list:
+    """Lines comparing each stiffness of ``table`` (:func:`run_ensemble`) with the stiffest, and the perturbed
+    run, if any, with its unperturbed one."""
+    keys = [c[len("peak_"):] for c in table.columns if c.startswith("peak_")]
+    factors = {k: float(k[:-1]) for k in keys if not k.endswith("_perturbed")}
+    perturbed = [k for k in keys if k.endswith("_perturbed")]
+    run = {k: (table[f"peak_{k}"].to_numpy(float), table[f"overturned_{k}"].to_numpy(bool)) for k in keys}
+    standing = np.all([~over for _, over in run.values()], axis=0)
+    stiffest = max(factors, key=factors.get)
+    lines = [f"{name}, {len(table)} members, {standing.sum()} standing in every run; against {stiffest} K_n:"]
+    lines += [compare(f"{k} K_n = {factors[k] * dem_core.ContactParameters().kn:.0e}", *run[k], *run[stiffest],
+                      standing) for k in factors]
+    for k in perturbed:
+        base = k[:-len("_perturbed")]
+        lines += [f"against {base} K_n with the amplitudes as given (the response's own sensitivity):",
+                  compare(f"{base} K_n, amplitudes perturbed", *run[k], *run[base], standing)]
+    return lines
 
 
 def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--scene", choices=list(SCENES), default="column")
     parser.add_argument("--factors", type=float, nargs="+", default=[1.0, 10.0, 100.0])
+    parser.add_argument("--scales", type=int, default=10, help="amplitudes per record, from 1.2 to 3 g tan(alpha)")
+    parser.add_argument("--perturb", type=float, help="also rerun the first stiffness with amplitudes x (1 + PERTURB)")
+    parser.add_argument("--members", help="write every member's peak and outcome in each run to this CSV")
+    parser.add_argument("--summarise", metavar="CSV", help="print the summary of a CSV written by --members; run nothing")
     args = parser.parse_args(argv)
-    scene = SCENES[args.scene]()
-    runs = {}
-    for factor in args.factors:
-        started = time.perf_counter()
-        runs[factor] = peaks(scene, factor)
-        print(f"{args.scene}: {factor:g} x K_n done in {time.perf_counter() - started:.0f} s", flush=True)
-    standing = np.all([~over for _, over in runs.values()], axis=0)
-    stiffest = runs[max(args.factors)]
-    print(f"{args.scene}, {len(standing)} members, {standing.sum()} standing at every stiffness")
-    for factor, (peak, over) in runs.items():
-        ratio = np.median(peak[standing] / stiffest[0][standing])
-        print(f"  {factor:g} x K_n = {factor * dem_core.ContactParameters().kn:.0e}: overturned {over.sum()}, median "
-              f"peak {np.median(peak[standing]):.5f} rad, median ratio to the stiffest {ratio:.4f}, agrees on "
-              f"overturning with it {np.mean(over == stiffest[1]):.0%}")
+    if args.summarise:
+        print("\n".join(summarise(pd.read_csv(args.summarise), args.summarise)))
+        return
+    table = run_ensemble(SCENES[args.scene](), args.factors, args.scales, args.perturb, args.scene)
+    if args.members:
+        table.to_csv(args.members, index=False)
+    print("\n".join(summarise(table, args.scene)))
 
 
 if __name__ == "__main__":

@@ -1,0 +1,53 @@
+"""The stiffness-ensemble summary (comparisons/stiffness_ensembles.py) on ensembles whose answers are known."""
+
+import numpy as np
+import pandas as pd
+import pytest
+
+from comparisons.stiffness_ensembles import compare, median_change_interval, summarise
+
+
+def _table(**runs):
+    """A table as run_ensemble writes it: {run key: (peaks, overturned)}."""
+    n = len(next(iter(runs.values()))[0])
+    table = pd.DataFrame({"record": ["r"] * n, "scale": np.linspace(1.2, 3.0, n)})
+    for key, (peak, over) in runs.items():
+        table[f"peak_{key}"], table[f"overturned_{key}"] = peak, over
+    return table
+
+
+def test_a_uniform_ten_percent_rise_is_read_as_ten_percent_by_every_measure():
+    stiff = np.linspace(0.01, 0.1, 21)
+    line = compare("soft", 1.1 * stiff, np.zeros(21, bool), stiff, np.zeros(21, bool), np.ones(21, bool))
+    assert "(+10.0%, 90% interval +10.0% to +10.0%)" in line
+    assert "median ratio 1.1000" in line and "geometric mean ratio 1.1000" in line
+    assert "median |log ratio| 0.095" in line and "agrees on overturning 100%" in line
+
+
+def test_the_median_of_peaks_jumps_with_one_member_and_its_interval_says_so():
+    # every member the same in both runs except one that crosses the median of a gapped ensemble
+    stiff = np.array([0.01, 0.011, 0.012, 0.05, 0.06, 0.07, 0.08])
+    soft = stiff.copy()
+    soft[4] = 0.011
+    low, high = median_change_interval(soft, stiff)
+    assert np.median(soft) / np.median(stiff) - 1 == pytest.approx(-0.76, abs=0.01)
+    assert low < -0.5 and high == pytest.approx(0.0)
+
+
+def test_summary_compares_with_the_stiffest_and_the_perturbed_run_with_its_own_stiffness():
+    base = np.array([0.02, 0.03, 0.04, 0.165])
+    over = np.array([False, False, False, True])
+    table = _table(**{"1x": (base * 0.9, over), "100x": (base, over), "1x_perturbed": (base * 0.9 * 1.05, over)})
+    lines = summarise(table, "toy")
+    assert lines[0] == "toy, 4 members, 3 standing in every run; against 100x K_n:"
+    assert "1x K_n = 2e+11" in lines[1] and "median ratio 0.9000" in lines[1]
+    assert "median ratio 1.0000" in lines[2]
+    assert "amplitudes perturbed" in lines[4] and "median ratio 1.0500" in lines[4]
+
+
+def test_a_member_that_overturns_in_any_run_leaves_the_peak_measures():
+    peak = np.array([0.02, 0.03, 0.165])
+    table = _table(**{"1x": (peak, np.array([False, False, True])), "10x": (peak * 2, np.array([False, True, False]))})
+    lines = summarise(table)
+    assert "1 standing in every run" in lines[0]
+    assert "agrees on overturning 33%" in lines[1]
