@@ -125,7 +125,8 @@ def main(argv=None):
     parser.add_argument("--scales", type=int, default=10, help="amplitudes per record, from 1.2 to 3 g tan(alpha)")
     parser.add_argument("--perturb", type=float, help="also rerun the first stiffness with amplitudes x (1 + PERTURB)")
     parser.add_argument("--members", help="write every member's peak and outcome in each run to this CSV")
-    parser.add_argument("--summarise", metavar="CSV", help="print the summary of a CSV written by --members; run nothing")
+    parser.add_argument("--summarise", metavar="CSV",
+                        help="print the summary of a CSV written by --members; run nothing")
     args = parser.parse_args(argv)
     if args.summarise:
         print("\n".join(summarise(pd.read_csv(args.summarise), args.summarise)))
