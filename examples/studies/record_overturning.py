@@ -118,8 +118,8 @@ def lowest(row, prefix: str) -> float:
     return float(np.fmin(row[f"{prefix}_smallest"], row[f"{prefix}_fine"]))
 
 
-def fmt(value, non_monotonic=False, failed=0):
-    text = f"{value:.3g}" if np.isfinite(value) else "none in range"
+def fmt(value, non_monotonic=False, failed=0, digits=3):
+    text = f"{value:.{digits}g}" if np.isfinite(value) else "none in range"
     return text + ("*" if non_monotonic else "") + (f" ({failed} failed)" if failed else "")
 
 
@@ -158,10 +158,10 @@ def report(check, table, started):
                     "refined window can fall between two of its steps).", ""]
     fine_rows = []
     for _, r in check.iterrows():
-        cells = [r.record, fmt(lowest(r, "rigid"))]
+        cells = [r.record, fmt(lowest(r, "rigid"), digits=4)]
         for k in kn:
             ratio = lowest(r, k) / lowest(r, "rigid")
-            cells += [fmt(lowest(r, k)), f"{ratio - 1:+.1%}" if np.isfinite(ratio) else "-",
+            cells += [fmt(lowest(r, k), digits=4), f"{ratio - 1:+.1%}" if np.isfinite(ratio) else "-",
                       "yes" if abs(ratio - 1) <= RIGID_AGREEMENT else "no" if np.isfinite(ratio) else "-"]
         fine_rows.append(cells)
     check_lines += markdown_table(header, fine_rows)
@@ -197,8 +197,8 @@ def report(check, table, started):
              or lowest(r, kn[0]) < (1 - TOLERANCE) * r[f"{kn[0]}_smallest"]]
     if lower:
         findings.append("The fine scan found an earlier first overturn than the 2% scan under " + "; ".join(
-            f"{record} (rocking equation {coarse:.3g} -> {fine:.3g}, native core at K_n {CHECK_STIFFNESS[0]:.0e} "
-            f"{native_coarse:.3g} -> {native_fine:.3g})" for record, coarse, fine, native_coarse, native_fine in lower)
+            f"{record} (rocking equation {coarse:.4g} -> {fine:.4g}, native core at K_n {CHECK_STIFFNESS[0]:.0e} "
+            f"{native_coarse:.4g} -> {native_fine:.4g})" for record, coarse, fine, native_coarse, native_fine in lower)
             + ": narrow windows below the first one a 2% scan finds. The study below scans in 2% steps, so under "
             "those records its values can lie above the smallest overturning PGA by as much.")
     for record in recs:
