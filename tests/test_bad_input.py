@@ -388,3 +388,19 @@ def test_a_count_that_is_surely_a_typo_is_refused_before_building():
     finally:
         signal.alarm(0)
         signal.signal(signal.SIGALRM, previous)
+
+
+def test_run_warnings_point_at_the_line_that_started_the_run():
+    """Was: the warnings' stacklevel assumed a call through simulate(), so a direct Simulation(...) blamed the
+    caller's caller."""
+    scene = scenes.column(8)
+    beyond = {"duration": 0.01, "dt": 1.5 * dem_core.stability.stability_limit(scene),
+              "enforce_stability_limit": False}
+    with pytest.warns(RuntimeWarning, match="times the stability limit") as direct:
+        Simulation(scene, **beyond)
+    with pytest.warns(RuntimeWarning, match="times the stability limit") as through:
+        dem_core.simulate(scene, **beyond)
+    with pytest.warns(RuntimeWarning, match="a long run") as long_run:
+        Simulation(scenes.column(8, density=1e-4), duration=0.5)
+    for record in (direct, through, long_run):
+        assert [w.filename for w in record] == [__file__]

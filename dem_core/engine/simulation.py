@@ -9,6 +9,7 @@ advanced a piece at a time, pickled and continued.
 
 import math
 import os
+import sys
 import time
 import warnings
 from typing import NamedTuple
@@ -44,6 +45,18 @@ GROUND_MOTION_MODES = ("inertial", "moving_base")
 COLLAPSE_STEP_FACTOR = 0.25
 #: wall time (s) a chunk of steps aims at between progress updates
 CHUNK_SECONDS = 0.25
+
+
+_PACKAGE = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+
+
+def warn_caller(message: str, category=RuntimeWarning) -> None:
+    """``warnings.warn`` attributed to the first frame outside ``dem_core``: the user's line that started the
+    run, whether through :func:`simulate`, :class:`Simulation` or an analysis."""
+    frame, level = sys._getframe(1), 2
+    while frame is not None and os.path.abspath(frame.f_code.co_filename).startswith(_PACKAGE + os.sep):
+        frame, level = frame.f_back, level + 1
+    warnings.warn(message, category, stacklevel=level)
 
 
 class SimulationUnstable(RuntimeError):
@@ -98,9 +111,8 @@ class Simulation:
         auto_dt = dt is None
         dt = _time_step(scene, dt, self.limit, self.impact, safety, steps_per_impact, enforce_stability_limit)
         if dt > self.limit:
-            warnings.warn(f"dt = {dt:.4g} s is {dt / self.limit:.2f} times the stability limit {self.limit:.4g} s "
-                          f"(enforce_stability_limit=False): the result says so in info['beyond_stability_limit']",
-                          RuntimeWarning, stacklevel=3)
+            warn_caller(f"dt = {dt:.4g} s is {dt / self.limit:.2f} times the stability limit {self.limit:.4g} s "
+                        f"(enforce_stability_limit=False): the result says so in info['beyond_stability_limit']")
         if auto_dt and not stop_at_overturn:
             dt *= COLLAPSE_STEP_FACTOR
         n_steps = math.ceil(duration / dt - 1e-9)
@@ -434,8 +446,8 @@ def _check_run_size(scene, duration, dt, auto_dt, n_steps, n_out, n_interfaces, 
                           f"raise output_dt or shorten the duration ({duration:.4g} s)")
     if n_steps > WARN_STEPS:
         expected = n_steps * len(scene.blocks) * BLOCK_STEP_SECONDS
-        warnings.warn(f"a long run: {n_steps:.3g} steps (duration {duration:.4g} s at {step}); expect about "
-                      f"{expected / 60:.3g} minutes", RuntimeWarning, stacklevel=4)
+        warn_caller(f"a long run: {n_steps:.3g} steps (duration {duration:.4g} s at {step}); expect about "
+                    f"{expected / 60:.3g} minutes")
 
 
 def _damping_hint(scene) -> str:
