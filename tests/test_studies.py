@@ -85,27 +85,3 @@ def test_rigid_references_of_the_studies():
     heavy, _ = rigid.rocking_frame(monolith, 3, 1.0, 3.0)  # gamma = 1: p^2 (1 + 2) / (1 + 3)
     assert heavy.p == pytest.approx(monolith.p * np.sqrt(3.0 / 4.0)) and heavy.alpha == pytest.approx(monolith.alpha)
 
-
-def test_fine_upward_scan_finds_a_window_a_two_percent_scan_steps_over():
-    sys.path.insert(0, str(STUDIES))
-    try:
-        from _study import first_on_grid
-    finally:
-        sys.path.remove(str(STUDIES))
-    from dem_core import SimulationUnstable
-    from dem_core.analyses.thresholds import scan_and_refine
-
-    def topples(pga):  # a 0.04 m/s^2 wide window at 18.3, then everything from 21.4 up; unstable at 5
-        if 4.99 < pga < 5.01:
-            raise SimulationUnstable("unstable", None)
-        return 18.3 <= pga <= 18.34 or pga >= 21.4
-
-    coarse = scan_and_refine(topples, 1.3, 30.0, step=0.02, tolerance=0.005)
-    assert coarse.smallest > 21.0  # the window falls between two scales 2% apart
-    fine = first_on_grid(topples, 1.3, 30.0, 0.02)
-    assert fine.smallest == pytest.approx(18.3, abs=0.02)
-    assert fine.runs[-1][1] and not any(happened for _, happened in fine.runs[:-1])  # stops at the first overturn
-    assert [scale for scale, _ in fine.failures] == [pytest.approx(5.0)]  # kept apart, not a survivor
-    assert 5.0 not in [round(scale, 6) for scale, _ in fine.runs]
-    nothing = first_on_grid(lambda pga: False, 1.0, 2.0, 0.25)
-    assert np.isnan(nothing.smallest) and [s for s, _ in nothing.runs] == pytest.approx([1.0, 1.25, 1.5, 1.75, 2.0])

@@ -118,3 +118,19 @@ def test_interface_slip_separates_rocking_from_sliding():
     (slip,) = thresholds.interface_slip_history(scene, sliding).values()
     np.testing.assert_allclose(slip, sliding.relative_x[:, 0] - sliding.relative_x[0, 0], atol=1e-6)
 
+
+
+def test_first_only_scan_in_absolute_steps_finds_a_window_a_two_percent_scan_steps_over():
+    def topples(pga):  # a 0.04 m/s^2 wide window at 18.3, then everything from 21.4 up; unstable at 5
+        if 4.99 < pga < 5.01:
+            raise dem_core.SimulationUnstable("unstable", None)
+        return 18.3 <= pga <= 18.34 or pga >= 21.4
+
+    coarse = thresholds.scan_and_refine(topples, 1.3, 30.0, step=0.02, tolerance=0.005)
+    assert coarse.smallest > 21.0  # the window falls between two scales 2% apart
+    fine = thresholds.scan_and_refine(topples, 1.3, 30.0, step=1.0, absolute_step=0.02, first_only=True)
+    assert fine.smallest == pytest.approx(18.3, abs=0.02)
+    assert fine.runs[-1][1] and not any(happened for _, happened in fine.runs[:-1])  # stopped at the first event
+    assert [scale for scale, _ in fine.failures] == [pytest.approx(5.0)]  # kept apart, not a survivor
+    nothing = thresholds.scan_and_refine(lambda pga: False, 1.0, 2.0, scan=5, first_only=True)
+    assert np.isnan(nothing.smallest) and [s for s, _ in nothing.runs] == pytest.approx([1.0, 1.25, 1.5, 1.75, 2.0])

@@ -141,10 +141,15 @@ def scan_grid(low: float, high: float, *, step: float = SCAN_STEP, absolute_step
 def scan_and_refine(happens: Callable[[float], bool], low: float, high: float, *, step: float = SCAN_STEP,
                     absolute_step: float | None = None, scan: int | None = None, tolerance: float = TOLERANCE,
                     criterion: str = "", failures: tuple = (SimulationUnstable,),
-                    on_run: Callable[[float, bool | None], None] | None = None) -> Threshold:
+                    on_run: Callable[[float, bool | None], None] | None = None,
+                    first_only: bool = False) -> Threshold:
     """Every scale of :func:`scan_grid` (``low``, ``high``, ``step``, ``absolute_step``, ``scan``), then
     bisection of each change between neighbouring finished runs until its bracket is narrower than
     ``tolerance`` times its upper end.
+
+    first_only : stop the scan at the first scale where the event happens and bisect nothing: its
+        ``smallest`` is then the first event to within the scan's step (with ``absolute_step``, windows
+        narrower than a relative step are not passed over).
 
     happens : scale -> whether the event happened; an exception of a type in ``failures`` marks the
         run as failed (kept in :attr:`Threshold.failures`); any other exception propagates.
@@ -167,7 +172,11 @@ def scan_and_refine(happens: Callable[[float], bool], low: float, high: float, *
             on_run(scale, outcome)
         return outcome
 
-    scanned = [(s, test(s)) for s in scan_grid(low, high, step=step, absolute_step=absolute_step, scan=scan)]
+    scanned = []
+    for scale in scan_grid(low, high, step=step, absolute_step=absolute_step, scan=scan):
+        scanned.append((scale, test(scale)))
+        if first_only and scanned[-1][1]:
+            return Threshold(criterion, tuple(runs), tuple(failed), tolerance)
     finished = [(s, o) for s, o in scanned if o is not None]
     for (lo, lo_event), (hi, hi_event) in zip(finished, finished[1:]):
         while lo_event != hi_event and hi - lo > tolerance * hi:
@@ -236,13 +245,13 @@ def motion_mode(scene: Scene, result, slip: float = SLIP_THRESHOLD) -> str:
 
 def overturning_threshold(scene: Scene, motion_at: Callable, low: float, high: float, *, step: float = SCAN_STEP,
                           absolute_step: float | None = None, scan: int | None = None, tolerance: float = TOLERANCE,
-                          on_run: Callable[[float, bool | None], None] | None = None,
+                          on_run: Callable[[float, bool | None], None] | None = None, first_only: bool = False,
                           **simulate_options) -> Threshold:
     """Scales at which ``simulate(scene, motion_at(scale))`` overturns a block (:func:`scan_and_refine`).
 
     motion_at : scale -> GroundMotion, e.g. ``lambda pga: excitation.record("el_centro_1940", pga=pga)``.
     low, high : the range scanned; start ``low`` just below the scene's uplift acceleration.
-    step, absolute_step, scan, tolerance, on_run : as :func:`scan_and_refine`.
+    step, absolute_step, scan, tolerance, on_run, first_only : as :func:`scan_and_refine`.
     simulate_options : passed to :func:`dem_core.simulate` (duration, dt, ...); runs stop at the
         first overturn; a run that loses stability is a failure, not a survivor.
     """
@@ -250,7 +259,7 @@ def overturning_threshold(scene: Scene, motion_at: Callable, low: float, high: f
         return simulate(scene, motion_at(scale), stop_at_overturn=True, **simulate_options).overturned
 
     return scan_and_refine(overturns, low, high, step=step, absolute_step=absolute_step, scan=scan,
-                           tolerance=tolerance, criterion="overturning", on_run=on_run)
+                           tolerance=tolerance, criterion="overturning", on_run=on_run, first_only=first_only)
 
 
 def onset_threshold(scene: Scene, motion_at: Callable, low: float, high: float, *, criterion: str = "rocking",

@@ -22,7 +22,6 @@ from matplotlib import ticker, transforms  # noqa: E402
 
 from dem_core.analyses.sweep import Sweep, SweepError, run_sweep  # noqa: E402
 from dem_core.analyses.thresholds import Threshold  # noqa: E402
-from dem_core import SimulationUnstable  # noqa: E402
 
 REPORTS = ROOT / "reports" / "studies"
 CACHE = ROOT / ".study_cache"
@@ -88,24 +87,6 @@ def cached_threshold(name: str, key: str, search) -> Threshold:
     path.write_text(json.dumps({"criterion": found.criterion, "runs": found.runs, "failures": found.failures,
                                 "tolerance": found.tolerance, "wall_time_s": _SEARCHED[-1]}))
     return found
-
-
-def first_on_grid(happens, low: float, high: float, step: float, *, criterion: str = "overturning",
-                  failures: tuple = (SimulationUnstable,)) -> Threshold:
-    """Runs of ``happens`` at ``low``, ``low + step``, ... up to ``high`` (same units, e.g. m/s^2), stopping at the
-    first scale where the event happens: the smallest such scale to within ``step``, including windows narrower
-    than a scan in relative steps would pass over.  A run raising one of ``failures`` is kept as failed."""
-    runs, failed = [], []
-    for scale in low + step * np.arange(int(np.floor((high - low) / step + 1e-9)) + 1):
-        try:
-            outcome = bool(happens(float(scale)))
-        except failures as exc:
-            failed.append((float(scale), f"{type(exc).__name__}: {exc}"))
-            continue
-        runs.append((float(scale), outcome))
-        if outcome:
-            break
-    return Threshold(criterion, tuple(runs), tuple(failed), step / high)
 
 
 def threshold_columns(found: Threshold, prefix: str = "") -> dict:

@@ -21,11 +21,10 @@ import matplotlib.pyplot as plt
 import numpy as np
 import pandas as pd
 from _rigid import overturning as rigid_overturning
-from _study import cached_threshold, first_on_grid, markdown_table, out_dir, save, threshold_columns, write_readme
+from _study import cached_threshold, markdown_table, out_dir, save, threshold_columns, write_readme
 
 from comparisons.analytical import RockingBlock
-from comparisons.rocking_reference import StepBudgetExceeded, rocking_response
-from dem_core import ContactParameters, excitation, records, scenes, simulate
+from dem_core import ContactParameters, excitation, records, scenes
 from dem_core.analyses.thresholds import overturning_threshold
 from dem_core.engine.contact import DEFAULT_STIFFNESS
 
@@ -42,6 +41,8 @@ RIGID_AGREEMENT = 0.05
 #: m/s^2: the check's fine scan, upward from LOW to the first overturn (rigid overturning boundaries under a
 #: record are speckled with windows a few hundredths of a m/s^2 wide, which a 2% scan hits or misses by chance)
 FINE_STEP = 0.02
+#: the fine scan as search options: every FINE_STEP (a 100% relative step is always above it), up to the first overturn
+FINE = {"step": 1.0, "absolute_step": FINE_STEP, "first_only": True}
 CHECK_STIFFNESS = (CORNER_STIFFNESS, 100.0 * CORNER_STIFFNESS)
 CHECK_FRICTION = 2.0
 FRICTION = 0.485
@@ -67,17 +68,15 @@ def check_rows():
         started = time.perf_counter()
         rigid = cached_threshold(NAME, f"check_{record}_rigid", lambda: rigid_overturning(
             block, block.restitution, motion(record), LOW, CAP[record], step=STEP, tolerance=TOLERANCE))
-        fine = cached_threshold(NAME, f"check_{record}_rigid_fine", lambda: first_on_grid(
-            lambda pga: rocking_response(block, motion(record)(pga), None, restitution=block.restitution).overturned,
-            LOW, CAP[record], FINE_STEP, failures=(StepBudgetExceeded,)))
+        fine = cached_threshold(NAME, f"check_{record}_rigid_fine", lambda: rigid_overturning(
+            block, block.restitution, motion(record), LOW, CAP[record], tolerance=TOLERANCE, **FINE))
         row = {"record": record, **threshold_columns(rigid, "rigid_"), "rigid_fine": fine.smallest}
         for kn in CHECK_STIFFNESS:
             scene = scenes.column(1, friction=CHECK_FRICTION, contact=ContactParameters(kn=kn))
             found = cached_threshold(NAME, f"check_{record}_{stiffness_key(kn)}", lambda: overturning_threshold(
                 scene, motion(record), LOW, CAP[record], step=STEP, tolerance=TOLERANCE, output_dt=0.05))
-            fine = cached_threshold(NAME, f"check_{record}_{stiffness_key(kn)}_fine", lambda: first_on_grid(
-                lambda pga: simulate(scene, motion(record)(pga), stop_at_overturn=True, output_dt=0.05).overturned,
-                LOW, CAP[record], FINE_STEP))
+            fine = cached_threshold(NAME, f"check_{record}_{stiffness_key(kn)}_fine", lambda: overturning_threshold(
+                scene, motion(record), LOW, CAP[record], tolerance=TOLERANCE, output_dt=0.05, **FINE))
             row.update(threshold_columns(found, f"{stiffness_key(kn)}_"))
             row[f"{stiffness_key(kn)}_fine"] = fine.smallest
         row["wall_time_s"] = time.perf_counter() - started
