@@ -290,7 +290,8 @@ def _sweep(args) -> int:
     print(f"sweep {args.spec}: {points} runs over {', '.join(sweep.parameters)} on {where}")
     try:
         table = run_sweep(sweep, args.out, workers=args.workers, scheduler=args.scheduler,
-                          progress=False if args.no_progress else None, retry_failed=args.retry_failed, overwrite=args.overwrite)
+                          progress=False if args.no_progress else None, retry_failed=args.retry_failed,
+                          overwrite=args.overwrite)
     except SweepError as exc:
         print(f"error: {exc}", file=sys.stderr)
         return 2
