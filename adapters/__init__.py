@@ -2,7 +2,8 @@
 
 ``adapters.simulate(scene, excitation, duration, engine="pymunk" | "pybullet" | "mujoco" | "dem", dt=None,
 output_dt=None, **engine_options)`` returns a :class:`dem_core.Result` like :func:`dem_core.simulate`
-(the engines do not measure interface slip: sliding measures are NaN).  How each engine maps the
+(the engines do not measure interface slip: sliding measures are NaN); an unstable run raises
+:class:`dem_core.SimulationUnstable` in every engine.  How each engine maps the
 scene (geometry, mass, friction, restitution, contact softness, ground motion) is in its module's
 docstring and in the README's engine table.
 """
@@ -10,7 +11,6 @@ docstring and in the README's engine table.
 import dem_core
 
 from . import mujoco_adapter, pybullet_adapter, pymunk_adapter
-from ._driver import EngineUnstable
 
 ENGINES = {
     "dem": dem_core.simulate,
@@ -19,7 +19,7 @@ ENGINES = {
     "mujoco": mujoco_adapter.simulate,
 }
 
-__all__ = ["ENGINES", "EngineUnstable", "simulate"]
+__all__ = ["ENGINES", "simulate"]
 
 
 def simulate(scene, excitation=None, duration=None, engine: str = "pymunk", dt=None, output_dt=None,

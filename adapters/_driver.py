@@ -7,20 +7,14 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from dem_core.inputs.excitation import still
+from dem_core.engine.model import compile_model
 from dem_core.engine.result import Result
 from dem_core.engine.stacks import columns, find_stacks, first_overturns
+from dem_core.inputs.excitation import still
+from dem_core.simulation import SimulationUnstable, run_duration
 
 #: a block further than this many scene heights from where it started has left the scene
 RUNAWAY_HEIGHTS = 5.0
-
-
-class EngineUnstable(RuntimeError):
-    """An engine's run went unstable; ``partial`` holds the result up to the last good output."""
-
-    def __init__(self, message: str, partial: Result | None):
-        super().__init__(message)
-        self.partial = partial
 
 
 @dataclass
@@ -50,14 +44,15 @@ def engine_settings(engine: str, options: dict, defaults: dict) -> dict:
 
 
 def run(engine: str, scene, excitation, duration, dt, output_dt, build) -> Result:
-    """Build with ``build()`` (an :class:`EngineRun`) and run it like :func:`dem_core.simulate`."""
+    """Build with ``build()`` (an :class:`EngineRun`) and run it like :func:`dem_core.simulate`; an unstable
+    run raises :class:`dem_core.SimulationUnstable`, as the native core does."""
     excitation = still() if excitation is None else excitation
-    if duration is None:
-        duration = excitation.end_time
-        if not np.isfinite(duration) or duration <= 0:
-            raise ValueError(f"{engine}: give a duration: the excitation '{excitation.name}' has no natural end")
-    if not duration > 0 or not dt > 0:
-        raise ValueError(f"{engine}: duration and dt must be positive, got {duration} and {dt}")
+    try:
+        duration = run_duration(excitation, duration)
+    except ValueError as exc:
+        raise ValueError(f"{engine}: {exc}") from None
+    if not dt > 0:
+        raise ValueError(f"{engine}: dt must be positive, got {dt}")
     n_steps = int(np.ceil(duration / dt - 1e-9))
     stride = max(1, round((0.01 if output_dt is None else output_dt) / dt))
     out_steps = np.arange(0, n_steps + 1, stride)
@@ -97,7 +92,7 @@ def run(engine: str, scene, excitation, duration, dt, output_dt, build) -> Resul
                       "run_time_s": run_time, "excitation": excitation.name, "ground_motion": "inertial"})
     if failure is not None:
         step, k = failure
-        raise EngineUnstable(
+        raise SimulationUnstable(
             f"{engine}: unstable at t = {step * dt:.6g} s (dt = {dt:.4g} s): block '{scene.blocks[k].name}' "
             f"has a non-finite state or flew more than {reach:.3g} m from where it started; reduce dt. "
             f"The result up to t = {result.t[-1] if len(result.t) else 0.0:.6g} s is in this error's .partial",
@@ -109,7 +104,7 @@ def _result(engine, scene, excitation, out, t, dt, info) -> Result:
     ground_x, ground_y = excitation.displacement(t)
     theta = out[:, :, 2]
     column_stacks = find_stacks(scene)
-    first, _ = first_overturns(scene, out[:, :, 0], out[:, :, 1], theta)
+    first, _ = first_overturns(compile_model(scene, column_stacks), out[:, :, 0], out[:, :, 1], theta)
     overturn_time = np.where(first >= 0, t[np.maximum(first, 0)] if len(t) else np.nan, np.nan)
     peak = np.max(np.abs(theta), axis=0) if len(t) else np.abs([b.angle for b in scene.blocks])
     return Result(t, out[:, :, 0] + ground_x[:, None], out[:, :, 1] + ground_y[:, None], theta, ground_x, ground_y,

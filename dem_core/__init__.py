@@ -6,8 +6,9 @@
 
 The package is laid out by what each part is for:
 
-* :mod:`dem_core.engine`: contact laws, geometry, the time step, the compiled kernels, ``simulate``;
+* :mod:`dem_core.engine`: contact laws, geometry, the compiled model, the time step, the compiled kernels;
 * :mod:`dem_core.inputs`: scenes and their builders, scene files, ground motions and records;
+* :mod:`dem_core.simulation`: ``simulate`` and ``Simulation``, a scene and a ground motion run by the engine;
 * :mod:`dem_core.analyses`: threshold searches, parametric sweeps, response spectra, stiffness convergence;
 * :mod:`dem_core.pictures`: figures and animations (import matplotlib).
 
@@ -19,14 +20,15 @@ The method is written out in the project's docs/method.md.
 from .analyses import convergence, spectra, sweep, thresholds
 from .engine import contact, geometry, stability
 from .engine.contact import ContactParameters
+from .engine.model import compile_model
 from .engine.result import Result
-from .engine.simulation import RunTooLarge, Simulation, SimulationUnstable, automatic_time_step, simulate
+from .simulation import RunTooLarge, Simulation, SimulationUnstable, automatic_time_step, simulate
 from .inputs import excitation, records, scenes
 from .inputs.scene import Block, Scene, SceneError
 
 __all__ = [
     "Block", "ContactParameters", "Result", "RunTooLarge", "Scene", "SceneError", "Simulation", "SimulationUnstable",
-    "automatic_time_step",
+    "automatic_time_step", "compile_model",
     "contact", "convergence", "excitation", "geometry", "records", "scenes", "simulate", "spectra", "stability",
     "sweep", "thresholds",
 ]

@@ -45,7 +45,7 @@ import numpy as np
 from .inputs import records
 from .inputs.records import G_STANDARD
 from .inputs.scene_file import SceneFileError, load, read_toml
-from .engine.simulation import SimulationUnstable, simulate
+from .simulation import SimulationUnstable, simulate
 
 DEFAULT_SCENE = "column_el_centro.toml"
 

@@ -1,5 +1,5 @@
 """The same scenes in pymunk, PyBullet and MuJoCo: every builder runs, and each engine is measured
-against the analytical references with the band its case declares for it (comparisons/cases.py, where
+against the analytical references with the band its case declares for it (comparisons/cases/catalogue.py, where
 the measured values are)."""
 
 import warnings
@@ -8,9 +8,11 @@ import numpy as np
 import pytest
 
 import adapters
+import dem_core
 from adapters import _geometry as geometry
-from adapters._driver import EngineRun, EngineUnstable, product_friction, run
-from comparisons import analytical, cases
+from adapters._driver import EngineRun, product_friction, run
+from comparisons.cases import catalogue as cases
+from comparisons.references import analytical
 from dem_core import excitation, scenes
 from dem_core.engine.geometry import polygon_properties, rectangle, transform
 
@@ -135,7 +137,7 @@ def test_an_engine_that_goes_unstable_is_stopped_with_engine_time_and_block():
     states = iter([np.array([[0.0, 0.375, 0.0], [0.0, 1.125, 0.0]])] * 3 + [np.array([[0.0, 0.375, 0.0],
                                                                                         [np.nan, 1.125, 0.0]])])
     fake = EngineRun(lambda gx, gy: None, lambda: None, lambda: next(states), {})
-    with pytest.raises(EngineUnstable, match=r"fake: unstable at t = 0\.03 s .*block 'drum2'") as info:
+    with pytest.raises(dem_core.SimulationUnstable, match=r"fake: unstable at t = 0\.03 s .*block 'drum2'") as info:
         run("fake", scene, None, 1.0, 0.01, 0.01, lambda: fake)
     assert len(info.value.partial.t) == 3
 

@@ -15,7 +15,8 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 import dem_core
-from dem_core.engine.simulation import RunTooLarge, Simulation
+from dem_core.engine.model import compile_model
+from dem_core.simulation import RunTooLarge, Simulation
 from dem_core import excitation, scenes
 from dem_core.engine.geometry import rectangle
 from dem_core.inputs.records import RecordError
@@ -267,7 +268,7 @@ def test_a_long_run_is_announced_with_its_expected_wall_time():
 def test_a_run_past_the_stability_limit_says_so_in_its_result():
     """Was: an 8-drum column under El Centro at 2x the limit returned a 3.8 times larger peak, unmarked."""
     scene = scenes.column(8)
-    limit = dem_core.stability.stability_limit(scene)
+    limit = dem_core.stability.stability_limit(compile_model(scene))
     with pytest.warns(RuntimeWarning, match=r"1\.50 times the stability limit .*enforce_stability_limit=False"):
         past = dem_core.simulate(scene, excitation.record("el_centro_1940"), duration=0.2, dt=1.5 * limit,
                                  enforce_stability_limit=False)
@@ -394,7 +395,7 @@ def test_run_warnings_point_at_the_line_that_started_the_run():
     """Was: the warnings' stacklevel assumed a call through simulate(), so a direct Simulation(...) blamed the
     caller's caller."""
     scene = scenes.column(8)
-    beyond = {"duration": 0.01, "dt": 1.5 * dem_core.stability.stability_limit(scene),
+    beyond = {"duration": 0.01, "dt": 1.5 * dem_core.stability.stability_limit(compile_model(scene)),
               "enforce_stability_limit": False}
     with pytest.warns(RuntimeWarning, match="times the stability limit") as direct:
         Simulation(scene, **beyond)

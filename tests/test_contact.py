@@ -1,4 +1,6 @@
-"""The contact law: damping from a target restitution, parameter validation."""
+"""The contact law: damping from a target restitution, parameter validation, the stiffness factor."""
+
+import dataclasses
 
 import numpy as np
 import pytest
@@ -7,6 +9,7 @@ import dem_core
 from dem_core import scenes, stability
 from dem_core.engine.contact import damping_ratio_for_restitution, normal_damping, restitution_for_damping_ratio
 from dem_core.engine.geometry import rectangle, transform
+from dem_core.engine.model import compile_model
 
 
 @pytest.mark.parametrize("e", [0.15, 0.37, 0.8, 1.0])
@@ -34,7 +37,7 @@ def test_a_corner_impact_rebounds_with_the_target_restitution(e):
     scene = scenes.block(1.0, 1.0).replace(blocks=(diamond,), contact=dem_core.ContactParameters(restitution=e),
                                            allow_free_blocks=True)
     assert scene.contact.normal_damping_ratio == pytest.approx(zeta)
-    dt = stability.stability_limit(scene) / 40.0  # resolve the ~1 ms contact finely
+    dt = stability.stability_limit(compile_model(scene)) / 40.0  # resolve the ~1 ms contact finely
     result = dem_core.simulate(scene, duration=0.16, dt=dt, output_dt=dt, stop_at_overturn=False)
     gap = result.y[:, 0] - np.sqrt(0.5)
     velocity = np.diff(result.y[:, 0]) / dt
@@ -59,3 +62,19 @@ def test_contact_parameters_are_validated():
         dem_core.ContactParameters(rocking_damping_ratio=0.5)
     assert dem_core.ContactParameters().normal_damping_ratio == 1.0  # critical by default
     assert dem_core.ContactParameters(law="overlap_area").normal_damping_ratio == 0.3
+
+
+def test_stiffer_scales_k_n_and_keeps_every_other_setting():
+    contact = dem_core.ContactParameters(law="overlap_area", damping_ratio=0.4, tangential_stiffness_ratio=0.3, ct=5.0)
+    stiff = dem_core.contact.stiffer(contact, 10.0)
+    assert stiff.kn == contact.kn * 10.0
+    assert dataclasses.replace(stiff, kn=contact.kn) == contact
+    with pytest.raises(ValueError, match="stiffness factor"):
+        dem_core.contact.stiffer(contact, 0.0)
+
+
+def test_the_laws_names_are_their_kernel_codes():
+    """A compiled model's law code indexes ``contact.LAWS``: one list of names for the API and the kernel."""
+    for law in dem_core.contact.LAWS:
+        scene = scenes.block(1.0, 2.0, contact=dem_core.ContactParameters(law=law))
+        assert dem_core.contact.LAWS[compile_model(scene).law.law] == law

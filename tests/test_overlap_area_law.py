@@ -5,7 +5,7 @@ Its force acts at the overlap's centroid, a third of a triangular overlap's leng
 a block resists overturning with a shortened lever: rocking starts early by a bias that shrinks like
 K_n^(-1/3).  Its rocking dashpot couple is calibrated against Housner's decay at the default stiffness
 (``HOUSNER_DAMPING``), so free rocking is right there by construction.  Checks that are cases of
-comparisons/cases.py take their bands from the case's declaration for "dem-overlap".
+comparisons/cases/catalogue.py take their bands from the case's declaration for "dem-overlap".
 """
 
 import warnings
@@ -14,10 +14,12 @@ import numpy as np
 import pytest
 
 import dem_core
-from comparisons import analytical, cases
-from comparisons.cases import HOUSNER_HEIGHT, HOUSNER_WIDTH, STACK_SIZES, STACK_THETA0
-from comparisons.measures import first_exceedance, first_zero_crossing
-from comparisons.stacked_rocking import TwoBlockStack, stack_response
+from comparisons.cases import catalogue as cases
+from comparisons.cases.catalogue import HOUSNER_HEIGHT, HOUSNER_WIDTH, STACK_SIZES, STACK_THETA0
+from comparisons.cases.measures import first_exceedance, first_zero_crossing
+from comparisons.references import analytical
+from comparisons.references.stacked_rocking import TwoBlockStack, stack_response
+from dem_core.engine.model import compile_model
 from dem_core import excitation, scenes, stability
 from dem_core.engine.contact import damping_ratio_for_restitution
 
@@ -97,7 +99,7 @@ def test_a_block_dropped_flat_rebounds_with_the_target_restitution(e):
     dropped = dem_core.Block("block", resting.blocks[0].vertices + [0.0, 0.002])
     scene = resting.replace(blocks=(dropped,), contact=overlap_law(damping_ratio=zeta))
     # the contact lasts pi / omega_0 ~ 0.8 ms: resolve it with a step well below the automatic one
-    dt = stability.stability_limit(scene) / 40.0
+    dt = stability.stability_limit(compile_model(scene)) / 40.0
     result = dem_core.simulate(scene, duration=0.03, dt=dt, output_dt=dt, stop_at_overturn=False)
     gap = result.y[:, 0] - 0.25
     velocity = np.diff(result.y[:, 0]) / dt
@@ -112,7 +114,7 @@ def test_mirrored_runs_stay_mirror_images_up_to_the_stability_limit():
     it the scheme goes unstable, which first shows as a loss of that symmetry (friction bounds the growth,
     so it would pass unnoticed: hence dt above the limit is refused)."""
     scene = scenes.block(1.0, 6.0, contact=overlap_law())
-    limit = stability.stability_limit(scene)
+    limit = stability.stability_limit(compile_model(scene))
     for dt, symmetric in ((limit, True), (1.3 * limit, False)):
         run = {"duration": 0.6, "output_dt": 1e-3, "dt": dt, "enforce_stability_limit": False}
         with warnings.catch_warnings(record=True) as said:

@@ -6,7 +6,7 @@ with no other change: the corner law puts its springs at the corners, so its roc
 K_n (the overlap-area law's does; see test_overlap_area_law.py).  The reference for free rocking is the
 exact rocking equation with Housner's impact rule, not Housner's closed forms, which linearise
 sin(alpha - theta): for the squat block (alpha = 0.38) the exact quarter period is 0.7% longer than his
-formula.  Each check is a case of comparisons/cases.py, run the way the report runs it, and its band is
+formula.  Each check is a case of comparisons/cases/catalogue.py, run the way the report runs it, and its band is
 the one the case declares for the native core ("dem"); the measured values are there.
 """
 
@@ -14,8 +14,9 @@ import numpy as np
 import pytest
 
 import dem_core
-from comparisons import analytical, cases
-from comparisons.measures import first_exceedance, peaks_between_crossings
+from comparisons.cases import catalogue as cases
+from comparisons.cases.measures import first_exceedance, peaks_between_crossings
+from comparisons.references import analytical
 from dem_core import excitation, scenes
 
 STIFFNESS_FACTORS = (1.0, pytest.param(100.0, marks=pytest.mark.slow))
@@ -29,7 +30,7 @@ SQUAT = "free_rocking_squat"
 
 
 def _contact(factor):
-    return dem_core.ContactParameters(kn=factor * dem_core.contact.DEFAULT_STIFFNESS["corner"])
+    return dem_core.contact.stiffer(dem_core.ContactParameters(), factor)
 
 
 def _free_rocking_errors(name, factor):

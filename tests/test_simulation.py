@@ -5,7 +5,7 @@ import pytest
 
 import dem_core
 from dem_core import excitation, scenes
-from dem_core.engine.simulation import COLLAPSE_STEP_FACTOR
+from dem_core.simulation import COLLAPSE_STEP_FACTOR
 
 
 def _mode_difference(scene, motion, duration, refine=1):
@@ -89,6 +89,22 @@ def test_automatic_time_step_is_the_step_simulate_takes():
         assert collapse == dem_core.automatic_time_step(scene, toppled=True) * COLLAPSE_STEP_FACTOR
 
 
+def test_a_step_fraction_runs_the_automatic_step_over_n_as_an_explicit_dt_does():
+    """``step_fraction=1/N`` is the convergence studies' ``auto/N``: the same dt and the same trajectory as
+    ``dt=automatic_time_step(scene) / N``, bit for bit, with the scene compiled once."""
+    scene, motion = scenes.column(3), excitation.sine_pulse(3.0, 0.25)
+    for n in (2, 4):
+        fraction = dem_core.simulate(scene, motion, duration=0.3, step_fraction=1.0 / n)
+        explicit = dem_core.simulate(scene, motion, duration=0.3, dt=dem_core.automatic_time_step(scene) / n)
+        assert fraction.dt == explicit.dt
+        assert np.array_equal(fraction.theta, explicit.theta) and np.array_equal(fraction.x, explicit.x)
+    for bad in (0.0, 1.5, -0.25):
+        with pytest.raises(ValueError, match="step_fraction"):
+            dem_core.simulate(scene, duration=1e-3, step_fraction=bad)
+    with pytest.raises(ValueError, match="give it or dt, not both"):
+        dem_core.simulate(scene, duration=1e-3, dt=1e-6, step_fraction=0.5)
+
+
 def test_threads_and_the_broad_phase_margin_do_not_change_the_trajectory(monkeypatch):
     """The pair loop writes each pair's resultants to its own row and the gather sums them body by body
     in one order, so the threaded kernel gives the serial one's trajectory bit for bit; the broad phase
@@ -111,7 +127,7 @@ def test_threads_and_the_broad_phase_margin_do_not_change_the_trajectory(monkeyp
 THREADED_KERNEL_CHECK = """
 from dem_core import excitation, scenes
 from dem_core.engine import _step
-from dem_core.engine.simulation import Simulation
+from dem_core.simulation import Simulation
 scene = scenes.colonnade(2, 2, epistyle="a")
 for parallel in {order}:
     Simulation(scene, excitation.harmonic(pga=1.0, frequency=2.0), duration=0.01, parallel=parallel).advance(5)
@@ -145,7 +161,7 @@ def test_a_run_pickled_halfway_continues_to_the_same_trajectory_in_another_proce
     import subprocess
     import sys
 
-    from dem_core.engine.simulation import Simulation
+    from dem_core.simulation import Simulation
 
     scene, motion = scenes.column(3), excitation.harmonic(pga=3.0, frequency=1.0)
     whole = Simulation(scene, motion, duration=0.5).run().result()

@@ -1,13 +1,15 @@
 """Sliding of a squat block against Newmark's pulse and the exact rigid-plastic integration (docs/method.md 4.4, 4.5, 4.8).
 
-The bands are those the cases of comparisons/cases.py declare for the native core ("dem").
+The bands are those the cases of comparisons/cases/catalogue.py declare for the native core ("dem").
 """
 
 import numpy as np
 import pytest
 
 import dem_core
-from comparisons import analytical, cases
+from comparisons.cases import catalogue as cases
+from comparisons.references import analytical
+from dem_core.engine.model import compile_model
 from dem_core import excitation, thresholds
 
 NEWMARK_BAND = cases.case("newmark").band("max_slip", "dem")
@@ -90,7 +92,7 @@ def test_sliding_converges_as_dt_shrinks():
     mu, t_p = 0.3, 0.3
     a_p = 1.5 * mu * G
     scene = squat_block(mu)
-    limit = dem_core.stability.stability_limit(scene)
+    limit = dem_core.stability.stability_limit(compile_model(scene))
 
     def max_slip(dt):
         result = dem_core.simulate(scene, excitation.rectangular_pulse(a_p, t_p), duration=0.8, dt=dt, output_dt=dt)

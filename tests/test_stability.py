@@ -6,12 +6,13 @@ import numpy as np
 import pytest
 
 import dem_core
+from dem_core.engine.model import compile_model
 from dem_core import excitation, scenes, stability
 
 
 def test_explicit_dt_above_the_stability_limit_is_refused():
     scene = scenes.column(4)
-    limit = stability.stability_limit(scene)
+    limit = stability.stability_limit(compile_model(scene))
     with pytest.raises(ValueError, match=f"stability limit {limit:.4g}"):
         dem_core.simulate(scene, duration=0.1, dt=1.01 * limit)
     assert dem_core.simulate(scene, duration=0.01, dt=0.5 * limit).dt == 0.5 * limit
@@ -21,8 +22,8 @@ def test_explicit_dt_above_the_stability_limit_is_refused():
 def test_auto_dt_is_reported_below_the_limit_and_resolves_impacts(scene):
     r = dem_core.simulate(scene, duration=0.01)
     limit, impact = r.info["stability_limit_s"], r.info["impact_duration_s"]
-    assert r.dt == pytest.approx(min(dem_core.engine.simulation.DEFAULT_SAFETY * limit,
-                                     impact / dem_core.engine.simulation.DEFAULT_STEPS_PER_IMPACT))
+    assert r.dt == pytest.approx(min(dem_core.simulation.DEFAULT_SAFETY * limit,
+                                     impact / dem_core.simulation.DEFAULT_STEPS_PER_IMPACT))
     assert r.dt < limit
     # impact duration of the stiffest face: pi sqrt(m_eff / (K_n d L))
     masses = [b.mass for b in scene.blocks]
@@ -37,7 +38,7 @@ def test_estimated_limit_is_where_a_resting_colonnade_starts_to_creep():
     bounded by friction, make it creep ten thousand times more, which no check would notice (hence dt
     above the limit is refused)."""
     scene = scenes.colonnade(3, 3)
-    limit = stability.stability_limit(scene)
+    limit = stability.stability_limit(compile_model(scene))
     creep = {}
     for factor in (0.95, 1.05):
         r = _simulate_unchecked(scene, excitation.still(), duration=0.5, dt=factor * limit, output_dt=0.01)
@@ -63,7 +64,8 @@ def test_run_that_loses_stability_stops_with_time_and_partial_result():
     scene = scenes.column(8)
     motion = excitation.record("el_centro_1940", pga=6.0)
     with pytest.raises(dem_core.SimulationUnstable, match=r"stopped at t = [0-9.]+ s .*dt = ") as info:
-        _simulate_unchecked(scene, motion, duration=3.0, dt=2.5 * stability.stability_limit(scene), output_dt=1e-3)
+        _simulate_unchecked(scene, motion, duration=3.0, dt=2.5 * stability.stability_limit(compile_model(scene)),
+                            output_dt=1e-3)
     partial = info.value.partial
     assert partial is not None and len(partial.t) > 1
     assert np.all(np.isfinite(partial.theta))
@@ -90,7 +92,7 @@ def test_fast_limits_against_the_amplification_matrix(make_scene, law):
     bisection tolerance; the linear-time bound (the default above) is below it, by at most 1.8 times
     (measured 1.0 to 1.82, the two-tier colonnade the loosest)."""
     scene = make_scene(dem_core.ContactParameters(law=law))
-    exact = stability.stability_limit(scene, method="amplification")
-    assert stability.stability_limit(scene, method="energy") == pytest.approx(exact, rel=2e-3)
-    bound = stability.stability_limit(scene, method="bound")
+    exact = stability.stability_limit(compile_model(scene), method="amplification")
+    assert stability.stability_limit(compile_model(scene), method="energy") == pytest.approx(exact, rel=2e-3)
+    bound = stability.stability_limit(compile_model(scene), method="bound")
     assert exact / 1.85 < bound < exact * (1 + 2e-3)

@@ -4,10 +4,11 @@ import numpy as np
 import pytest
 
 import dem_core
-from comparisons import analytical, cases
-from comparisons.cases import STACK_SIZES, STACK_THETA0
-from comparisons.measures import first_zero_crossing
-from comparisons.stacked_rocking import TwoBlockStack, stack_response
+from comparisons.cases import catalogue as cases
+from comparisons.cases.catalogue import STACK_SIZES, STACK_THETA0
+from comparisons.cases.measures import first_zero_crossing
+from comparisons.references import analytical
+from comparisons.references.stacked_rocking import TwoBlockStack, stack_response
 from dem_core import excitation, scenes
 from dem_core.engine.contact import ContactParameters
 
@@ -65,7 +66,7 @@ def test_reference_of_equal_widths_is_one_rocking_block():
 
 
 def _impact_error(reference, factor):
-    contact = ContactParameters(kn=factor * dem_core.contact.DEFAULT_STIFFNESS["corner"])
+    contact = dem_core.contact.stiffer(ContactParameters(), factor)
     scene = scenes.stack(STACK_SIZES, tilt=STACK_THETA0, contact=contact)
     result = dem_core.simulate(scene, excitation.still(), duration=0.8, output_dt=1e-4)
     return first_zero_crossing(result.t, result.theta[:, 0]) / reference.impact_time - 1.0, result

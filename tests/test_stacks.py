@@ -5,6 +5,7 @@ import pytest
 
 import adapters
 import dem_core
+from dem_core.engine.model import compile_model
 from dem_core import excitation, scenes
 from dem_core.engine.stacks import find_stacks, first_overturns
 
@@ -41,7 +42,7 @@ def test_kernel_and_output_checks_agree_and_come_before_the_drums_topple():
     result = dem_core.simulate(scene, motion, duration=8.0, output_dt=1e-3, stop_at_overturn=False)
     (kernel_time,) = result.info["tipped_stacks"].values()
     relative = result.x - result.base_x[:, None], result.y - result.base_y[:, None], result.theta
-    from_outputs = result.t[first_overturns(scene, *relative)[1][0]]
+    from_outputs = result.t[first_overturns(compile_model(scene), *relative)[1][0]]
     assert from_outputs == pytest.approx(kernel_time, abs=1e-3)
     drum_critical = np.arctan(1.0 / 0.75)
     assert np.max(np.abs(np.interp(kernel_time, result.t, result.theta[:, 0]))) < drum_critical / 2

@@ -8,12 +8,11 @@ step shrinks as ``K_n^(-1/2)``) and tabulates the scene-level measures and
 their change from the stiffest run.
 """
 
-import dataclasses
-
 import numpy as np
 import pandas as pd
 
-from ..engine.simulation import simulate
+from ..engine.contact import stiffer
+from ..simulation import simulate
 
 MEASURES = ("max_peak_abs_theta_rad", "total_sliding_m", "mean_rocking_rad", "overturn_time_s")
 
@@ -28,7 +27,7 @@ def stiffness_convergence(scene, excitation, duration=None, factors=(1.0, 10.0, 
         raise ValueError(f"factors must be positive, got {factors}")
     rows = []
     for factor in sorted(factors):
-        contact = dataclasses.replace(scene.contact, kn=scene.contact.kn * factor)
+        contact = stiffer(scene.contact, factor)
         result = simulate(scene.replace(contact=contact), excitation, duration, **simulate_options)
         if on_run is not None:
             on_run(factor, result)

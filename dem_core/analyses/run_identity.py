@@ -19,7 +19,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..engine.simulation import simulate
+from ..simulation import simulate
 
 DIGEST_DIGITS = 16
 DISTRIBUTION = "dem-colonnade"

@@ -60,7 +60,7 @@ import numpy as np
 import pandas as pd
 from tqdm import tqdm
 
-from ..engine.simulation import SimulationUnstable, simulate
+from ..simulation import SimulationUnstable, simulate
 from ..inputs import scene_file
 from ..inputs.excitation import GroundMotion
 from ..inputs.scene import Scene

@@ -24,7 +24,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..engine.simulation import SimulationUnstable, simulate
+from ..simulation import SimulationUnstable, simulate
 from ..inputs.excitation import ramp
 from ..inputs.scene import Scene
 

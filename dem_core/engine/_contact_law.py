@@ -2,19 +2,27 @@
 
 Private module: plain scalars in, plain scalars out, so that the stepping kernel
 (:mod:`dem_core.engine._step`), the time-step analysis (:mod:`dem_core.engine.stability`)
-and the unit tests call the very same functions.
+and the unit tests call the very same functions.  With docs/method.md, this module is where the laws'
+equations are written; every other place points here.
 
 Two laws share the tangential rule and the Coulomb cap:
 
 * ``CORNER`` (default): at most two contact points per pair (vertex against face), each with a
-  normal spring ``k_p = K_n d L / 2`` and dashpot ``c_p = 2 zeta sqrt(k_p m_p)``, ``m_p`` the pair's
-  effective mass at the point along the normal (:func:`effective_mass`), so that ``zeta`` is the
-  damping ratio the point's own spring sees;
+  normal spring ``k_p = K_n d L / 2`` and dashpot ``c_p = 2 zeta sqrt(k_p m_p)`` (:func:`dashpot`),
+  ``m_p`` the pair's effective mass at the point along the normal (:func:`effective_mass`), so that
+  ``zeta`` is the damping ratio the point's own spring sees; the tangential spring
+  ``k_t = kt_ratio k_p`` and its dashpot ``2 zeta_t sqrt(k_t m_t)`` with the effective mass along the
+  tangent;
 * ``OVERLAP_AREA`` (the thesis' law): one force ``K_n d A + C_n v_n`` at the overlap's centroid
-  and a dashpot couple ``-C_r l^2 / 12 (omega_B - omega_A)`` spread along the contact.
+  and a dashpot couple ``-C_r l^2 / 12 (omega_B - omega_A)`` spread along the contact length ``l``;
+  ``C_n = 2 zeta_n sqrt(K_n d L m_eff)``, ``C_r`` likewise with ``zeta_r``, ``K_t = kt_ratio K_n d L``
+  and ``C_t = 2 zeta_t sqrt(K_t m_eff)``, ``m_eff`` the pair's reduced mass (a block's own mass
+  against the base).
 
-``L`` is the smaller of the two blocks' widths, ``d`` the smaller depth, ``m_eff`` the pair's reduced
-mass (a block's own mass against the base).
+Tangential rule of both: ``F_t,el += -K_t v_t dt``, ``F_t = F_t,el - C_t v_t``, ``|F_t| <= mu F_n``
+(per point for the corner law; :func:`tangential_force`).  ``L`` is the smaller of the two blocks'
+widths and ``d`` the smaller depth.  The law codes ``CORNER`` and ``OVERLAP_AREA`` are the positions of
+the laws' names in :data:`dem_core.engine.contact.LAWS`.
 """
 
 import math
@@ -23,7 +31,14 @@ import numba as nb
 
 CORNER = 0
 OVERLAP_AREA = 1
-LAW_NAMES = ("corner", "overlap_area")
+
+
+@nb.njit(cache=True, inline="always")
+def dashpot(given, zeta, stiffness, mass):
+    """A dashpot constant (N s/m): ``given`` unless NaN, else ``2 zeta sqrt(stiffness mass)``."""
+    if given == given:
+        return given
+    return 2.0 * zeta * math.sqrt(stiffness * mass)
 
 
 @nb.njit(cache=True)
@@ -58,10 +73,10 @@ def pair_parameters(law, kn, zeta_n, zeta_t, zeta_r, kt_ratio, cn_given, cr_give
         return k_n, cn_given, k_t, ct_given, 0.0, m_eff, length
     k_n = kn * depth
     spring = kn * depth * length
-    c_n = cn_given if not math.isnan(cn_given) else 2.0 * zeta_n * math.sqrt(spring * m_eff)
+    c_n = dashpot(cn_given, zeta_n, spring, m_eff)
     k_t = kt_given if not math.isnan(kt_given) else kt_ratio * spring
-    c_t = ct_given if not math.isnan(ct_given) else 2.0 * zeta_t * math.sqrt(k_t * m_eff)
-    c_r = cr_given if not math.isnan(cr_given) else 2.0 * zeta_r * math.sqrt(spring * m_eff)
+    c_t = dashpot(ct_given, zeta_t, k_t, m_eff)
+    c_r = dashpot(cr_given, zeta_r, spring, m_eff)
     return k_n, c_n, k_t, c_t, c_r, m_eff, length
 
 
@@ -74,14 +89,6 @@ def effective_mass(dx, dy, rix, riy, inv_mass_i, inv_inertia_i, rjx, rjy, inv_ma
     ci = rix * dy - riy * dx
     cj = rjx * dy - rjy * dx
     return 1.0 / (inv_mass_i + inv_mass_j + ci * ci * inv_inertia_i + cj * cj * inv_inertia_j)
-
-
-@nb.njit(cache=True, inline="always")
-def dashpot(given, zeta, stiffness, mass):
-    """A dashpot constant (N s/m): ``given`` unless NaN, else ``2 zeta sqrt(stiffness mass)``."""
-    if given == given:
-        return given
-    return 2.0 * zeta * math.sqrt(stiffness * mass)
 
 
 @nb.njit(cache=True, inline="always")

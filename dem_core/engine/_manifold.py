@@ -63,6 +63,14 @@ def reference_code(side, face):
 
 
 @nb.njit(cache=True, inline="always")
+def edge(wx, wy, start, count, k):
+    """Edge ``k`` of the polygon of ``count`` world vertices from ``start``: ``(k's successor, x1, y1, x2, y2)``
+    of its first and second vertex (counter-clockwise)."""
+    following = k + 1 if k + 1 < count else 0
+    return following, wx[start + k], wy[start + k], wx[start + following], wy[start + following]
+
+
+@nb.njit(cache=True, inline="always")
 def corner_manifold(wx, wy, wnx, wny, a0, na, acx, acy, b0, nb_, bcx, bcy, previous, points, keys, row):
     """Contact points of convex polygons A (``a0``, ``na``, centre of mass ``acx``, ``acy``) and B.
 
@@ -102,11 +110,7 @@ def corner_manifold(wx, wy, wnx, wny, a0, na, acx, acy, b0, nb_, bcx, bcy, previ
     ny = wny[r0 + face]
     tx = -ny  # the face runs along t from its first vertex to its second (counter-clockwise)
     ty = nx
-    next_face = face + 1 if face + 1 < nr else 0
-    v1x = wx[r0 + face]
-    v1y = wy[r0 + face]
-    v2x = wx[r0 + next_face]
-    v2y = wy[r0 + next_face]
+    _, v1x, v1y, v2x, v2y = edge(wx, wy, r0, nr, face)
 
     incident = 0
     most_opposed = math.inf
@@ -115,11 +119,7 @@ def corner_manifold(wx, wy, wnx, wny, a0, na, acx, acy, b0, nb_, bcx, bcy, previ
         if d < most_opposed:
             most_opposed = d
             incident = k
-    next_incident = incident + 1 if incident + 1 < ni else 0
-    p0x = wx[i0 + incident]
-    p0y = wy[i0 + incident]
-    p1x = wx[i0 + next_incident]
-    p1y = wy[i0 + next_incident]
+    next_incident, p0x, p0y, p1x, p1y = edge(wx, wy, i0, ni, incident)
     f0 = incident << 1  # point codes: vertex v -> 2 v; clipped by side line s of incident face e -> 2 (2 e + s) + 1
     f1 = next_incident << 1
 

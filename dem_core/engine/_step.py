@@ -1,24 +1,29 @@
 """Compiled time stepping: contacts, forces, central differences, checks, outputs.
 
 Private module: :func:`advance` takes the model's named tuples, the state's arrays and the ground
-motion of the steps to take, and is called by :mod:`dem_core.engine.simulation` in chunks (so that a
+motion of the steps to take, and is called by :mod:`dem_core.simulation` in chunks (so that a
 progress bar can follow a long run and the ground input never has to exist for the whole run at
 once).  Central differences in velocity form (docs/method.md 1.6):
 ``v(t + dt/2) = v(t - dt/2) + dt M^-1 F(t)``, ``x(t + dt) = x(t) + dt v(t + dt/2)``, with the
-dashpots acting on the lagging half-step velocities.  Per step, in stages:
+dashpots acting on the lagging half-step velocities.  Per step, in stages, each a function of its own:
 
-1. the base is placed by the ground motion; an output is written when one is due;
-2. world vertices, edge normals and boxes of every body (:func:`world_geometry`);
-3. the broad phase lists candidate pairs again if a body has moved half a skin (:mod:`._broadphase`);
-4. each candidate pair whose boxes overlap: the corner manifold (:mod:`._manifold`) or the overlap
-   polygon (:mod:`._polygon`), then the contact law (:mod:`._contact_law`), forces summed per body
-   (:func:`corner_pair`, :func:`overlap_pair`);
-5. velocities and positions advance (:func:`move`);
-6. checks: non-finite state, a block off the base or flying off, overturns (:mod:`._checks`), and
-   every ``ENERGY_CHECK_INTERVAL`` steps the energy balance.
+1. the base is placed by the ground motion (:func:`place_base`); an output is written when one is due
+   (:func:`output_due`, :func:`write_output`);
+2. world vertices, edge normals and boxes of every body (:func:`world_geometry`,
+   :func:`~dem_core.engine._broadphase.bounding_boxes`);
+3. the broad phase lists candidate pairs again if a body has moved half a skin (:func:`_needs_relist`,
+   :mod:`._broadphase`);
+4. per candidate pair whose boxes overlap (:func:`pair_forces`): the corner manifold (:mod:`._manifold`) or
+   the overlap polygon (:mod:`._polygon`), then the contact law (:mod:`._contact_law`)
+   (:func:`corner_pair`, :func:`overlap_pair`); then per body the sum of its pairs' forces
+   (:func:`gather_forces`), and a contact past the penetration limit stops the run (:func:`deepest_pair`);
+5. the ground's work (:func:`ground_work`), then velocities and positions advance (:func:`move`);
+6. checks: non-finite state, a block off the base or flying off (:func:`check_bodies`), overturns
+   (:mod:`._checks`), and every ``ENERGY_CHECK_INTERVAL`` steps the energy balance (:func:`energy_gained`).
 
-The stages called per pair and per step take arrays, not the named tuples: numba counts references
-to every array of a tuple it passes, which would cost more than the contact itself.
+The stages take arrays and scalars, not the named tuples: numba counts references to every array of
+a tuple it passes, which would cost more than the contact itself, and a stage of plain arrays and
+scalars compiles for numba's CPU and CUDA targets alike.
 """
 
 import hashlib
@@ -251,7 +256,24 @@ def _needs_relist(pos, radius, built_at, half_skin):
 
 
 @nb.njit(cache=True, inline="always")
-def _write_output(pos, interface_slip, counters, out_pos, out_slip, out_step):
+def place_base(pos, vel, ground, k):
+    """Stage 1: the base (body 0) where the ground motion puts it at step ``k`` of the chunk."""
+    pos[0, 0] = ground[2, k]
+    pos[0, 1] = ground[3, k]
+    vel[0, 0] = ground[4, k]
+    vel[0, 1] = ground[5, k]
+
+
+@nb.njit(cache=True, inline="always")
+def output_due(step, stride, last_step, counters, out_step):
+    """Stage 1: whether the state of ``step`` is an output (every ``stride`` steps and the last) not yet written."""
+    written = counters[OUTPUTS]
+    return (step % stride == 0 or step == last_step) and (written == 0 or out_step[written - 1] != step)
+
+
+@nb.njit(cache=True, inline="always")
+def write_output(pos, interface_slip, counters, out_pos, out_slip, out_step):
+    """Stage 1: the state and the interfaces' slip into the next output row."""
     k = counters[OUTPUTS]
     for b in range(pos.shape[0]):
         for d in range(3):
@@ -262,15 +284,117 @@ def _write_output(pos, interface_slip, counters, out_pos, out_slip, out_step):
     counters[OUTPUTS] = k + 1
 
 
+@nb.njit(cache=True, inline="always")
+def pair_forces(p, corner, ids, constants, memory, forces, interface_slip, pos, vel, pair_force, pair_touching,
+                pair_excess, wx, wy, wnx, wny, vstart, inv_mass, inv_inertia, zeta_n, zeta_t, limits, dt, boxes, points,
+                keys, ox, oy, clip_scratch):
+    """Stage 4, one candidate pair ``p``: if its boxes overlap, its contacts under the corner or the
+    overlap-area law and their forces into its row of ``pair_force``, whether it touches into
+    ``pair_touching[p]`` and its penetration past the limit into ``pair_excess[p]``.  A pair writes only
+    its own rows (and its own recorded interface), so pairs may run in parallel.  boxes : (4, nb) m, the
+    bodies' boxes, rows lowest x, highest x, lowest y, highest y."""
+    i = ids[p, PAIR_I]
+    j = ids[p, PAIR_J]
+    pair_force[p, :] = 0.0
+    pair_touching[p] = 0
+    pair_excess[p] = 0.0
+    if boxes[1, i] < boxes[0, j] or boxes[1, j] < boxes[0, i] or boxes[3, i] < boxes[2, j] or boxes[3, j] < boxes[2, i]:
+        memory[p, :] = -1
+        forces[p, POINT_FORCE] = 0.0
+        return
+    if corner:
+        touching, excess = corner_pair(p, ids, constants, memory, forces, interface_slip, pos, vel, pair_force,
+                                       wx, wy, wnx, wny, vstart, inv_mass, inv_inertia, zeta_n, zeta_t,
+                                       min(limits[i], limits[j]), dt, points, keys)
+    else:
+        touching, excess = overlap_pair(p, ids, constants, forces, interface_slip, pos, vel, pair_force, wx,
+                                        wy, vstart, limits, dt, ox[p], oy[p], clip_scratch[p])
+    pair_touching[p] = touching
+    pair_excess[p] = excess
+
+
+@nb.njit(cache=True, inline="always")
+def gather_forces(b, start, entries, pair_force, force):
+    """Stage 4, one body ``b``: the sum of its pairs' resultants, in one order, into ``force[b]``."""
+    fx = 0.0
+    fy = 0.0
+    m = 0.0
+    for e in range(start[b], start[b + 1]):
+        row = entries[e] >> 1
+        end = entries[e] & 1
+        fx += pair_force[row, 3 * end]
+        fy += pair_force[row, 3 * end + 1]
+        m += pair_force[row, 3 * end + 2]
+    force[b, 0] = fx
+    force[b, 1] = fy
+    force[b, 2] = m
+
+
+@nb.njit(cache=True, inline="always")
+def deepest_pair(pair_touching, pair_excess, n_pairs, counters):
+    """Stage 4: counts the pairs in contact (``counters[NARROW]``); returns the first pair penetrating past
+    the limit, or -1."""
+    for p in range(n_pairs):
+        if pair_touching[p] > 0:
+            counters[NARROW] += 1
+        if pair_excess[p] > 0.0:
+            return p
+    return -1
+
+
+@nb.njit(cache=True, inline="always")
+def ground_work(force, vel, mass, load_x, load_y, dt, ledger):
+    """Stage 5: the work of the ground over the step into the ledger (net and gross, J): the base's reaction
+    against its velocity and the inertial load on every block."""
+    power = -(force[0, 0] * vel[0, 0] + force[0, 1] * vel[0, 1])
+    for b in range(1, vel.shape[0]):
+        power += (load_x * vel[b, 0] + load_y * vel[b, 1]) * mass[b]
+    ledger[1] += power * dt
+    ledger[2] += abs(power) * dt
+
+
+@nb.njit(cache=True, inline="always")
+def check_bodies(pos, vel, radius, floor, speed_limit, peak_theta):
+    """Stage 6: a non-finite state, a block below the base's top by more than its size (fell off), or one
+    faster than ``speed_limit`` relative to the ground; follows each block's peak |theta|.  Returns
+    ``(status, body)``, STATUS_OK and 0 when every block passes."""
+    for b in range(1, pos.shape[0]):
+        if not (math.isfinite(pos[b, 0]) and math.isfinite(pos[b, 1]) and math.isfinite(pos[b, 2])):
+            return STATUS_NONFINITE, b
+        if pos[b, 1] - pos[0, 1] < floor - radius[b]:
+            return STATUS_FELL_OFF, b
+        rel_x = vel[b, 0] - vel[0, 0]
+        rel_y = vel[b, 1] - vel[0, 1]
+        spin = vel[b, 2] * radius[b]
+        if rel_x * rel_x + rel_y * rel_y + spin * spin > speed_limit * speed_limit:
+            return STATUS_RUNAWAY, b
+        peak_theta[b] = max(peak_theta[b], abs(pos[b, 2]))
+    return STATUS_OK, 0
+
+
+@nb.njit(cache=True, inline="always")
+def energy_gained(pos, vel, mass, inv_inertia, gravity, ledger, tolerance, scale):
+    """Stage 6: whether the blocks hold more energy than they started with plus the ground's net work, by more
+    than ``tolerance`` of ``scale`` plus the ground's gross work."""
+    energy = mechanical_energy(pos, vel, mass, inv_inertia, gravity)
+    return energy - ledger[0] - ledger[1] > tolerance * (scale + ledger[2])
+
+
 def _advance(model, run, pos, vel, contacts, retired, tracking, ground, n_steps, out_pos, out_slip, out_step):
     """Take up to ``n_steps`` steps from the state (``pos``, ``vel``, ``contacts``, ``retired``,
     ``tracking``), in place.
 
-    model : :class:`~dem_core.engine.model.Model`.  run : :class:`~dem_core.engine.simulation.RunSettings`
+    model : :class:`~dem_core.engine.model.Model`.  run : :class:`~dem_core.simulation.RunSettings`
     (dt, output stride, last step, limits).  ground : (6, n_steps + 1) for these steps: inertial load
     per unit mass x, y (m/s^2, entries ``[:n_steps]``), base position x, y (m) at each step and base
     velocity x, y (m/s) at the half step before it.  out_pos (n_out, nb, 3), out_slip (n_out, n_if),
     out_step (n_out,) take the outputs (the state every ``run.stride`` steps and at ``run.last_step``).
+
+    Each step runs the stages of the module docstring, in order: :func:`place_base` and
+    :func:`write_output`; :func:`world_geometry` and the boxes; the broad phase's list when
+    :func:`_needs_relist`; :func:`pair_forces` per pair, :func:`gather_forces` per body and
+    :func:`deepest_pair`; :func:`ground_work` and :func:`move`; :func:`check_bodies`, the overturns and,
+    every ``ENERGY_CHECK_INTERVAL`` steps, :func:`energy_gained`.
 
     Returns ``(status, i, j, contacts, retired)``: the status (STATUS_*), the bodies concerned and
     the contact store and retired slips (new arrays if the list was made again).  The step the run
@@ -292,10 +416,8 @@ def _advance(model, run, pos, vel, contacts, retired, tracking, ground, n_steps,
     wy = np.empty(nv)
     wnx = np.empty(nv)
     wny = np.empty(nv)
-    lo_x = np.empty(nb_)
-    hi_x = np.empty(nb_)
-    lo_y = np.empty(nb_)
-    hi_y = np.empty(nb_)
+    boxes = np.empty((4, nb_))
+    lo_x, hi_x, lo_y, hi_y = boxes[0], boxes[1], boxes[2], boxes[3]
     force = np.zeros((nb_, 3))
     stack_moment = np.empty(bottom.shape[0])
     largest = 3
@@ -319,14 +441,10 @@ def _advance(model, run, pos, vel, contacts, retired, tracking, ground, n_steps,
     start, entries = incidence(ids, n_pairs, nb_)
 
     for k in range(n_steps + 1):
-        pos[0, 0] = ground[2, k]
-        pos[0, 1] = ground[3, k]
-        vel[0, 0] = ground[4, k]
-        vel[0, 1] = ground[5, k]
+        place_base(pos, vel, ground, k)
         step = counters[STEP]
-        written = counters[OUTPUTS]
-        if (step % run.stride == 0 or step == run.last_step) and (written == 0 or out_step[written - 1] != step):
-            _write_output(pos, interface_slip, counters, out_pos, out_slip, out_step)
+        if output_due(step, run.stride, run.last_step, counters, out_step):
+            write_output(pos, interface_slip, counters, out_pos, out_slip, out_step)
         if k == n_steps or step >= run.last_step:
             break
 
@@ -343,84 +461,41 @@ def _advance(model, run, pos, vel, contacts, retired, tracking, ground, n_steps,
             built_at[:, :] = pos
             counters[REBUILDS] += 1
 
-        # each pair writes only its own rows (and its own recorded interface), so pairs may run in parallel
         for p in nb.prange(n_pairs):  # prange runs as range in the serial kernel
-            i = ids[p, PAIR_I]
-            j = ids[p, PAIR_J]
-            pair_force[p, :] = 0.0
-            pair_touching[p] = 0
-            pair_excess[p] = 0.0
-            if hi_x[i] < lo_x[j] or hi_x[j] < lo_x[i] or hi_y[i] < lo_y[j] or hi_y[j] < lo_y[i]:
-                memory[p, :] = -1
-                forces[p, POINT_FORCE] = 0.0
-                continue
-            if corner:
-                touching, excess = corner_pair(p, ids, constants, memory, forces, interface_slip, pos, vel, pair_force,
-                                               wx, wy, wnx, wny, vstart, inv_mass, inv_inertia, zeta_n, zeta_t,
-                                               min(limits[i], limits[j]), dt, points, keys)
-            else:
-                touching, excess = overlap_pair(p, ids, constants, forces, interface_slip, pos, vel, pair_force, wx,
-                                                wy, vstart, limits, dt, ox[p], oy[p], clip_scratch[p])
-            pair_touching[p] = touching
-            pair_excess[p] = excess
-        for b in nb.prange(nb_):  # gather the pairs' resultants body by body, in one order
-            fx = 0.0
-            fy = 0.0
-            m = 0.0
-            for e in range(start[b], start[b + 1]):
-                row = entries[e] >> 1
-                end = entries[e] & 1
-                fx += pair_force[row, 3 * end]
-                fy += pair_force[row, 3 * end + 1]
-                m += pair_force[row, 3 * end + 2]
-            force[b, 0] = fx
-            force[b, 1] = fy
-            force[b, 2] = m
-        for p in range(n_pairs):
-            if pair_touching[p] > 0:
-                counters[NARROW] += 1
-            if pair_excess[p] > 0.0:
-                return STATUS_DEEP_OVERLAP, ids[p, PAIR_I], ids[p, PAIR_J], contacts, retired
+            pair_forces(p, corner, ids, constants, memory, forces, interface_slip, pos, vel, pair_force,
+                        pair_touching, pair_excess, wx, wy, wnx, wny, vstart, inv_mass, inv_inertia, zeta_n, zeta_t,
+                        limits, dt, boxes, points, keys, ox, oy, clip_scratch)
+        for b in nb.prange(nb_):
+            gather_forces(b, start, entries, pair_force, force)
+        deep = deepest_pair(pair_touching, pair_excess, n_pairs, counters)
+        if deep >= 0:
+            return STATUS_DEEP_OVERLAP, ids[deep, PAIR_I], ids[deep, PAIR_J], contacts, retired
 
         load_x = ground[0, k]
         load_y = ground[1, k]
-        power = -(force[0, 0] * vel[0, 0] + force[0, 1] * vel[0, 1])
-        for b in range(1, nb_):
-            power += (load_x * vel[b, 0] + load_y * vel[b, 1]) * mass[b]
-        ledger[1] += power * dt
-        ledger[2] += abs(power) * dt
+        ground_work(force, vel, mass, load_x, load_y, dt, ledger)
         move(pos, vel, force, inv_mass, inv_inertia, load_x, load_y - gravity, dt)
         counters[STEP] = step + 1
 
-        for b in range(1, nb_):
-            if not (math.isfinite(pos[b, 0]) and math.isfinite(pos[b, 1]) and math.isfinite(pos[b, 2])):
-                return STATUS_NONFINITE, b, b, contacts, retired
-            if pos[b, 1] - pos[0, 1] < model.floor - radius[b]:
-                return STATUS_FELL_OFF, b, b, contacts, retired
-            rel_x = vel[b, 0] - vel[0, 0]
-            rel_y = vel[b, 1] - vel[0, 1]
-            spin = vel[b, 2] * radius[b]
-            if rel_x * rel_x + rel_y * rel_y + spin * spin > run.speed_limit * run.speed_limit:
-                return STATUS_RUNAWAY, b, b, contacts, retired
-            peak_theta[b] = max(peak_theta[b], abs(pos[b, 2]))
+        status, b = check_bodies(pos, vel, radius, model.floor, run.speed_limit, peak_theta)
+        if status != STATUS_OK:
+            return status, b, b, contacts, retired
         toppled = mark_overturns(pos, critical_angle, y_start, drop_limit, mass, stack_id, bottom, stack_mass, foot,
                                  overturn_step, stack_step, stack_moment, step + 1)
         if toppled >= 0 and run.stop_at_overturn:
-            pos[0, 0] = ground[2, k + 1]
-            pos[0, 1] = ground[3, k + 1]
-            _write_output(pos, interface_slip, counters, out_pos, out_slip, out_step)
+            place_base(pos, vel, ground, k + 1)
+            write_output(pos, interface_slip, counters, out_pos, out_slip, out_step)
             return STATUS_OVERTURNED, toppled, toppled, contacts, retired
-        if step % ENERGY_CHECK_INTERVAL == 0:
-            energy = mechanical_energy(pos, vel, mass, inv_inertia, gravity)
-            if energy - ledger[0] - ledger[1] > run.energy_tolerance * (run.energy_scale + ledger[2]):
-                return STATUS_ENERGY, 0, 0, contacts, retired
+        if step % ENERGY_CHECK_INTERVAL == 0 and energy_gained(pos, vel, mass, inv_inertia, gravity, ledger,
+                                                               run.energy_tolerance, run.energy_scale):
+            return STATUS_ENERGY, 0, 0, contacts, retired
     return STATUS_OK, 0, 0, contacts, retired
 
 
 def _renamed(function, name):
     """``function`` under another name.  Numba's on-disk cache files a kernel by its name, line and bytecode,
-    not by its compile options: two dispatchers of one function, serial and parallel, would load each
-    other's machine code (the threaded kernel then ran on one thread, or failed to compile first)."""
+    not by its compile options: two dispatchers of one function, serial and parallel, under one name would
+    load each other's machine code, so each gets a name of its own."""
     clone = types.FunctionType(function.__code__, function.__globals__, name, function.__defaults__,
                                function.__closure__)
     clone.__qualname__ = name

@@ -1,42 +1,37 @@
-"""The contact laws' parameters and their defaults (docs/method.md 1.3 to 1.5).
+"""The contact laws' parameters and their defaults.
 
-Two laws, chosen by ``ContactParameters.law``:
+Two laws, chosen by ``ContactParameters.law``: ``"corner"`` (default), vertex-to-face springs as UDEC
+uses, and ``"overlap_area"``, the thesis' law (L. Papaloizou, 2009).  Their equations are written in
+docs/method.md (1.3 to 1.5) and in :mod:`dem_core.engine._contact_law`, the functions the compiled
+kernel calls; this module holds what a user sets: ``K_n`` (N/m^2 per metre of depth, the one
+scene-wide stiffness), the damping ratios or explicit dashpots, and the tangential stiffness ratio.
 
-* ``"corner"`` (default): vertex-to-face springs as UDEC uses.  Each pair of touching polygons has at
-  most two contact points (the corners of the contact); at each
-  ``F_n = k_p delta + c_p delta'`` (clamped at >= 0) with ``k_p = K_n d L / 2``, so that a flush
-  face has the total stiffness ``K_n d L``, and ``c_p = 2 zeta sqrt(k_p m_eff)``, critical
-  (``zeta = 1``) by default: an almost plastic corner impact, which is what Housner's rocking theory
-  assumes, so that the energy a rocking block loses follows from the geometry with no fitted table.
-* ``"overlap_area"``: the thesis' law (L. Papaloizou, 2009).  One force ``F_n = K_n d A + C_n v_n`` at
-  the overlap's centroid, and a dashpot spread along the contact length ``l`` that resists relative
-  rotation with the couple ``-C_r l^2 / 12 (omega_B - omega_A)``; ``C_n = 2 zeta_n sqrt(k m_eff)``
-  with ``k = K_n d L`` and ``zeta_n = 0.3`` by default, ``C_r`` likewise with ``zeta_r`` calibrated
-  against Housner's decay per slenderness (:data:`HOUSNER_DAMPING`): its impacts lose the right
-  energy only at the stiffness it was calibrated at.
-
-Both laws: tangential ``F_t,el += -K_t v_t dt``, ``F_t = F_t,el - C_t v_t``, ``|F_t| <= mu F_n`` (per
-point for the corner law), ``K_t = tangential_stiffness_ratio`` times the normal spring and
-``C_t = 2 zeta_t sqrt(K_t m_eff)``.  ``K_n`` (N/m^2 per metre of depth) is the one scene-wide
-stiffness; ``L`` is the smaller of the two blocks' widths, ``d`` the smaller depth and ``m_eff`` the
-pair's reduced mass (a block's own mass against the base).  The per-pair constants are computed by
-:func:`dem_core.engine._contact_law.pair_parameters`, the function the compiled kernel calls.
+The corner law's normal dashpots are critical by default (``zeta = 1``): an almost plastic corner
+impact, which is what Housner's rocking theory assumes, so that the energy a rocking block loses
+follows from the geometry with no fitted table.  The overlap-area law's rocking couple is calibrated
+against Housner's decay per slenderness (:data:`HOUSNER_DAMPING`): its impacts lose the right energy
+only at the stiffness it was calibrated at.
 
 :func:`damping_ratio_for_restitution` and :func:`normal_damping` map a target coefficient of
-restitution or damping ratio onto a dashpot.
+restitution or damping ratio onto a dashpot; :func:`stiffer` scales ``K_n``.
 """
 
+import dataclasses
 import math
 from dataclasses import dataclass
 
 import numpy as np
 from scipy.optimize import brentq
 
+from ._contact_law import CORNER, OVERLAP_AREA, dashpot
+
+#: the contact laws by name, each at the position of its code in the compiled kernels
+LAWS = ("corner", "overlap_area")
+assert LAWS.index("corner") == CORNER and LAWS.index("overlap_area") == OVERLAP_AREA
+
 #: N/m^2 per metre of depth, per law.  The corner law's is stiff enough that rocking under records no longer
-#: depends on it: the median peak error of the rocking ensemble of comparisons.ensembles is 1.3% at 2e10,
-#: 0.53% at 2e11 and 0.22% at 2e12, and an 8-drum column's peaks under the records are 15-35% low at 2e10
-#: but within a few % of 2e12's at 2e11 (joints that soft let the drums rock less).  The overlap-area law
-#: keeps the stiffness its damping table was calibrated at.
+#: depends on it (the evidence is in docs/method.md 1.3); the overlap-area law keeps the
+#: stiffness its damping table was calibrated at.
 DEFAULT_STIFFNESS = {"corner": 2.0e11, "overlap_area": 2.0e10}
 DEFAULT_NORMAL_DAMPING_RATIO = 0.3  # restitution 0.45 for a block dropped flat
 DEFAULT_TANGENTIAL_DAMPING_RATIO = 0.2
@@ -62,7 +57,6 @@ def housner_damping_ratio(alpha: float) -> float:
     return float(np.interp(alpha, table[:, 0], table[:, 1]))
 
 
-LAWS = ("corner", "overlap_area")
 #: default damping ratios per law: (normal, tangential)
 DEFAULT_DAMPING = {"corner": (1.0, 1.0), "overlap_area": (DEFAULT_NORMAL_DAMPING_RATIO, DEFAULT_TANGENTIAL_DAMPING_RATIO)}
 
@@ -180,7 +174,14 @@ def normal_damping(stiffness: float, mass: float, *, restitution: float | None =
     zeta = damping_ratio_for_restitution(restitution) if restitution is not None else float(damping_ratio)
     if zeta < 0:
         raise ValueError(f"damping_ratio must be >= 0, got {zeta}")
-    return 2.0 * zeta * math.sqrt(stiffness * mass)
+    return dashpot(math.nan, zeta, stiffness, mass)
+
+
+def stiffer(contact: ContactParameters, factor: float) -> ContactParameters:
+    """``contact`` with ``K_n`` multiplied by ``factor`` (> 0) and every other setting kept."""
+    if not (np.isfinite(factor) and factor > 0):
+        raise ValueError(f"the stiffness factor must be positive, got {factor}")
+    return dataclasses.replace(contact, kn=contact.kn * factor)
 
 
 def rocking_damping_ratio(scene) -> float:

@@ -9,7 +9,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from . import _polygon
+from . import _broadphase, _polygon
 
 
 class GeometryError(ValueError):
@@ -80,6 +80,13 @@ def transform(vertices, angle: float = 0.0, offset=(0.0, 0.0)) -> np.ndarray:
     c, s = np.cos(angle), np.sin(angle)
     v = np.asarray(vertices, dtype=float)
     return np.column_stack([c * v[:, 0] - s * v[:, 1], s * v[:, 0] + c * v[:, 1]]) + np.asarray(offset)
+
+
+def overlapping_boxes(low, high, margin: float) -> np.ndarray:
+    """Sorted int64 keys ``i * n + j`` (i < j) of the pairs among ``n`` axis-aligned boxes, ``low`` and
+    ``high`` (n, 2) m, that overlap once each is grown by ``margin`` (m): the engine's broad phase
+    (sort-and-sweep, :mod:`dem_core.engine._broadphase`)."""
+    return _broadphase.candidate_keys(low[:, 0], high[:, 0], low[:, 1], high[:, 1], margin)
 
 
 def _split(p):

@@ -10,8 +10,7 @@ from typing import NamedTuple
 import numpy as np
 
 from . import geometry
-from ._contact_law import CORNER, OVERLAP_AREA
-from .contact import rocking_damping_ratio
+from .contact import LAWS, rocking_damping_ratio
 from .stacks import find_stacks
 
 #: a corner-law contact deeper than this fraction of the smaller block's smaller extent stops the run
@@ -28,8 +27,9 @@ class Bodies(NamedTuple):
     local_x, local_y : (nv,) m, vertices about the centre of mass with the starting angle undone.
     normal_x, normal_y : (nv,) outward unit normal of edge k (vertex k to k + 1), same frame.
     vstart : (nb + 1,) int64, where each body's vertices start.
-    mass, inv_mass, inv_inertia : (nb,) kg, 1/kg, 1/(kg m^2); zero for the base.
-    radius : (nb,) m, largest distance from the centre of mass to a vertex.
+    mass, inertia : (nb,) kg, kg m^2 about the centre of mass; zero for the base.
+    inv_mass, inv_inertia : (nb,) 1/kg, 1/(kg m^2); zero for the base.
+    radius : (nb,) m, largest distance from the centre of mass to a vertex.  longest_edge : (nb,) m.
     area : (nb,) m^2.  width : (nb,) m, horizontal extent at the start.  size : (nb,) m, the smaller
     of width and height.  depth : (nb,) m.  friction : (nb,) the blocks' own coefficients.
     critical_angle : (nb,) rad, atan(b/h) of each block.  y_start : (nb,) m, height of the centre of
@@ -44,9 +44,11 @@ class Bodies(NamedTuple):
     normal_y: np.ndarray
     vstart: np.ndarray
     mass: np.ndarray
+    inertia: np.ndarray
     inv_mass: np.ndarray
     inv_inertia: np.ndarray
     radius: np.ndarray
+    longest_edge: np.ndarray
     area: np.ndarray
     width: np.ndarray
     size: np.ndarray
@@ -99,17 +101,35 @@ class Stacks(NamedTuple):
     foot: np.ndarray
 
 
+class Faces(NamedTuple):
+    """The pairs of bodies touching at the start (:meth:`~dem_core.Scene.touching_pairs`), ``F`` of them.
+
+    i, j : (F,) int64 bodies, i < j.  centroid : (F, 2) m, the contact's point.  normal, tangent : (F, 2)
+    unit vectors of the contact.  extent : (F,) m, the smaller of the two bodies' extents along the tangent.
+    """
+
+    i: np.ndarray
+    j: np.ndarray
+    centroid: np.ndarray
+    normal: np.ndarray
+    tangent: np.ndarray
+    extent: np.ndarray
+
+
 class Model(NamedTuple):
-    """A compiled scene: ``bodies``, ``law``, ``stacks``; ``interface_keys`` (n_if,) int64 sorted
-    ``i * nb + j`` of the interfaces touching at the start, whose slip is recorded over time;
-    ``gravity`` m/s^2; ``floor`` m, top of the base relative to its centre of mass."""
+    """A compiled scene: ``bodies``, ``law``, ``stacks``, the ``faces`` touching at the start;
+    ``interface_keys`` (n_if,) int64 sorted ``i * nb + j`` of those faces' pairs, whose slip is recorded
+    over time; ``gravity`` m/s^2; ``floor`` m, top of the base relative to its centre of mass;
+    ``top`` m, the highest block vertex above the top of the base at the start."""
 
     bodies: Bodies
     law: Law
     stacks: Stacks
+    faces: Faces
     interface_keys: np.ndarray
     gravity: float
     floor: float
+    top: float
 
 
 def _edge_normals(vertices: np.ndarray, vstart: np.ndarray) -> np.ndarray:
@@ -136,14 +156,17 @@ def compile_bodies(scene) -> Bodies:
     with np.errstate(divide="ignore"):
         inv_mass = np.where(mass > 0, 1.0 / np.where(mass > 0, mass, 1.0), 0.0)
         inv_inertia = np.where(inertia > 0, 1.0 / np.where(inertia > 0, inertia, 1.0), 0.0)
+    edges = [np.roll(b.vertices, -1, axis=0) - b.vertices for b in bodies]
     size = np.array([min(b.width, b.height) for b in bodies])
     drop_limit = 0.5 * size
     drop_limit[list(scene.free_bodies)] = np.inf  # a block released in the air falls; it has not overturned
     return Bodies(
         local_x=np.ascontiguousarray(allv[:, 0]), local_y=np.ascontiguousarray(allv[:, 1]),
         normal_x=np.ascontiguousarray(normals[:, 0]), normal_y=np.ascontiguousarray(normals[:, 1]),
-        vstart=vstart, mass=mass, inv_mass=inv_mass, inv_inertia=inv_inertia,
-        radius=np.array([b.circumradius for b in bodies]), area=np.array([b.area for b in bodies]),
+        vstart=vstart, mass=mass, inertia=inertia, inv_mass=inv_mass, inv_inertia=inv_inertia,
+        radius=np.array([b.circumradius for b in bodies]),
+        longest_edge=np.array([float(np.max(np.hypot(e[:, 0], e[:, 1]))) for e in edges]),
+        area=np.array([b.area for b in bodies]),
         width=np.array([b.width for b in bodies]), size=size, depth=np.array([b.depth for b in bodies]),
         friction=np.array([b.friction for b in bodies]),
         critical_angle=np.array([b.critical_angle for b in bodies]), y_start=centroids[:, 1].copy(),
@@ -153,7 +176,7 @@ def compile_bodies(scene) -> Bodies:
 def compile_law(scene, bodies: Bodies) -> Law:
     """The :class:`Law` of ``scene``."""
     p = scene.contact
-    law = CORNER if p.law == "corner" else OVERLAP_AREA
+    law = LAWS.index(p.law)
     index = {b.name: k for k, b in enumerate(scene.bodies)}
     n = len(scene.bodies)
     overrides = sorted((min(index[a], index[b]) * n + max(index[a], index[b]), mu)
@@ -168,7 +191,7 @@ def compile_law(scene, bodies: Bodies) -> Law:
         cn=given(p.cn), cr=given(p.cr), kt=given(p.kt), ct=given(p.ct),
         friction_keys=np.array([k for k, _ in overrides], np.int64),
         friction_values=np.array([mu for _, mu in overrides], float),
-        max_penetration=MAX_PENETRATION_FRACTION if law == CORNER else MAX_OVERLAP_FRACTION,
+        max_penetration=MAX_PENETRATION_FRACTION if p.law == "corner" else MAX_OVERLAP_FRACTION,
         skin=SKIN_FRACTION * float(bodies.size[1:].min()))
 
 
@@ -184,14 +207,28 @@ def compile_stacks(scene, stacks=None) -> Stacks:
                   foot=np.array([st.foot_local for st in stacks], float).reshape(len(stacks), 2, 2))
 
 
+def compile_faces(scene) -> Faces:
+    """The :class:`Faces` of ``scene``."""
+    touching = scene.touching_pairs()
+    extent = [min(np.ptp(scene.bodies[i].vertices @ touch.tangent), np.ptp(scene.bodies[j].vertices @ touch.tangent))
+              for i, j, touch in touching]
+    return Faces(i=np.array([i for i, _, _ in touching], np.int64), j=np.array([j for _, j, _ in touching], np.int64),
+                 centroid=np.array([t.centroid for _, _, t in touching], float).reshape(-1, 2),
+                 normal=np.array([t.normal for _, _, t in touching], float).reshape(-1, 2),
+                 tangent=np.array([t.tangent for _, _, t in touching], float).reshape(-1, 2),
+                 extent=np.array(extent, float))
+
+
 def compile_model(scene, stacks=None) -> Model:
     """The :class:`Model` of ``scene`` (``stacks``: its stacks, if already found)."""
     bodies = compile_bodies(scene)
+    faces = compile_faces(scene)
     n = len(scene.bodies)
-    return Model(bodies=bodies, law=compile_law(scene, bodies), stacks=compile_stacks(scene, stacks),
-                 interface_keys=np.array(sorted(i * n + j for i, j, _ in scene.touching_pairs()), np.int64),
-                 gravity=float(scene.gravity),
-                 floor=float(scene.base.vertices[:, 1].max() - scene.base.centroid[1]))
+    base_top = scene.base.vertices[:, 1].max()
+    return Model(bodies=bodies, law=compile_law(scene, bodies), stacks=compile_stacks(scene, stacks), faces=faces,
+                 interface_keys=np.array(sorted(faces.i * n + faces.j), np.int64),
+                 gravity=float(scene.gravity), floor=float(base_top - scene.base.centroid[1]),
+                 top=float(max(b.vertices[:, 1].max() for b in scene.blocks) - base_top))
 
 
 def interface_pairs(model: Model) -> list:

@@ -12,7 +12,7 @@ import numpy as np
 from scipy.linalg import eigh
 
 from ._contact_law import CORNER, dashpot, pair_parameters
-from .model import Model, compile_model
+from .model import Model
 
 
 def _pair(model: Model, i: int, j: int):
@@ -38,7 +38,7 @@ class Springs(NamedTuple):
     c: np.ndarray
 
 
-def stability_limit(scene, model: Model | None = None, toppled: bool = False, method: str | None = None) -> float:
+def stability_limit(model: Model, toppled: bool = False, method: str | None = None) -> float:
     """Largest time step (s) at which the central-difference scheme stays stable.
 
     Linearises the contacts present at the start (pairs that touch within a hair's breadth) as flat
@@ -69,28 +69,28 @@ def stability_limit(scene, model: Model | None = None, toppled: bool = False, me
     Contacts that form later can be stiffer: a toppled block lying on its long side presses a longer
     face.  ``toppled=True`` allows for that by scaling the limit with ``sqrt(width / longest edge)``
     of the block where that ratio is smallest (the stiffness grows with the face length).
-    ``model`` : the compiled scene, if already compiled.
+    ``model`` : the compiled scene (:func:`~dem_core.engine.model.compile_model`).
     """
-    model = compile_model(scene) if model is None else model
-    mass = np.array([[b.mass, b.mass, b.inertia] for b in scene.blocks]).ravel()
-    faces = _touching_faces(scene, scene.touching_pairs())
-    if not faces:  # nothing touches yet: the stiffest contact that can form is a face on the base
+    b = model.bodies
+    n_blocks = len(b.mass) - 1
+    mass = np.column_stack([b.mass[1:], b.mass[1:], b.inertia[1:]]).ravel()
+    if len(model.faces.i) == 0:  # nothing touches yet: the stiffest contact that can form is a face on the base
         worst = np.inf
-        for i, b in enumerate(scene.blocks, start=1):
+        for i in range(1, n_blocks + 1):
             k_n, c_n, *_rest, m_eff, length = _pair(model, 0, i)
             spring = k_n * (2.0 if model.law.law == CORNER else length)
-            omega = np.sqrt(spring * (1.0 / b.mass + b.circumradius ** 2 / b.inertia))
+            omega = np.sqrt(spring * (1.0 / b.mass[i] + b.radius[i] ** 2 / b.inertia[i]))
             worst = min(worst, float(_damped_limit(omega, _damping_ratio(model, 0, i))))
         return worst
-    lying = min(b.width / _longest_edge(b.vertices) for b in scene.blocks) if toppled else 1.0
-    method = method or ("energy" if len(scene.blocks) <= DENSE_BLOCKS else "bound")
+    lying = min(b.width[i] / b.longest_edge[i] for i in range(1, n_blocks + 1)) if toppled else 1.0
+    method = method or ("energy" if n_blocks <= DENSE_BLOCKS else "bound")
     if method not in METHODS:
         raise ValueError(f"method must be one of {', '.join(METHODS)}, got {method!r}")
     limit = {"amplification": _amplification_limit, "energy": _energy_limit, "bound": _bound_limit}[method]
     dt = np.inf
     shifts = (0.0,) if model.law.law == CORNER else (-1.0, 0.0, 1.0)
     for side in shifts:
-        dt = min(dt, limit(linearised_springs(scene, model, faces, 0.25 * side, 0.5 * side), mass))
+        dt = min(dt, limit(linearised_springs(model, 0.25 * side, 0.5 * side), mass))
     return float(np.sqrt(lying) * dt)
 
 
@@ -205,28 +205,21 @@ def _amplification_limit(springs: Springs, mass) -> float:
     return _largest_stable(stable, lo, hi, 1e-3)
 
 
-def impact_duration(scene, model: Model | None = None) -> float:
+def impact_duration(model: Model) -> float:
     """Shortest impact duration ``pi sqrt(m_eff / k)`` (s) of the face contacts touching at the start.
 
     Half a period of the face's spring: ``k = K_n d L`` of the whole face (both corner springs of the
     corner law, or the overlap law's face stiffness) and ``m_eff`` the pair's reduced mass.  Without
     touching faces, the blocks' contacts with the base count.
     """
-    model = compile_model(scene) if model is None else model
-    faces = _touching_faces(scene, scene.touching_pairs())
-    pairs = [(i, j, extent) for i, j, _, _, _, extent in faces] or [
-        (0, i, min(scene.base.width, b.width)) for i, b in enumerate(scene.blocks, start=1)]
+    b, faces = model.bodies, model.faces
+    pairs = [(int(i), int(j), float(extent)) for i, j, extent in zip(faces.i, faces.j, faces.extent)] or [
+        (0, i, min(b.width[0], b.width[i])) for i in range(1, len(b.mass))]
     durations = []
     for i, j, extent in pairs:
         m_eff = _pair(model, i, j)[5]
-        durations.append(np.pi * np.sqrt(m_eff / (model.law.kn * min(scene.bodies[i].depth, scene.bodies[j].depth)
-                                                   * extent)))
+        durations.append(np.pi * np.sqrt(m_eff / (model.law.kn * min(b.depth[i], b.depth[j]) * extent)))
     return float(min(durations))
-
-
-def _longest_edge(vertices) -> float:
-    edges = np.roll(vertices, -1, axis=0) - vertices
-    return float(np.max(np.hypot(edges[:, 0], edges[:, 1])))
 
 
 def _damped_limit(omega, zeta):
@@ -246,32 +239,16 @@ def _damping_ratio(model: Model, i: int, j: int) -> float:
     return float(max(ratios))
 
 
-def _touching_faces(scene, touching) -> list:
-    """``(i, j, centroid, normal, tangent, L)`` of every pair touching at the start."""
-    faces = []
-    for i, j, touch in touching:
-        p, q = scene.bodies[i], scene.bodies[j]
-        t = touch.tangent
-        extent = min(np.ptp(p.vertices @ t), np.ptp(q.vertices @ t))
-        faces.append((i, j, touch.centroid, touch.normal, t, extent))
-    return faces
-
-
-def linearised_springs(scene, model: Model, faces: list, shift_n: float, shift_t: float) -> Springs:
-    """The :class:`Springs` of the touching faces, built for all faces at once.
+def linearised_springs(model: Model, shift_n: float, shift_t: float) -> Springs:
+    """The :class:`Springs` of the faces touching at the start (``model.faces``), built for all at once.
 
     Corner law: a normal and a tangential spring at both ends of each face, their dashpots from the
     damping ratios and the effective mass at each end (as the kernel computes them).  Overlap law:
     the normal and tangential springs with ``shift_n``, ``shift_t`` moving their points of action
     along the tangent by that fraction of the face length, and the rocking couple.
     """
-    b = model.bodies
-    i = np.array([f[0] for f in faces])
-    j = np.array([f[1] for f in faces])
-    centroid = np.array([f[2] for f in faces])
-    normal = np.array([f[3] for f in faces])
-    tangent = np.array([f[4] for f in faces])
-    extent = np.array([f[5] for f in faces])
+    b, f = model.bodies, model.faces
+    i, j, centroid, normal, tangent, extent = f.i, f.j, f.centroid, f.normal, f.tangent, f.extent
     constants = np.array([_pair(model, a, c)[:5] for a, c in zip(i, j)])  # k_n, c_n, k_t, c_t, c_r per face
     k_n, c_n, k_t, c_t, c_r = constants.T
     springs = []  # (point (F, 2), direction (F, 2), k (F,), c (F,)) per family of springs
@@ -280,7 +257,8 @@ def linearised_springs(scene, model: Model, faces: list, shift_n: float, shift_t
             point = centroid + end * extent[:, None] * tangent
             for direction, k, given, zeta in ((normal, k_n, c_n, model.law.zeta_n), (tangent, k_t, c_t, model.law.zeta_t)):
                 mass = 1.0 / _inverse_effective_mass(b, i, j, point, direction)
-                springs.append((point, direction, k, np.where(np.isnan(given), 2.0 * zeta * np.sqrt(k * mass), given)))
+                springs.append((point, direction, k, np.array([dashpot(g, zeta, kk, m) for g, kk, m in
+                                                               zip(given, k, mass)])))
     else:
         springs.append((centroid + shift_n * extent[:, None] * tangent, normal, k_n * extent, c_n))
         springs.append((centroid + shift_t * extent[:, None] * tangent, tangent, k_t, c_t))

@@ -18,6 +18,7 @@ from typing import NamedTuple
 import numpy as np
 
 from . import geometry
+from ._checks import first_overturns as _first_overturns
 
 #: a contact counts as "resting on" when its normal is within ~25 degrees of vertical
 VERTICAL_NORMAL = 0.9
@@ -96,15 +97,13 @@ def base_ends(block) -> np.ndarray:
     return np.array([low[np.argmin(low[:, 0])], low[np.argmax(low[:, 0])]])
 
 
-def first_overturns(scene, x, y, theta) -> tuple:
+def first_overturns(model, x, y, theta) -> tuple:
     """Index of the first output at which each block overturned and each stack tipped, by the rule the
     kernel applies every step (:func:`dem_core.engine._checks.mark_overturns`): ``(blocks
-    (n_blocks,), stacks (n_stacks,))`` int64, -1 if never.  ``x``, ``y``, ``theta`` (n, n_blocks)
-    relative to the base, as a :class:`~dem_core.engine.result.Result` holds them less the ground."""
-    from ._checks import first_overturns as check
-    from .model import compile_bodies, compile_stacks
-
-    states = np.zeros((len(x), len(scene.bodies), 3))
+    (n_blocks,), stacks (n_stacks,))`` int64, -1 if never.  ``model`` : the compiled scene
+    (:class:`~dem_core.engine.model.Model`).  ``x``, ``y``, ``theta`` (n, n_blocks) relative to the
+    base, as a :class:`~dem_core.engine.result.Result` holds them less the ground."""
+    states = np.zeros((len(x), len(model.bodies.mass), 3))
     states[:, 1:, 0], states[:, 1:, 1], states[:, 1:, 2] = x, y, theta
-    blocks, stacks = check(states, compile_bodies(scene), compile_stacks(scene))
+    blocks, stacks = _first_overturns(states, model.bodies, model.stacks)
     return blocks[1:], stacks

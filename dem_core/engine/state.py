@@ -11,8 +11,6 @@ from typing import NamedTuple
 import numba as nb
 import numpy as np
 
-from .model import Model
-
 #: columns of Contacts.ids
 PAIR_I, PAIR_J, PAIR_KEY, PAIR_INTERFACE = range(4)
 #: columns of Contacts.constants
@@ -101,8 +99,9 @@ def empty_contacts(capacity):
                     np.full((capacity, 3), -1, np.int64), np.zeros((capacity, 3)), np.zeros(1, np.int64))
 
 
-def initial_state(model: Model) -> State:
-    """The state at the start: blocks where the scene puts them, at rest, no contact memory."""
+def initial_state(model) -> State:
+    """The state at the start of ``model`` (:class:`~dem_core.engine.model.Model`): blocks where the scene
+    puts them, at rest, no contact memory."""
     b = model.bodies
     nb = len(b.mass)
     pos = np.column_stack([b.centroid0, b.angle0])

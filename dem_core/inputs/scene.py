@@ -1,7 +1,7 @@
 """What a scene is: immutable blocks, the base, contact parameters, friction overrides.
 
 A :class:`Scene` describes the model only; where the blocks are during a run
-lives in the simulation state (see :mod:`dem_core.engine.simulation`).  Every engine
+lives in the simulation state (see :mod:`dem_core.simulation`).  Every engine
 (native core and adapters) builds from this one description.
 """
 
@@ -12,7 +12,6 @@ from functools import cached_property
 import numpy as np
 
 from ..engine import geometry
-from ..engine._broadphase import candidate_keys
 from ..engine.contact import ContactParameters
 
 #: relative gap within which two blocks count as touching at the start (of the smaller block's size)
@@ -256,7 +255,7 @@ class Scene:
         margin = TOUCHING_GAP * float(np.min(high - low))
         n = len(bodies)
         pairs = []
-        for key in candidate_keys(low[:, 0], high[:, 0], low[:, 1], high[:, 1], margin):
+        for key in geometry.overlapping_boxes(low, high, margin):
             i, j = divmod(int(key), n)
             p, q = bodies[i], bodies[j]
             offset = q.centroid - p.centroid

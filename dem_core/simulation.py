@@ -1,10 +1,12 @@
 """Running a scene under ground motion: ``simulate(scene, excitation, ...)`` and :class:`Simulation`.
 
-The scene compiles into an immutable :class:`~dem_core.engine.model.Model`; the mutable
+This module joins what a run is given (:mod:`dem_core.inputs`: the scene, the ground motion) to the
+engine (:mod:`dem_core.engine`).  The scene compiles into an immutable
+:class:`~dem_core.engine.model.Model`, and after that the engine reads only the model; the mutable
 :class:`~dem_core.engine.state.State` is advanced by the compiled kernel
 (:func:`dem_core.engine._step.advance`) in chunks, and the outputs gathered into a
 :class:`~dem_core.engine.result.Result`.  :class:`Simulation` holds the three, so a run can be
-advanced a piece at a time, pickled and continued.
+advanced a piece at a time, pickled and continued.  The scene is kept for the blocks' names.
 """
 
 import math
@@ -17,22 +19,21 @@ from typing import NamedTuple
 import numba
 import numpy as np
 
-from . import _step, stability
-from ._checks import mechanical_energy
-from ._contact_law import LAW_NAMES
-from .model import Model, compile_model, interface_pairs
-from .result import Result
-from .stacks import columns, find_stacks
-from .state import NARROW, OUTPUTS, PAIR_KEY, REBUILDS, SLIP, State, initial_state
-from ..inputs.excitation import GroundMotion, still
+from .engine import _step, stability
+from .engine._checks import mechanical_energy
+from .engine.contact import LAWS
+from .engine.model import Model, compile_model, interface_pairs
+from .engine.result import Result
+from .engine.stacks import columns, find_stacks
+from .engine.state import NARROW, OUTPUTS, PAIR_KEY, REBUILDS, SLIP, State, initial_state
+from .inputs.excitation import GroundMotion, still
 
 #: largest fraction of the stability limit used when dt is not given (the scheme is stable up to the
 #: limit: mirror-image runs stay mirror images to round-off there)
 DEFAULT_SAFETY = 0.8
 #: time steps per shortest impact when dt is not given: resolving impacts matters for the energy they take.
-#: The lagged dashpots make the loss first order in dt, and where an impact falls within a step scatters it:
-#: the 0.25 x 1 m block's fifth peak after free rocking is 0.9-1.7% off at 10 steps, 0.7-1.3% at 15,
-#: 0.3-0.9% at 20 (over dt +-5% around the automatic step)
+#: The lagged dashpots make the loss first order in dt, and where an impact falls within a step scatters it
+#: (docs/method.md 1.7 gives the rocking peaks' error at 10, 15 and 20 steps)
 DEFAULT_STEPS_PER_IMPACT = 15
 #: a block moving faster than this multiple of the fastest physical speed stops the run
 SPEED_LIMIT_FACTOR = 10.0
@@ -47,7 +48,7 @@ COLLAPSE_STEP_FACTOR = 0.25
 CHUNK_SECONDS = 0.25
 
 
-_PACKAGE = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+_PACKAGE = os.path.dirname(os.path.abspath(__file__))
 
 
 def warn_caller(message: str, category=RuntimeWarning) -> None:
@@ -60,11 +61,24 @@ def warn_caller(message: str, category=RuntimeWarning) -> None:
 
 
 class SimulationUnstable(RuntimeError):
-    """The run lost stability; ``partial`` holds the result up to the last good output."""
+    """A run lost stability, in the native core or in an engine of :mod:`adapters`; ``partial`` holds
+    the result up to the last good output."""
 
     def __init__(self, message: str, partial: Result | None):
         super().__init__(message)
         self.partial = partial
+
+
+def run_duration(excitation: GroundMotion, duration: float | None) -> float:
+    """The duration (s) of a run: ``duration``, or the excitation's natural end when None (a record's,
+    a pulse's); ``ValueError`` when there is neither or it is not positive."""
+    if duration is None:
+        duration = excitation.end_time
+        if not np.isfinite(duration) or duration <= 0:
+            raise ValueError(f"give a duration: the excitation '{excitation.name}' has no natural end")
+    if not duration > 0:
+        raise ValueError(f"duration must be positive, got {duration}")
+    return duration
 
 
 class RunSettings(NamedTuple):
@@ -92,24 +106,22 @@ class Simulation:
     def __init__(self, scene, excitation: GroundMotion | None = None, duration: float | None = None,
                  dt: float | None = None, output_dt: float | None = None, *, ground_motion: str = "inertial",
                  safety: float = DEFAULT_SAFETY, steps_per_impact: float = DEFAULT_STEPS_PER_IMPACT,
-                 stop_at_overturn: bool = True, enforce_stability_limit: bool = True, parallel: bool = False):
+                 step_fraction: float = 1.0, stop_at_overturn: bool = True, enforce_stability_limit: bool = True,
+                 parallel: bool = False):
         excitation = still() if excitation is None else excitation
         if ground_motion not in GROUND_MOTION_MODES:
             raise ValueError(f"ground_motion must be one of {GROUND_MOTION_MODES}, got {ground_motion!r}")
-        if duration is None:
-            duration = excitation.end_time
-            if not np.isfinite(duration) or duration <= 0:
-                raise ValueError(f"give a duration: the excitation '{excitation.name}' has no natural end")
-        if not duration > 0:
-            raise ValueError(f"duration must be positive, got {duration}")
+        duration = run_duration(excitation, duration)
         stacks = find_stacks(scene)
         self.scene, self.excitation, self.ground_motion = scene, excitation, ground_motion
         self.model: Model = compile_model(scene, stacks)
         self.stacks = stacks
-        self.limit = stability.stability_limit(scene, self.model, toppled=not stop_at_overturn)
-        self.impact = stability.impact_duration(scene, self.model)
+        self.columns = columns(scene, stacks)
+        self.limit = stability.stability_limit(self.model, toppled=not stop_at_overturn)
+        self.impact = stability.impact_duration(self.model)
         auto_dt = dt is None
-        dt = _time_step(scene, dt, self.limit, self.impact, safety, steps_per_impact, enforce_stability_limit)
+        dt = _time_step(self.model, dt, self.limit, self.impact, safety, steps_per_impact, step_fraction,
+                        enforce_stability_limit)
         if dt > self.limit:
             warn_caller(f"dt = {dt:.4g} s is {dt / self.limit:.2f} times the stability limit {self.limit:.4g} s "
                         f"(enforce_stability_limit=False): the result says so in info['beyond_stability_limit']")
@@ -118,7 +130,7 @@ class Simulation:
         n_steps = math.ceil(duration / dt - 1e-9)
         stride = max(1, round((0.01 if output_dt is None else output_dt) / dt))
         n_out = n_steps // stride + 2
-        _check_run_size(scene, duration, dt, auto_dt, n_steps, n_out, len(self.model.interface_keys), self.limit,
+        _check_run_size(self.model, scene.block_names, duration, dt, auto_dt, n_steps, n_out, self.limit,
                         self.impact)
         self.state: State = initial_state(self.model)
         b = self.model.bodies
@@ -128,8 +140,8 @@ class Simulation:
             self.state.vel[1:, :2] = np.array(excitation.velocity(np.array([-0.5 * dt])))[:, 0]
         self.settings = RunSettings(
             dt=float(dt), stride=int(stride), last_step=int(n_steps),
-            speed_limit=_speed_limit(scene, excitation, duration),
-            energy_tolerance=ENERGY_TOLERANCE, energy_scale=float(scene.gravity * np.sum(b.radius * b.mass)),
+            speed_limit=_speed_limit(self.model, excitation, duration),
+            energy_tolerance=ENERGY_TOLERANCE, energy_scale=float(self.model.gravity * np.sum(b.radius * b.mass)),
             stop_at_overturn=bool(stop_at_overturn))
         self.kernel = _step.advance_parallel if parallel and numba.get_num_threads() > 1 else _step.advance
         self.out_pos = np.full((n_out, len(b.mass), 3), np.nan)
@@ -230,8 +242,8 @@ class Simulation:
         bodies = scene.bodies
         info = {
             "engine": "dem",
-            "contact_law": LAW_NAMES[self.model.law.law],
-            "kn": scene.contact.kn,
+            "contact_law": LAWS[self.model.law.law],
+            "kn": self.model.law.kn,
             "stability_limit_s": self.limit,
             "impact_duration_s": self.impact,
             "dt_over_limit": dt / self.limit,
@@ -265,7 +277,7 @@ class Simulation:
                         interfaces=tuple((bodies[a].name, bodies[b].name) for a, b in pairs),
                         slip_history=self.out_slip[:written].copy(),
                         critical_angle=self.model.bodies.critical_angle[1:].copy(),
-                        columns=columns(scene, self.stacks))
+                        columns=self.columns)
         if self.status not in (None, _step.STATUS_OK, _step.STATUS_OVERTURNED):
             raise SimulationUnstable(self._stop_message(out_t), result)
         return result
@@ -301,14 +313,14 @@ class Simulation:
         elif status == _step.STATUS_ENERGY:
             what = (f"the blocks gained energy that neither gravity nor the ground supplied "
                     f"(more than {ENERGY_TOLERANCE:.0%} of the energy scale)")
-        elif LAW_NAMES[self.model.law.law] == "corner":
+        elif LAWS[self.model.law.law] == "corner":
             what = (f"blocks '{bodies[i].name}' and '{bodies[j].name}' interpenetrate by more than "
                     f"{self.model.law.max_penetration:.0%} of the smaller block's size")
         else:
             what = (f"blocks '{bodies[i].name}' and '{bodies[j].name}' overlap by more than "
                     f"{self.model.law.max_penetration:.0%} of the smaller block's area")
         advice = ("nothing after this time is physical" if status == _step.STATUS_FELL_OFF else
-                  f"reduce dt below {dt:.4g} s or check the contact parameters (kn = {scene.contact.kn:.3g})")
+                  f"reduce dt below {dt:.4g} s or check the contact parameters (kn = {self.model.law.kn:.3g})")
         last = out_t[-1] if len(out_t) else 0.0
         return (f"simulation stopped at t = {step * dt:.6g} s (step {step}, dt = {dt:.4g} s): {what}; {advice}. "
                 f"The result up to t = {last:.6g} s is in this error's .partial")
@@ -317,7 +329,7 @@ class Simulation:
 def simulate(scene, excitation: GroundMotion | None = None, duration: float | None = None,
              dt: float | None = None, output_dt: float | None = None, *,
              ground_motion: str = "inertial", safety: float = DEFAULT_SAFETY,
-             steps_per_impact: float = DEFAULT_STEPS_PER_IMPACT,
+             steps_per_impact: float = DEFAULT_STEPS_PER_IMPACT, step_fraction: float = 1.0,
              stop_at_overturn: bool = True, enforce_stability_limit: bool = True, progress=None,
              parallel: bool = False) -> Result:
     """Simulate ``scene`` under ``excitation`` with the native soft-contact DEM.
@@ -329,6 +341,9 @@ def simulate(scene, excitation: GroundMotion | None = None, duration: float | No
         (:func:`dem_core.engine.stability.stability_limit`) and the shortest impact
         over ``steps_per_impact`` (:func:`dem_core.engine.stability.impact_duration`).
         A dt above the limit is refused.
+    step_fraction : with dt None, the automatic step is multiplied by this (in (0, 1]; a convergence
+        study's ``auto/N`` is ``1/N``), without compiling the scene a second time as
+        ``dt=automatic_time_step(scene) / N`` would.
     output_dt : s between outputs (rounded to a whole number of steps; the
         final state is always an output); default 0.01 s.
     ground_motion : ``"inertial"`` (base fixed, load ``-m a_g`` on every block,
@@ -347,17 +362,15 @@ def simulate(scene, excitation: GroundMotion | None = None, duration: float | No
     progress : None, or a callable ``(steps done, steps in all)`` called every quarter second
         or so (the command line passes a progress bar).
     parallel : spread the contacts over numba's threads (``NUMBA_NUM_THREADS``).  Off by default: on
-        the 2-vCPU machine the project is developed on, 2 threads ran a 2,049-block colonnade 0.73 to
-        1.8 times as fast as one, changing from process to process (median 0.85 over 17 runs of
-        ``python -m comparisons.scaling``); measure yours before turning it on.  The trajectory is the
-        serial kernel's, bit for bit.
+        few cores the threads' overhead can outweigh the gain (docs/performance.md), so measure yours
+        before turning it on.  The trajectory is the serial kernel's, bit for bit.
 
     Raises ``ValueError`` for bad arguments (a dt above the stability limit
     among them) and :class:`SimulationUnstable`, carrying the result up to
     that point, when the run loses stability or a block leaves the base.
     """
     run = Simulation(scene, excitation, duration, dt, output_dt, ground_motion=ground_motion, safety=safety,
-                     steps_per_impact=steps_per_impact, stop_at_overturn=stop_at_overturn,
+                     steps_per_impact=steps_per_impact, step_fraction=step_fraction, stop_at_overturn=stop_at_overturn,
                      enforce_stability_limit=enforce_stability_limit, parallel=parallel)
     return run.run(progress).result()
 
@@ -374,34 +387,38 @@ def automatic_time_step(scene, *, toppled: bool = False, safety: float = DEFAULT
     shortest impact over ``steps_per_impact``.  (Going on through a collapse, ``simulate`` takes
     ``COLLAPSE_STEP_FACTOR`` of the toppled value.)"""
     model = compile_model(scene)
-    limit = stability.stability_limit(scene, model, toppled=toppled)
-    return _time_step(scene, None, limit, stability.impact_duration(scene, model), safety, steps_per_impact, True)
+    limit = stability.stability_limit(model, toppled=toppled)
+    return _time_step(model, None, limit, stability.impact_duration(model), safety, steps_per_impact, 1.0, True)
 
 
-def _time_step(scene, dt, limit, impact, safety, steps_per_impact, enforce) -> float:
+def _time_step(model, dt, limit, impact, safety, steps_per_impact, step_fraction, enforce) -> float:
     if not 0.0 < safety <= 1.0:
         raise ValueError(f"safety is the fraction of the stability limit used as dt; it must be in (0, 1], "
                          f"got {safety}")
     if not steps_per_impact > 0:
         raise ValueError(f"steps_per_impact must be positive, got {steps_per_impact}")
+    if not 0.0 < step_fraction <= 1.0:
+        raise ValueError(f"step_fraction multiplies the automatic step; it must be in (0, 1], got {step_fraction}")
     if dt is None:
-        return min(safety * limit, impact / steps_per_impact)
+        automatic = min(safety * limit, impact / steps_per_impact)
+        return automatic if step_fraction == 1.0 else automatic * step_fraction
+    if step_fraction != 1.0:
+        raise ValueError(f"step_fraction ({step_fraction}) applies to the automatic step; give it or dt, not both")
     if not dt > 0:
         raise ValueError(f"dt must be positive, got {dt}")
     if dt > limit and enforce:
         raise ValueError(f"dt = {dt:.4g} s is above the stability limit {limit:.4g} s of this scene "
-                         f"(contact stiffness kn = {scene.contact.kn:.3g}); use dt <= {limit:.4g} or dt=None")
+                         f"(contact stiffness kn = {model.law.kn:.3g}); use dt <= {limit:.4g} or dt=None")
     return float(dt)
 
 
-def _speed_limit(scene, excitation, duration) -> float:
+def _speed_limit(model, excitation, duration) -> float:
     """Bound on any block's speed relative to the ground (m/s) that no stable run reaches.
 
     ``SPEED_LIMIT_FACTOR`` times the free-fall speed from the top of the scene
     plus the largest ground velocity change over the run (sampled every millisecond or finer).
     """
-    top = max(b.vertices[:, 1].max() for b in scene.blocks) - scene.base.vertices[:, 1].max()
-    fall = np.sqrt(2.0 * scene.gravity * max(top, 0.0))
+    fall = np.sqrt(2.0 * model.gravity * max(model.top, 0.0))
     vx, vy = excitation.velocity(np.linspace(0.0, duration, int(min(max(duration / 1e-3, 2), 1e6)) + 1))
     ground = np.ptp(vx) + np.ptp(vy)
     return float(SPEED_LIMIT_FACTOR * (fall + ground + 1e-3))
@@ -420,40 +437,43 @@ class RunTooLarge(ValueError):
     """A run that would take more steps or memory than can be meant; the message names the culprit."""
 
 
-def _check_run_size(scene, duration, dt, auto_dt, n_steps, n_out, n_interfaces, limit, impact):
+def _check_run_size(model, names, duration, dt, auto_dt, n_steps, n_out, limit, impact):
     """Refuse before allocating a run of more than ``MAX_STEPS`` steps or whose outputs would not fit in
-    memory, naming what made it so; announce one of more than ``WARN_STEPS`` with its expected wall time."""
+    memory, naming what made it so; announce one of more than ``WARN_STEPS`` with its expected wall time.
+    ``names`` : the blocks' names, in the model's order."""
+    n_bodies = len(model.bodies.mass)
     if auto_dt:
-        light = min(scene.blocks, key=lambda b: b.mass)
+        lightest = 1 + int(np.argmin(model.bodies.mass[1:]))
+        light = f"lightest block '{names[lightest - 1]}' {model.bodies.mass[lightest]:.3g} kg"
         if DEFAULT_SAFETY * limit < impact / DEFAULT_STEPS_PER_IMPACT:
-            why = f"the stability limit {limit:.3g} s" + (f", which {_damping_hint(scene)}" if _damping_hint(scene)
-                                                         else f" of the stiffest contact (K_n = {scene.contact.kn:.3g} "
-                                                              f"N/m^2, lightest block '{light.name}' {light.mass:.3g} kg)")
+            hint = _damping_hint(model.law)
+            why = f"the stability limit {limit:.3g} s" + (f", which {hint}" if hint else
+                                                         f" of the stiffest contact (K_n = {model.law.kn:.3g} N/m^2, "
+                                                         f"{light})")
         else:
-            why = (f"the shortest impact {impact:.3g} s (K_n = {scene.contact.kn:.3g} N/m^2, lightest block "
-                   f"'{light.name}' {light.mass:.3g} kg)")
+            why = f"the shortest impact {impact:.3g} s (K_n = {model.law.kn:.3g} N/m^2, {light})"
         step = f"the automatic step dt = {dt:.3g} s, set by {why}"
     else:
         step = f"the given dt = {dt:.3g} s"
     if n_steps > MAX_STEPS:
         raise RunTooLarge(f"the run would take {n_steps:.3g} steps (duration {duration:.4g} s at {step}), more than "
                           f"{MAX_STEPS:.0e}: shorten the duration or check the scene's masses and contact parameters")
-    memory = n_out * (3 * len(scene.bodies) + n_interfaces + 1) * 8.0
+    memory = n_out * (3 * n_bodies + len(model.interface_keys) + 1) * 8.0
     available = _physical_memory()
     if memory > MAX_MEMORY_FRACTION * available:
         raise RunTooLarge(f"the outputs would take {memory / 2**30:.3g} GiB ({n_out:.3g} outputs of "
-                          f"{len(scene.bodies)} bodies), more than half of this machine's {available / 2**30:.3g} GiB: "
+                          f"{n_bodies} bodies), more than half of this machine's {available / 2**30:.3g} GiB: "
                           f"raise output_dt or shorten the duration ({duration:.4g} s)")
     if n_steps > WARN_STEPS:
-        expected = n_steps * len(scene.blocks) * BLOCK_STEP_SECONDS
+        expected = n_steps * (n_bodies - 1) * BLOCK_STEP_SECONDS
         warn_caller(f"a long run: {n_steps:.3g} steps (duration {duration:.4g} s at {step}); expect about "
                     f"{expected / 60:.3g} minutes")
 
 
-def _damping_hint(scene) -> str:
-    """The explicit dashpots of ``scene``, which may set the stability limit rather than its springs (or '')."""
-    p = scene.contact
-    given = {name: getattr(p, name) for name in ("cn", "cr", "ct") if getattr(p, name) is not None}
+def _damping_hint(law) -> str:
+    """The explicit dashpots of the compiled ``law``, which may set the stability limit rather than its springs
+    (or '')."""
+    given = {name: getattr(law, name) for name in ("cn", "cr", "ct") if not np.isnan(getattr(law, name))}
     if given:
         return "the explicit dashpots (" + ", ".join(f"{k} = {v:.3g} N s/m" for k, v in given.items()) + ") shrink"
     return ""
