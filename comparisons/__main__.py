@@ -1,17 +1,36 @@
 """``python -m comparisons report [--quick] [--out reports]``: run the harness, the ensembles, the overturning
-spectra and the stress tests, write the report, and print how long it all took."""
+spectra and the stress tests, write the report, and print how long it all took.  The other subcommands are
+the timings and calibrations of comparisons/benchmarks/ (``python -m comparisons SUBCOMMAND --help``)."""
 
 import argparse
 import sys
 import time
 from pathlib import Path
 
-from comparisons.ensembles import run_ensembles
-from comparisons.harness import run_harness
-from comparisons.overturning_spectra import run_spectra
-from comparisons.provenance import provenance
-from comparisons.report import write_report
-from comparisons.stress import run_stress
+from comparisons.benchmarks import (
+    against_pymunk,
+    calibrate_damping,
+    scaling,
+    stability_probe,
+    stiffness_ensembles,
+    sweep_throughput,
+)
+from comparisons.harness.case_runs import run_harness
+from comparisons.harness.ensembles import run_ensembles
+from comparisons.harness.overturning_spectra import run_spectra
+from comparisons.harness.stress import run_stress
+from comparisons.report.page import write_report
+from comparisons.report.provenance import provenance
+
+#: subcommand: the module of :mod:`comparisons.benchmarks` that declares its options and runs it
+BENCHMARKS = {
+    "against-pymunk": against_pymunk,
+    "scaling": scaling,
+    "sweep-throughput": sweep_throughput,
+    "stability-probe": stability_probe,
+    "calibrate-damping": calibrate_damping,
+    "stiffness-ensembles": stiffness_ensembles,
+}
 
 
 def make_report(quick: bool, out: Path, progress: bool = True) -> tuple[Path, dict]:
@@ -31,17 +50,34 @@ def make_report(quick: bool, out: Path, progress: bool = True) -> tuple[Path, di
     return index, parts
 
 
-def main(argv=None) -> int:
-    parser = argparse.ArgumentParser(prog="python -m comparisons", description=__doc__)
-    sub = parser.add_subparsers(dest="command", required=True)
-    report = sub.add_parser("report", help="run every case in every engine and write reports/index.html")
-    report.add_argument("--quick", action="store_true", help="the reduced set (under 3 minutes; what CI runs)")
-    report.add_argument("--out", default="reports", help="output folder (default: reports)")
-    report.add_argument("--no-progress", action="store_true")
-    args = parser.parse_args(argv)
+def _report(args) -> None:
     start = time.perf_counter()
     index, _ = make_report(args.quick, Path(args.out), progress=not args.no_progress)
     print(f"report written to {index} ({time.perf_counter() - start:.0f} s)")
+
+
+def parser() -> argparse.ArgumentParser:
+    """The command line: ``report`` and one subcommand per benchmark."""
+    top = argparse.ArgumentParser(prog="python -m comparisons", description=__doc__)
+    sub = top.add_subparsers(dest="command", required=True)
+    report = sub.add_parser("report", help="run every case in every engine and write reports/index.html",
+                            description="Run every case, ensemble, overturning spectrum and stress test in every "
+                                        "engine; write the tables, the figures and index.html into OUT.")
+    report.add_argument("--quick", action="store_true", help="the reduced set (under 3 minutes; what CI runs)")
+    report.add_argument("--out", default="reports", help="output folder (default: reports)")
+    report.add_argument("--no-progress", action="store_true")
+    report.set_defaults(run=_report)
+    for name, module in BENCHMARKS.items():
+        command = sub.add_parser(name, help=module.__doc__.splitlines()[0], description=module.__doc__,
+                                 formatter_class=argparse.RawDescriptionHelpFormatter)
+        module.arguments(command)
+        command.set_defaults(run=module.run)
+    return top
+
+
+def main(argv=None) -> int:
+    args = parser().parse_args(argv)
+    args.run(args)
     return 0
 
 

@@ -1,8 +1,13 @@
-"""Shared fixtures: the Housner block as a reference and as a scene."""
+"""Shared fixtures: the Housner block as a reference and as a scene; the study scripts as modules."""
+
+import importlib.util
+import sys
+from pathlib import Path
 
 import pytest
 
-from comparisons import analytical, cases
+from comparisons.cases import catalogue as cases
+from comparisons.references import analytical
 
 
 @pytest.fixture(scope="session")
@@ -13,3 +18,23 @@ def housner_block():
 @pytest.fixture(scope="session")
 def housner_scene():
     return cases.housner_scene()
+
+
+STUDIES = Path(__file__).parents[1] / "examples" / "studies"
+
+
+@pytest.fixture(scope="session")
+def load_study():
+    """``load_study(name)``: the study script ``examples/studies/<name>.py`` as a module, imported with its folder
+    first on ``sys.path`` (for its ``_study`` and ``_rigid`` helpers), as running the script would."""
+    def load(name):
+        sys.path.insert(0, str(STUDIES))
+        try:
+            spec = importlib.util.spec_from_file_location(name, STUDIES / f"{name}.py")
+            module = importlib.util.module_from_spec(spec)
+            spec.loader.exec_module(module)
+            return module
+        finally:
+            sys.path.remove(str(STUDIES))
+
+    return load

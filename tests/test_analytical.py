@@ -3,8 +3,8 @@
 import numpy as np
 import pytest
 
-from comparisons import analytical
-from comparisons.measures import peaks_between_crossings
+from comparisons.cases.measures import peaks_between_crossings
+from comparisons.references import analytical
 
 @pytest.mark.slow
 

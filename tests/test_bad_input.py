@@ -1,6 +1,7 @@
 """Ordinary mistakes in records, scene files and geometry get an error that names the culprit.
 
-Each test is one mistake a new user made; the old behaviour is in its docstring.
+Each test is one mistake a user can make; its docstring says what the toolkit answers instead of a raw
+Python or numpy error, a wrong result or silence.
 """
 
 import copy
@@ -31,7 +32,8 @@ AT2 = "HEAD\nEVENT\nACCELERATION TIME SERIES IN UNITS OF G\nNPTS=    4, DT= {dt}
 
 @pytest.mark.parametrize("dt", [0.0, float("nan"), -0.01, 1e-9])
 def test_one_column_record_with_a_meaningless_dt(tmp_path, dt):
-    """Was ZeroDivisionError for dt = 0 and 'cannot convert float NaN to integer' for NaN."""
+    """A dt of zero, NaN, below zero or below the shortest sampling interval is a RecordError naming the file
+    and the accepted range."""
     path = tmp_path / "one.txt"
     path.write_text("0.1\n0.2\n0.3\n0.1\n")
     with pytest.raises(RecordError, match=r"one\.txt: dt must be a finite sampling interval of at least 1e-06 s"):
@@ -39,7 +41,8 @@ def test_one_column_record_with_a_meaningless_dt(tmp_path, dt):
 
 
 def test_at2_with_a_tiny_dt(tmp_path):
-    """Was LinAlgError: Singular matrix, from the baseline correction."""
+    """An AT2 header's DT too small to be a sampling interval is refused naming the file and line, before the
+    baseline correction is attempted."""
     path = tmp_path / "tiny.AT2"
     path.write_text(AT2.format(dt="1e-300"))
     with pytest.raises(RecordError, match=r"tiny\.AT2:4: DT must be a finite sampling interval .* got 1e-300"):
@@ -47,7 +50,7 @@ def test_at2_with_a_tiny_dt(tmp_path):
 
 
 def test_at2_with_an_unreadable_dt(tmp_path):
-    """Was a bare "could not convert string to float: '.01.0'" naming no file."""
+    """An AT2 header's DT that is not a number is refused naming the file, the line and the text read."""
     path = tmp_path / "dots.AT2"
     path.write_text(AT2.format(dt=".01.0"))
     with pytest.raises(RecordError, match=r"dots\.AT2:4: cannot read DT '\.01\.0'"):
@@ -55,13 +58,15 @@ def test_at2_with_an_unreadable_dt(tmp_path):
 
 
 def test_baseline_correction_does_not_depend_on_the_unit_of_time():
-    """Was a singular system for small steps: its equations were written in powers of t_end."""
+    """The correction is the same at any time step: its equations are written in time over the record's
+    length, so a tiny step leaves them well conditioned."""
     a = np.array([0.1, 0.3, -0.2, 0.05])
     np.testing.assert_allclose(excitation.baseline_correct(a, 1e-150), excitation.baseline_correct(a, 0.01))
 
 
 def test_time_column_that_goes_backwards_names_its_line(tmp_path):
-    """Was taken quietly as 'no time column'."""
+    """A time column that goes backwards is refused naming its line, not read as a record without a time
+    column."""
     lines = [f"{0.01 * k:.2f} {math.sin(k / 10):.4f}" for k in range(400)]
     lines[300] = "2.98 0.1"
     path = tmp_path / "back.txt"
@@ -71,7 +76,8 @@ def test_time_column_that_goes_backwards_names_its_line(tmp_path):
 
 
 def test_time_column_with_another_step_than_the_dt_given(tmp_path):
-    """Was read as two acceleration columns, the time column taken as the motion."""
+    """A time column whose step differs from the dt given is refused naming both, not read as an acceleration
+    column."""
     path = tmp_path / "rec.txt"
     path.write_text("".join(f"{0.02 * k:.2f} {math.sin(k):.4f}\n" for k in range(50)))
     with pytest.raises(RecordError, match=r"dt=0\.01 was given but the time column steps by 0\.02"):
@@ -79,7 +85,8 @@ def test_time_column_with_another_step_than_the_dt_given(tmp_path):
 
 
 def test_nan_in_an_array_record_is_named_at_its_own_sample():
-    """Was 'sample 0 is not finite': the baseline correction had spread the NaN first."""
+    """A NaN in an array record is reported at its own sample: samples are checked before the baseline
+    correction, which would spread it over the whole record."""
     a = np.sin(np.arange(100) / 5.0)
     a[5] = np.nan
     with pytest.raises(RecordError, match=r"array record: sample 5 is not finite \(nan\)"):
@@ -89,13 +96,13 @@ def test_nan_in_an_array_record_is_named_at_its_own_sample():
 @pytest.mark.parametrize("argument, value", [("pga", float("nan")), ("pga", -1.0), ("scale", float("inf")),
                                              ("scale", 0.0), ("pga", "3")])
 def test_pga_and_scale_must_be_finite_and_positive(argument, value):
-    """Was 'el_centro_1940: sample 0 is not finite', naming neither pga nor scale."""
+    """A pga or scale that is not a finite positive number is refused naming the record and the argument."""
     with pytest.raises(RecordError, match=rf"el_centro_1940: {argument}.* must be a finite positive number"):
         excitation.record("el_centro_1940", **{argument: value})
 
 
 def test_mistyped_bundled_record_name_gets_the_close_match_and_the_list():
-    """Was 'el_centro_194: no such record file'."""
+    """A name close to a bundled record's gets the close match and the list of bundled records."""
     with pytest.raises(RecordError) as info:
         excitation.record("el_centro_194")
     message = str(info.value)
@@ -113,7 +120,8 @@ def test_record_of_one_sample(tmp_path):
 # --- geometry ----------------------------------------------------------------------------------------
 
 def test_tilted_stack_accepts_its_own_round_off_and_real_overlaps_are_still_refused():
-    """Was refused: a 3e-18 m^2 sliver where block3 meets block4 read as a 7 mm mean penetration."""
+    """A tilted stack whose corners meet within round-off (a 3e-18 m^2 sliver where block3 meets block4) is
+    accepted; blocks that really overlap are refused by name."""
     scene = scenes.stack([(1.2, 0.8), (1.0, 0.3), (0.8, 0.5), (0.5, 0.8), (0.4, 0.02), (0.4, 0.3)], tilt=-0.277)
     assert scene.block_names[-1] == "block6"
     base = Block("base", rectangle(10, 1, -5, -1))
@@ -123,7 +131,8 @@ def test_tilted_stack_accepts_its_own_round_off_and_real_overlaps_are_still_refu
 
 
 def test_block_floating_above_the_base_is_refused_by_name():
-    """Was accepted, and its free fall reported as 'overturned at t = 0.319 s'."""
+    """A block that starts clear of everything is refused by name, with the distance and the keyword that
+    allows it."""
     base = Block("base", rectangle(10, 1, -5, -1))
     stone = Block("stone", rectangle(1.0, 1.0, -0.5, 2.0))
     with pytest.raises(SceneError, match=r"block 'stone' starts out of contact .*'stone' is 2 m from 'base'.*"
@@ -134,7 +143,7 @@ def test_block_floating_above_the_base_is_refused_by_name():
 
 def test_an_allowed_free_fall_is_not_an_overturn():
     """A block released 2 m up lands flat after sqrt(2 h / g) = 0.64 s and stays up: falling is not
-    overturning (it was reported as 'overturned at t = 0.319 s')."""
+    overturning, whatever the block's drop in height."""
     base = Block("base", rectangle(10, 1, -5, -1))
     stone = Block("stone", rectangle(1.0, 1.0, -0.5, 2.0))
     result = dem_core.simulate(Scene((stone,), base, allow_free_blocks=True), duration=1.0)
@@ -210,7 +219,8 @@ def load_text(tmp_path, text):
      r"\[\[block\]\] and \[base\] tables describe a scene block by block, with builder = \"blocks\""),
 ])
 def test_scene_file_mistakes_name_file_table_key_type_and_value(tmp_path, text, message):
-    """Were raw TypeErrors, numpy's "ufunc 'isfinite' not supported", or accepted (n_drums = true)."""
+    """Each mistake is a SceneFileError that starts with the file's path and names the table, the key, the
+    type expected and the value given."""
     with pytest.raises(SceneFileError, match=message) as info:
         load_text(tmp_path, text)
     assert str(info.value).startswith(str(tmp_path / "broken.toml"))
@@ -237,14 +247,16 @@ def test_every_key_a_scene_file_accepts_has_a_type():
 # --- run size and the stability override ---------------------------------------------------------------
 
 def test_a_run_of_more_steps_than_can_be_meant_is_refused_naming_duration_and_step():
-    """Was: numpy's "Unable to allocate 742 GiB" for duration = 1e9."""
+    """A run of 1e13 steps is refused before anything is allocated, naming the duration and what set the
+    step."""
     with pytest.raises(RunTooLarge, match=r"[0-9.]+e\+13 steps \(duration 1e\+09 s at the automatic step dt = .* set by "
                        r"the (shortest impact|stability limit)"):
         dem_core.simulate(scenes.column(8), duration=1e9)
 
 
 def test_a_huge_damping_that_collapses_the_step_is_named():
-    """Was: cn = 1e15 shrank the automatic step to 1.7e-13 s and numpy failed to allocate."""
+    """A damping so large that the automatic step collapses (cn = 1e15 gives about 1e-13 s) is refused naming
+    the dashpots."""
     scene = scenes.column(8, contact=dem_core.ContactParameters(cn=1e15))
     with pytest.raises(RunTooLarge, match=r"explicit dashpots \(cn = 1e\+15 N s/m\)"):
         dem_core.simulate(scene, duration=1.0)
@@ -256,8 +268,8 @@ def test_outputs_that_would_not_fit_in_memory_are_refused_naming_output_dt():
 
 
 def test_a_long_run_is_announced_with_its_expected_wall_time():
-    """Was: a density of 1e-6 kg/m^3 took 342 s for 0.5 s of motion, with no warning.  Now that run (1.7e9
-    steps) is refused naming the lightest block, and a milder one is announced."""
+    """A run too long to be meant (density 1e-6 kg/m^3: 1.7e9 steps for 0.5 s) is refused naming the lightest
+    block; a milder one (1e-4 kg/m^3) runs with a warning that gives the expected wall time."""
     with pytest.raises(RunTooLarge, match=r"lightest block 'drum1' 7\.5e-07 kg"):
         Simulation(scenes.column(8, density=1e-6), duration=0.5)
     with pytest.warns(RuntimeWarning, match=r"a long run: [0-9.]+e\+08 steps .* lightest block 'drum1' 7\.5e-05 kg.*"
@@ -266,7 +278,8 @@ def test_a_long_run_is_announced_with_its_expected_wall_time():
 
 
 def test_a_run_past_the_stability_limit_says_so_in_its_result():
-    """Was: an 8-drum column under El Centro at 2x the limit returned a 3.8 times larger peak, unmarked."""
+    """A run at a step past the stability limit (allowed with enforce_stability_limit=False) warns, and its
+    result and summary say by how much; a run within the limit says neither."""
     scene = scenes.column(8)
     limit = dem_core.stability.stability_limit(compile_model(scene))
     with pytest.warns(RuntimeWarning, match=r"1\.50 times the stability limit .*enforce_stability_limit=False"):
@@ -377,7 +390,8 @@ def test_fuzzed_records_give_a_motion_or_a_record_error(tmp_path, lines, header,
 
 
 def test_a_count_that_is_surely_a_typo_is_refused_before_building():
-    """Was: a builder looping over 10**12 drums (stopped here after 5 s)."""
+    """A block count past MAX_BLOCKS is refused at once, before any block is built (the test gives up after
+    5 s)."""
     def give_up(signum, frame):
         raise TimeoutError("still building after 5 s")
 
@@ -392,8 +406,8 @@ def test_a_count_that_is_surely_a_typo_is_refused_before_building():
 
 
 def test_run_warnings_point_at_the_line_that_started_the_run():
-    """Was: the warnings' stacklevel assumed a call through simulate(), so a direct Simulation(...) blamed the
-    caller's caller."""
+    """A run's warnings name the test's own line, whether the run is started by simulate() or by
+    Simulation(...) directly."""
     scene = scenes.column(8)
     beyond = {"duration": 0.01, "dt": 1.5 * dem_core.stability.stability_limit(compile_model(scene)),
               "enforce_stability_limit": False}

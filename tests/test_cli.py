@@ -167,7 +167,8 @@ def test_warnings_print_as_one_line_a_user_reads(monkeypatch, capsys):
 @pytest.mark.parametrize("argv", [["animate", "--out", "anim"], ["animate", "--out", "movie.avi"],
                                   ["run", "--animate", "run.png", "--no-plots"]])
 def test_an_animation_name_without_gif_or_mp4_is_refused_before_the_run(argv, tmp_path, capsys, monkeypatch):
-    """Was: the whole run, then a raw ValueError traceback from the animation writer."""
+    """An animation name without .gif or .mp4 is refused (exit status 2, the reason on stderr) before the
+    simulation starts."""
     monkeypatch.chdir(tmp_path)
     monkeypatch.setattr(cli, "simulate", lambda *a, **k: pytest.fail("the run started"))
     assert main(argv) == 2

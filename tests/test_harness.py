@@ -1,6 +1,6 @@
 """The comparison report on its quick set (what ``python -m comparisons report --quick`` runs): each engine
-within the bands its cases, ensembles and spectra declare, the native core ahead where it is ahead
-today, a consensus that leaves the judged engine out, and a page whose figures and links are whole, whose
+within the bands its cases, ensembles and spectra declare, the native core ahead where :data:`AHEAD`
+says it is, a consensus that leaves the judged engine out, and a page whose figures and links are whole, whose
 headers are plain words, and which states its commit."""
 
 import html.parser
@@ -11,14 +11,17 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from comparisons import cases, consensus, ensembles, figures, overturning_spectra, verdicts
 from comparisons.__main__ import make_report
-from comparisons.case import ENGINES, EXACT_RELATIVE
-from comparisons.engines import USUAL_STEP, step_label
+from comparisons.cases import catalogue as cases
+from comparisons.cases.case import ENGINES, EXACT_RELATIVE
+from comparisons.harness import consensus, ensembles, overturning_spectra
+from comparisons.harness.engines import USUAL_STEP, step_label
+from comparisons.report import figures, verdicts
 
 pytestmark = pytest.mark.slow  # the whole module
 
-#: where the native core at its automatic step is more accurate today than an engine at 1e-3 s
+#: where the native core at its automatic step is more accurate than an engine at 1e-3 s (a test fails if it falls
+#: behind)
 AHEAD = [
     ("free_rocking", "peak_decay", "pymunk"), ("free_rocking", "peak_decay", "pybullet"),
     ("free_rocking", "peak_decay", "mujoco"), ("sine_pulse", "peak_rotation", "pybullet"),

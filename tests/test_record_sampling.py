@@ -1,30 +1,14 @@
 """The Kalamata record at its settled sampling interval (0.01 s) looks like the 1986 mainshock the thesis used."""
 
-import importlib.util
-import sys
-from pathlib import Path
-
 import numpy as np
 import pytest
 
 from dem_core import excitation, records
 
-STUDIES = Path(__file__).parents[1] / "examples" / "studies"
 THESIS_PREDOMINANT_HZ = (2.9, 3.5)  # the thesis' Kalamata record: predominant frequencies
 #: Afshari and Stewart (2016) D5-95 median range for the scenario (Mw 5.9, 3-6 km, Vs30 300-450 m/s), widened
 #: by one log standard deviation (0.43) each way
 D5_95_BAND_S = (6.02 * np.exp(-0.43), 7.52 * np.exp(0.43))
-
-
-def _study():
-    sys.path.insert(0, str(STUDIES))
-    try:
-        spec = importlib.util.spec_from_file_location("kalamata_sampling", STUDIES / "kalamata_sampling.py")
-        module = importlib.util.module_from_spec(spec)
-        spec.loader.exec_module(module)
-        return module
-    finally:
-        sys.path.remove(str(STUDIES))
 
 
 def test_kalamata_is_read_at_0_01_s():
@@ -34,8 +18,8 @@ def test_kalamata_is_read_at_0_01_s():
     assert motion.end_time == pytest.approx(25.9, abs=0.011)
 
 
-def test_kalamata_spectrum_peak_and_duration_match_the_earthquake():
-    study = _study()
+def test_kalamata_spectrum_peak_and_duration_match_the_earthquake(load_study):
+    study = load_study("kalamata_sampling")
     samples = np.loadtxt(records.bundled_path("kalamata_1986"))
     found = study.measure(samples, records.BUNDLED["kalamata_1986"].dt)
     assert THESIS_PREDOMINANT_HZ[0] <= found["psa_peak_hz"] <= THESIS_PREDOMINANT_HZ[1]  # measured 3.24 Hz
@@ -45,6 +29,6 @@ def test_kalamata_spectrum_peak_and_duration_match_the_earthquake():
     assert not THESIS_PREDOMINANT_HZ[0] <= at_source_dt["psa_peak_hz"] <= THESIS_PREDOMINANT_HZ[1]  # 1.69 Hz
 
 
-def test_significant_duration_of_a_constant_signal_is_its_share_of_the_length():
-    study = _study()
+def test_significant_duration_of_a_constant_signal_is_its_share_of_the_length(load_study):
+    study = load_study("kalamata_sampling")
     assert study.significant_duration(np.ones(1001), 0.01, 0.05, 0.95) == pytest.approx(9.0, rel=1e-9)

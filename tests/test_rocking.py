@@ -65,8 +65,8 @@ def test_squat_block_loses_housners_energy():
 @pytest.mark.slow
 
 def test_housner_closed_forms_are_the_small_angle_limit_of_the_reference(housner_block):
-    """The closed forms the free-rocking cases were first judged by agree with the exact reference to the
-    size of their linearisation (0.34% on the quarter period, 0.12% on the peaks here)."""
+    """Housner's closed forms for free rocking agree with the exact reference to the size of their
+    linearisation (0.34% on the quarter period, 0.12% on the peaks here)."""
     theta0 = cases.HOUSNER_THETA0
     exact = analytical.rocking_response(housner_block, lambda t: 0.0, 3.0, theta0=theta0, max_step=1e-4)
     assert exact.impacts[0] == pytest.approx(analytical.housner_period(housner_block, theta0) / 4, rel=0.004)

@@ -100,3 +100,23 @@ def test_scene_is_immutable():
         s.blocks[0].vertices[0, 0] = 5.0
     with pytest.raises(AttributeError):
         s.gravity = 1.0
+
+
+def test_every_builder_takes_the_scene_options_with_their_defaults():
+    """The fields of SceneOptions are keyword-only parameters of every builder, with the same defaults (scene
+    files read them from the signature), and reach the blocks and the base."""
+    import inspect
+    from dataclasses import fields
+
+    options = {f.name: f.default for f in fields(scenes.SceneOptions)}
+    for builder in (scenes.block, scenes.stack, scenes.column, scenes.loaded_column, scenes.colonnade,
+                    scenes.two_tier_colonnade):
+        parameters = inspect.signature(builder).parameters
+        assert {name: parameters[name].default for name in options} == options
+        assert {parameters[name].kind for name in options} == {inspect.Parameter.KEYWORD_ONLY}
+    s = scenes.colonnade(3, 2, density=2000.0, friction=0.5, depth=0.8, base_width=20.0, epistyle_density=9000.0)
+    assert {(b.density, b.friction, b.depth) for b in s.blocks if "epistyle" not in b.name} == {(2000.0, 0.5, 0.8)}
+    assert s.blocks[-1].density == 9000.0 and (s.base.friction, s.base.depth) == (0.5, 0.8)
+    assert np.ptp(s.base.vertices[:, 0]) == pytest.approx(20.0)
+    with pytest.raises(TypeError, match="unexpected keyword argument 'options'"):
+        scenes.column(2, options=scenes.SceneOptions())

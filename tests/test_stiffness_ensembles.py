@@ -1,10 +1,11 @@
-"""The stiffness-ensemble summary (comparisons/stiffness_ensembles.py) on ensembles whose answers are known."""
+"""The stiffness-ensemble summary (comparisons/benchmarks/stiffness_ensembles.py) on ensembles whose answers are
+known."""
 
 import numpy as np
 import pandas as pd
 import pytest
 
-from comparisons.stiffness_ensembles import compare, median_change_interval, summarise
+from comparisons.benchmarks.stiffness_ensembles import compare, median_change_interval, summarise
 
 
 def _table(**runs):

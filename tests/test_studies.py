@@ -1,28 +1,11 @@
 """The study scripts build the scenes their titles promise (running them takes minutes: not done here)."""
 
-import importlib.util
-import sys
-from pathlib import Path
-
 import numpy as np
 import pytest
 
-STUDIES = Path(__file__).parents[1] / "examples" / "studies"
 
-
-def _load(name):
-    sys.path.insert(0, str(STUDIES))
-    try:
-        spec = importlib.util.spec_from_file_location(name, STUDIES / f"{name}.py")
-        module = importlib.util.module_from_spec(spec)
-        spec.loader.exec_module(module)
-        return module
-    finally:
-        sys.path.remove(str(STUDIES))
-
-
-def test_small_scale_column_is_seven_48_by_29_mm_blocks():
-    study = _load("frequency_response")
+def test_small_scale_column_is_seven_48_by_29_mm_blocks(load_study):
+    study = load_study("frequency_response")
     spec = study.small_column({"mu": 0.68, "pga": 3.0, "frequency": 5.0})
     assert len(spec.scene.blocks) == 7
     for block in spec.scene.blocks:
@@ -32,8 +15,8 @@ def test_small_scale_column_is_seven_48_by_29_mm_blocks():
     assert np.max(np.abs(spec.excitation.acceleration(np.linspace(0, 1, 1001))[0])) == pytest.approx(3.0, rel=1e-3)
 
 
-def test_weak_interface_gets_its_friction_and_the_others_0_48():
-    study = _load("interface_friction")
+def test_weak_interface_gets_its_friction_and_the_others_0_48(load_study):
+    study = load_study("interface_friction")
     spec = study.column({"blocks": 4, "interface": 2, "mu": 0.05})
     assert spec.scene.friction("drum2", "drum3") == 0.05
     assert spec.scene.friction("base", "drum1") == spec.scene.friction("drum3", "drum4") == 0.48
@@ -47,13 +30,13 @@ def test_weak_interface_gets_its_friction_and_the_others_0_48():
     ("taper", {"taper": 0.3, "frequency": 2.0}, 3 * 3 + 1),
     ("two_tier", {"pga": 3.0, "frequency": 1.0}, 3 * 3 + 1 + 3 * 2 + 1),
 ])
-def test_colonnade_study_scenes(builder, params, blocks):
-    spec = getattr(_load("colonnades"), builder)(params)
+def test_colonnade_study_scenes(load_study, builder, params, blocks):
+    spec = getattr(load_study("colonnades"), builder)(params)
     assert len(spec.scene.blocks) == blocks
 
 
-def test_thesis_tables_use_the_thesis_set_up():
-    study = _load("thesis_tables")
+def test_thesis_tables_use_the_thesis_set_up(load_study):
+    study = load_study("thesis_tables")
     systems = {key: (build, reference, thesis) for key, _, _, build, reference, thesis in study.systems()}
     thesis_law = study.LAWS["overlap-area 1e8"]
     assert (thesis_law.law, thesis_law.kn, thesis_law.cn, thesis_law.cr) == ("overlap_area", 1e8, 1e3, 0.0)
@@ -72,9 +55,9 @@ def test_thesis_tables_use_the_thesis_set_up():
     assert north_south == pytest.approx(0.0995 * 9.80665, rel=2e-3)  # the thesis' 0.98 m/s^2
 
 
-def test_rigid_references_of_the_studies():
-    rigid = _load("_rigid")
-    from comparisons.analytical import RockingBlock
+def test_rigid_references_of_the_studies(load_study):
+    rigid = load_study("_rigid")
+    from comparisons.references.analytical import RockingBlock
     from dem_core import scenes
     monolith = RockingBlock.from_size(1.0, 6.0)
     block, restitution = rigid.rigid_body(scenes.column(1))

@@ -178,7 +178,8 @@ QUIET_SPEC = SPEC.replace("time_histories = true", "time_histories = false").rep
 
 
 def test_rerun_after_editing_the_base_file_is_refused_then_overwritten(tmp_path):
-    """Was: every run skipped as done, results.parquet still reporting the old duration."""
+    """A sweep file whose base settings changed is refused in the folder of its former self, naming the change;
+    with overwrite it runs again and results.parquet reports the new settings."""
     path = tmp_path / "spec.toml"
     path.write_text(QUIET_SPEC.replace("duration = 1.0", "duration = 2.0"))
     first = run_sweep(load_sweep(path), tmp_path / "out", workers=1, progress=False)
@@ -195,7 +196,8 @@ def test_rerun_after_editing_the_base_file_is_refused_then_overwritten(tmp_path)
 
 
 def test_another_sweep_into_the_same_folder_is_refused_not_mixed(tmp_path):
-    """Was: 12 old rows mixed with 3 new ones in results.parquet."""
+    """Another sweep into a folder that holds one is refused, naming both; with overwrite only its own runs
+    are left in results.parquet and runs/."""
     first = Sweep(block_under_pulse, {"mu": [0.7, 0.5], "amplitude": [1.0, 2.0]})
     run_sweep(first, tmp_path, workers=2, progress=False)
     other = Sweep(block_under_pulse, {"mu": [0.6], "amplitude": [1.0, 2.0, 3.0]})
@@ -224,7 +226,8 @@ def test_cli_refuses_a_folder_of_another_sweep(tmp_path, capsys):
 # --- failures ------------------------------------------------------------------------------------
 
 def test_failing_first_point_of_a_sweep_file_is_a_failed_row(tmp_path):
-    """Was: the whole sweep refused, although failures are recorded and the rest go on."""
+    """A point whose scene cannot be built, even the first, is a failed row with its error and 0 attempts;
+    the other points run."""
     path = tmp_path / "spec.toml"
     path.write_text(QUIET_SPEC.replace("[sweep.excitation]", "[sweep.scene]\nfriction = [-0.1, 0.7]\n"
                                                              "[sweep.excitation]"))
@@ -233,7 +236,7 @@ def test_failing_first_point_of_a_sweep_file_is_a_failed_row(tmp_path):
     failed = table[table["scene.friction"] == -0.1]
     assert set(failed.status) == {"failed"} and failed.error.str.contains("friction must be >= 0").all()
     assert set(table[table["scene.friction"] == 0.7].status) == {"ok"}
-    assert table.attempts.dtype.kind == "i" and set(failed.attempts) == {0}  # never run; was NaN (floats)
+    assert table.attempts.dtype.kind == "i" and set(failed.attempts) == {0}  # never run: 0, an integer
 
 
 def test_sweep_file_with_a_value_of_the_wrong_type_is_refused_at_once(tmp_path):
@@ -281,7 +284,8 @@ class SometimesKillsItsWorker:
 
 
 def test_a_dead_worker_fails_only_its_own_run_after_one_retry(tmp_path):
-    """Was: a raw BrokenProcessPool traceback, the whole sweep aborted and no results.parquet."""
+    """A worker killed during a run fails that run alone, after one retry; the other runs finish and
+    results.parquet has every row."""
     sweep = Sweep(SometimesKillsItsWorker(str(tmp_path)), {"case": ["ok", "dies", "dies_once", "also_ok"]})
     table = run_sweep(sweep, tmp_path / "out", workers=2, progress=False)
     assert list(table.case) == ["ok", "dies", "dies_once", "also_ok"]
@@ -312,7 +316,7 @@ def _alive(pid: int) -> bool:
 
 @pytest.mark.skipif(not Path("/proc/self/stat").exists(), reason="reads /proc")
 def test_killing_the_sweep_ends_its_workers(tmp_path):
-    """Was: the workers of a SIGKILLed sweep lived on."""
+    """Killing the sweep's process with SIGKILL ends its worker processes too."""
     spec = tmp_path / "spec.toml"
     spec.write_text(QUIET_SPEC.replace("duration = 1.0", "duration = 60.0")
                     .replace("frequency = {start = 1.0, stop = 2.0, num = 2}", "frequency = [1.0, 1.5, 2.0, 2.5]"))

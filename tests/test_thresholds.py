@@ -5,9 +5,9 @@ import numpy as np
 import pytest
 
 import dem_core
-from comparisons import analytical
-from comparisons.measures import first_exceedance
-from comparisons.rocking_reference import rocking_response
+from comparisons.cases.measures import first_exceedance
+from comparisons.references import analytical
+from comparisons.references.rocking_equation import rocking_response
 from dem_core import excitation, scenes, thresholds
 
 # Overturning amplitude of one-sine pulses on the 1 x 6 m monolith, native core against the rocking equation

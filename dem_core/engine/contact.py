@@ -41,7 +41,7 @@ DEFAULT_TANGENTIAL_DAMPING_RATIO = 0.2
 #: 0.2 alpha, with the other contact parameters at their defaults and a time
 #: step converged for the impacts (0.1 of the stability limit); the worst
 #: peak error there is under 0.4% up to alpha = 0.25, 0.8% at 0.3, 1.9% at
-#: 0.4.  Output of ``python -m comparisons.calibrate_damping``.
+#: 0.4.  Output of ``python -m comparisons calibrate-damping``.
 HOUSNER_DAMPING = (
     (0.06, 0.189), (0.08, 0.340), (0.10, 0.472), (0.125, 0.601), (0.15, 0.697), (0.175, 0.769),
     (0.2, 0.822), (0.25, 0.896), (0.3, 0.952), (0.35, 1.004), (0.4, 1.058),

@@ -16,6 +16,8 @@ from pathlib import Path
 
 import numpy as np
 
+from .text_files import file_errors
+
 G_STANDARD = 9.80665  # m/s^2, the g that record files in units of g refer to
 #: time columns are printed rounded (the Mexico City file steps 0.01999 and 0.02001): steps may differ this much
 TIME_STEP_TOLERANCE = 1e-3
@@ -224,15 +226,9 @@ def _time_step(t, line_numbers, path) -> tuple[float, float]:
 
 
 def _read_lines(path: Path) -> list:
-    try:
+    with file_errors(path, RecordError, "record file", hint=lambda: _bundled_hint(str(path))):
         with open(path, encoding="utf-8", errors="strict", newline=None) as fh:
             return fh.read().splitlines()
-    except FileNotFoundError:
-        raise RecordError(f"{path}: no such record file{_bundled_hint(str(path))}") from None
-    except IsADirectoryError:
-        raise RecordError(f"{path}: is a folder, not a record file") from None
-    except UnicodeDecodeError as exc:
-        raise RecordError(f"{path}: not a text file ({exc.reason} at byte {exc.start})") from None
 
 
 def _number(token: str, path, lineno: int) -> float:

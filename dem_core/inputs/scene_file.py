@@ -49,6 +49,7 @@ from . import excitation as excitation_module
 from . import scenes
 from ..engine.contact import ContactParameters
 from .scene import Block, Scene
+from .text_files import file_errors
 
 
 class SceneFileError(ValueError):
@@ -176,14 +177,8 @@ def read_toml(path, error=None, what: str = "scene file") -> dict:
     :class:`SceneFileError`) naming the file."""
     error = error or SceneFileError
     try:
-        with open(path, "rb") as fh:
+        with file_errors(path, error, what), open(path, "rb") as fh:
             return tomllib.load(fh)
-    except FileNotFoundError:
-        raise error(f"{path}: no such {what}") from None
-    except IsADirectoryError:
-        raise error(f"{path}: is a folder, not a {what}") from None
-    except UnicodeDecodeError as exc:
-        raise error(f"{path}: not a text file ({exc.reason} at byte {exc.start})") from None
     except tomllib.TOMLDecodeError as exc:
         raise error(f"{path}: not valid TOML: {exc}") from None
 

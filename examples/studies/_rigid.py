@@ -1,6 +1,6 @@
 """Rigid rocking references of the studies' systems, as inputs of the compiled rocking equation.
 
-:func:`comparisons.rocking_reference.rocking_response` integrates the rocking equation of a
+:func:`comparisons.references.rocking_equation.rocking_response` integrates the rocking equation of a
 rectangular block (``p``, ``alpha``, Housner's restitution unless given).  Two other systems of the
 studies obey the same equation with other constants:
 
@@ -14,15 +14,15 @@ studies obey the same equation with other constants:
   ``p^2 (1 + 2 gamma) / (1 + 3 gamma)`` and ``e = (1 - 1.5 sin^2 alpha + 3 gamma cos 2 alpha) /
   (1 + 3 gamma)`` with ``gamma = M / (N m)``; it uplifts at ``g tan(alpha)`` like one column.
 
-Each is returned as the :class:`~comparisons.analytical.RockingBlock` with that ``alpha`` and ``p``
+Each is returned as the :class:`~comparisons.references.analytical.RockingBlock` with that ``alpha`` and ``p``
 (a rectangle of another size) and the restitution to pass with it.
 """
 
 import numpy as np
 from _checkout import ROOT  # noqa: F401 - this checkout's packages below
 
-from comparisons.analytical import G, RockingBlock
-from comparisons.rocking_reference import StepBudgetExceeded, rocking_response
+from comparisons.references.analytical import G, RockingBlock
+from comparisons.references.rocking_equation import StepBudgetExceeded, rocking_response
 from dem_core.analyses.thresholds import scan_and_refine
 
 

@@ -18,6 +18,7 @@ from _checkout import ROOT
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
+import pandas as pd  # noqa: E402
 from matplotlib import ticker, transforms  # noqa: E402
 
 from dem_core.analyses.sweep import Sweep, SweepError, run_sweep  # noqa: E402
@@ -57,14 +58,14 @@ def sweep(name: str, build, parameters: dict, *, workers=WORKERS, mode="grid"):
 
 @functools.cache
 def core_fingerprint() -> str:
-    """A digest of what decides a threshold (the engine, the inputs: scenes, record readers and the
-    bundled records, motions, and the search itself), so that a search cached under another core, default
-    or record file is never reused."""
+    """A digest of what decides a threshold (the engine and the run around it, the inputs: scenes, record
+    readers and the bundled records, motions, and the search itself), so that a search cached under another
+    core, default or record file is never reused."""
     core = ROOT / "dem_core"
     digest = hashlib.sha256()
     for path in sorted([*(core / "engine").rglob("*.py"), *(core / "inputs").rglob("*.py"),
                         *(p for p in (core / "data").rglob("*") if p.is_file()),
-                        core / "analyses" / "thresholds.py"]):
+                        core / "simulation.py", core / "analyses" / "thresholds.py"]):
         digest.update(path.relative_to(ROOT).as_posix().encode())
         digest.update(path.read_bytes())
     return digest.hexdigest()[:12]
@@ -132,10 +133,37 @@ def plain_log_ticks(axis) -> None:
     axis.set_minor_formatter(ticker.NullFormatter())
 
 
-def save(fig, name: str, file: str) -> str:
+def save_figure(fig, name: str, file: str, caption: str, *, legend: float | None = None, grid: dict | None = None,
+                rect=None) -> tuple[str, str]:
+    """Finish ``fig`` and write it as ``file`` of study ``name``: with ``legend`` (a font size), each of its axes
+    first gets a light grid (``grid``: further keywords of ``Axes.grid``) and a legend; then it is laid out within
+    ``rect`` (default the whole figure), saved and closed.  Returns ``(file, caption)``, a figure as
+    :func:`write_readme` takes it."""
+    if legend is not None:
+        for ax in fig.axes:
+            ax.grid(alpha=0.3, **(grid or {}))
+            ax.legend(fontsize=legend)
+    fig.tight_layout(rect=rect)
     fig.savefig(out_dir(name) / file, dpi=120)
     plt.close(fig)
-    return file
+    return file, caption
+
+
+def results_table(name: str, rows: list, file: str = "results.parquet") -> pd.DataFrame:
+    """``rows`` (dicts) as a table, also written as ``file`` of study ``name``."""
+    table = pd.DataFrame(rows)
+    table.to_parquet(out_dir(name) / file, index=False)
+    return table
+
+
+def fmt(value, non_monotonic=False, failed=0, digits=3) -> str:
+    """A threshold (m/s^2) as the tables show it: ``digits`` significant digits, ``*`` where a larger scale
+    survived a smaller one's collapse and the number of failed runs if any; ``none in range`` where the search
+    found none (NaN), ``-`` where there is no such value (None: no thesis number, no rigid reference)."""
+    if value is None:
+        return "-"
+    text = f"{value:.{digits}g}" if np.isfinite(value) else "none in range"
+    return text + ("*" if non_monotonic else "") + (f" ({failed} failed)" if failed else "")
 
 
 def write_readme(name: str, title: str, findings: list, figures: list, started: float, script: str, *,

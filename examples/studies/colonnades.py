@@ -5,7 +5,7 @@ import time
 
 import matplotlib.pyplot as plt
 import numpy as np
-from _study import curve, save, sweep, write_readme
+from _study import curve, save_figure, sweep, write_readme
 
 from dem_core import excitation, scenes
 from dem_core.analyses.sweep import RunSpec
@@ -100,33 +100,38 @@ def main():
                                              "frequency": FREQUENCIES})
     tapers = sweep(f"{NAME}/taper", taper, {"taper": [0.0, 0.1, 0.2, 0.3], "frequency": FREQUENCIES})
     tiers = sweep(f"{NAME}/two_tier", two_tier, {"pga": [1.5, 3.0, 4.5], "frequency": FREQUENCIES})
+    shown = figures(kinds, spans, tapers, tiers)
+    write_readme(NAME, "Colonnades under harmonic motion", findings(kinds, spans, tapers, tiers), shown, started,
+                 "colonnades.py")
 
-    fig, axes = plt.subplots(2, 4, figsize=(16, 7), sharex=True)
-    for k, kind in enumerate("abcd"):
-        panel(axes[0, k], kinds[kinds.epistyle == kind], "density", "kg/m^3", peak, "peak rotation (mrad)")
-        panel(axes[1, k], kinds[kinds.epistyle == kind], "density", "kg/m^3", epi, "epistyle displacement (mm)")
-        axes[0, k].set_title(f"epistyle type {kind}")
-    fig.suptitle(f"3 columns x 3 drums, spacing 2.5 m, harmonic PGA {PGA:g} m/s^2 (x on top: overturned; "
-                 "open diamond at the bottom: run failed)", fontsize=10)
-    fig.tight_layout()
-    figures = [(save(fig, NAME, "epistyle_type_density.png"),
-                "Peak rotation (top) and epistyle displacement (bottom) against frequency, one panel per epistyle "
-                "type, "
-                "one line per epistyle density; crosses along the top are runs that overturned, open diamonds along "
-                "the bottom runs that failed.")]
 
-    fig, axes = plt.subplots(2, 3, figsize=(13, 7), sharex=True)
-    for k, spacing in enumerate(sorted(spans.spacing.unique())):
-        panel(axes[0, k], spans[spans.spacing == spacing], "n_columns", "columns:", peak, "peak rotation (mrad)")
-        panel(axes[1, k], spans[spans.spacing == spacing], "n_columns", "columns:", epi, "epistyle displacement (mm)")
-        axes[0, k].set_title(f"spacing {spacing:g} m")
-    fig.suptitle(f"Colonnades of 3-drum columns, one epistyle (a), harmonic PGA {PGA:g} m/s^2 (x on top: "
-                 "overturned; open diamond at the bottom: run failed)", fontsize=10)
-    fig.tight_layout()
-    figures.append((save(fig, NAME, "columns_spacing.png"),
-                    "The same measures for 2 to 5 columns (lines) at each spacing (panels); failed runs are the open "
-                    "diamonds, not standing runs."))
+def two_row_figure(panels, group, label, setup, figsize):
+    """Peak rotation (top row) and epistyle displacement (bottom row) against frequency: a column of panels per
+    ``(title, runs)`` of ``panels``, a line per value of ``group``; ``setup`` begins the figure's title."""
+    fig, axes = plt.subplots(2, len(panels), figsize=figsize, sharex=True)
+    for k, (title, runs) in enumerate(panels):
+        panel(axes[0, k], runs, group, label, peak, "peak rotation (mrad)")
+        panel(axes[1, k], runs, group, label, epi, "epistyle displacement (mm)")
+        axes[0, k].set_title(title)
+    fig.suptitle(f"{setup}, harmonic PGA {PGA:g} m/s^2 (x on top: overturned; open diamond at the bottom: run "
+                 "failed)", fontsize=10)
+    return fig
 
+
+def figures(kinds, spans, tapers, tiers):
+    """The study's three figures, as :func:`write_readme` takes them."""
+    fig = two_row_figure([(f"epistyle type {kind}", kinds[kinds.epistyle == kind]) for kind in "abcd"], "density",
+                         "kg/m^3", "3 columns x 3 drums, spacing 2.5 m", (16, 7))
+    found = [save_figure(fig, NAME, "epistyle_type_density.png",
+                         "Peak rotation (top) and epistyle displacement (bottom) against frequency, one panel per "
+                         "epistyle type, one line per epistyle density; crosses along the top are runs that "
+                         "overturned, open diamonds along the bottom runs that failed.")]
+    fig = two_row_figure([(f"spacing {spacing:g} m", spans[spans.spacing == spacing])
+                          for spacing in sorted(spans.spacing.unique())], "n_columns", "columns:",
+                         "Colonnades of 3-drum columns, one epistyle (a)", (13, 7))
+    found.append(save_figure(fig, NAME, "columns_spacing.png",
+                             "The same measures for 2 to 5 columns (lines) at each spacing (panels); failed runs are "
+                             "the open diamonds, not standing runs."))
     fig, axes = plt.subplots(1, 4, figsize=(17, 4))
     panel(axes[0], tapers, "taper", "taper", peak, "peak rotation (mrad)")
     panel(axes[1], tapers, "taper", "taper", epi, "epistyle displacement (mm)")
@@ -136,42 +141,44 @@ def main():
     axes[0].set_title("tapered columns (same mass)")
     axes[2].set_title("two-tier colonnade: lower epistyle")
     axes[3].set_title("two-tier colonnade: upper epistyle")
-    fig.tight_layout()
-    figures.append((save(fig, NAME, "taper_two_tier.png"),
-                    "Tapered colonnades (left two panels) and the two-tier colonnade's lower and upper epistyles at "
-                    "three PGAs (right two panels)."))
+    found.append(save_figure(fig, NAME, "taper_two_tier.png",
+                             "Tapered colonnades (left two panels) and the two-tier colonnade's lower and upper "
+                             "epistyles at three PGAs (right two panels)."))
+    return found
 
-    findings = [f"Set-up: friction {FRICTION:g} at every interface, default contact law (corner, K_n "
-                f"{CORNER_STIFFNESS:.0e} N/m^2), harmonic ground motion for {DURATION:g} s at PGA {PGA:g} "
-                "m/s^2 unless stated; columns 6 m x 1 m of 3 drums, epistyles 0.8 m high. Medians are over the "
-                "frequencies at which every compared case stood, named in each line; failed runs (the run stopped "
-                "on an energy-balance or stability error) are counted apart, never as standing."]
-    for kind in "abcd":
-        runs = kinds[kinds.epistyle == kind]
-        medians, common = common_medians(runs, "density", peak)
-        findings.append(f"Epistyle {kind}: {outcome_counts(runs)} of {len(runs)} runs; median peak rotation at "
-                        f"{', '.join(f'{f:g}' for f in common) or 'no'} Hz by epistyle density: "
-                        + (", ".join(f"{d:g} kg/m^3 {v:.3g} mrad" for d, v in medians.items()) or "none") + ".")
-    for spacing in sorted(spans.spacing.unique()):
-        runs = spans[spans.spacing == spacing]
-        medians, common = common_medians(runs, "n_columns", peak)
-        findings.append(f"Spacing {spacing:g} m: {outcome_counts(runs)} of {len(runs)} runs; median peak rotation at "
-                        f"{', '.join(f'{f:g}' for f in common) or 'no'} Hz by number of columns: "
-                        + (", ".join(f"{n}: {v:.3g} mrad" for n, v in medians.items()) or "none") + ".")
-    medians, common = common_medians(tapers, "taper", peak)
-    findings.append(f"Taper: {outcome_counts(tapers)} of {len(tapers)} runs; median peak rotation at "
-                    f"{', '.join(f'{f:g}' for f in common) or 'no'} Hz by taper: "
-                    + (", ".join(f"{t:g}: {v:.3g} mrad" for t, v in medians.items()) or "none") + ".")
+
+def rotation_finding(heading, runs, group, by, item):
+    """A finding: the outcomes of ``runs`` and their median peak rotation by ``group`` (called ``by``), each
+    value and median written as ``item(value, median)``."""
+    medians, common = common_medians(runs, group, peak)
+    return (f"{heading}: {outcome_counts(runs)} of {len(runs)} runs; median peak rotation at "
+            f"{', '.join(f'{f:g}' for f in common) or 'no'} Hz by {by}: "
+            + (", ".join(item(value, median) for value, median in medians.items()) or "none") + ".")
+
+
+def findings(kinds, spans, tapers, tiers):
+    """The study's findings, computed from its sweeps."""
+    found = [f"Set-up: friction {FRICTION:g} at every interface, default contact law (corner, K_n "
+             f"{CORNER_STIFFNESS:.0e} N/m^2), harmonic ground motion for {DURATION:g} s at PGA {PGA:g} "
+             "m/s^2 unless stated; columns 6 m x 1 m of 3 drums, epistyles 0.8 m high. Medians are over the "
+             "frequencies at which every compared case stood, named in each line; failed runs (the run stopped "
+             "on an energy-balance or stability error) are counted apart, never as standing."]
+    found += [rotation_finding(f"Epistyle {kind}", kinds[kinds.epistyle == kind], "density", "epistyle density",
+                               lambda d, v: f"{d:g} kg/m^3 {v:.3g} mrad") for kind in "abcd"]
+    found += [rotation_finding(f"Spacing {spacing:g} m", spans[spans.spacing == spacing], "n_columns",
+                               "number of columns", lambda n, v: f"{n}: {v:.3g} mrad")
+              for spacing in sorted(spans.spacing.unique())]
+    found.append(rotation_finding("Taper", tapers, "taper", "taper", lambda t, v: f"{t:g}: {v:.3g} mrad"))
     for pga in sorted(tiers.pga.unique()):
         runs = tiers[tiers.pga == pga]
         standing = runs[(runs.status == "ok") & ~runs.overturned.fillna(False).astype(bool)]
         lower = epistyle_displacement(standing, "lower_") * 1e3
         upper = upper_epi(standing)
-        findings.append(f"Two-tier colonnade at PGA {pga:g} m/s^2: {outcome_counts(runs)} of {len(runs)} runs; "
-                        "largest peak displacement of the standing runs: lower epistyle "
-                        + (f"{lower.max():.3g} mm, upper epistyle {upper.max():.3g} mm" if len(standing) else "none")
-                        + ".")
-    write_readme(NAME, "Colonnades under harmonic motion", findings, figures, started, "colonnades.py")
+        found.append(f"Two-tier colonnade at PGA {pga:g} m/s^2: {outcome_counts(runs)} of {len(runs)} runs; "
+                     "largest peak displacement of the standing runs: lower epistyle "
+                     + (f"{lower.max():.3g} mm, upper epistyle {upper.max():.3g} mm" if len(standing) else "none")
+                     + ".")
+    return found
 
 
 if __name__ == "__main__":

@@ -5,7 +5,7 @@ import time
 
 import matplotlib.pyplot as plt
 import numpy as np
-from _study import curve, plain_log_ticks, save, sweep, write_readme
+from _study import curve, plain_log_ticks, save_figure, sweep, write_readme
 
 from dem_core import excitation, scenes
 from dem_core.analyses.sweep import RunSpec
@@ -51,7 +51,6 @@ def figure(table, title, mu_ref):
         ax.set_xlabel("frequency (Hz)")
     axes[0, 0].legend(fontsize=8)
     fig.suptitle(f"{title} (x on top: overturned)", fontsize=10)
-    fig.tight_layout()
     return fig
 
 
@@ -92,12 +91,11 @@ def main():
     started = time.perf_counter()
     small = sweep(f"{NAME}/small_column", small_column, SMALL)
     large = sweep(f"{NAME}/column_8_drums", large_column, LARGE)
-    figures = [(save(figure(small, "7-block column 48 x 48 x 29 mm under harmonic motion", 0.68), NAME,
-                     "small_column.png"),
-                "Small-scale column: total sliding (left) and mean rocking (right) against frequency, one row per PGA, "
-                "one line per friction coefficient."),
-               (save(figure(large, "8-drum column 6 m x 1 m under harmonic motion", 0.7), NAME, "column_8_drums.png"),
-                "The same for the 8-drum column.")]
+    figures = [save_figure(figure(small, "7-block column 48 x 48 x 29 mm under harmonic motion", 0.68), NAME,
+                           "small_column.png", "Small-scale column: total sliding (left) and mean rocking (right) "
+                           "against frequency, one row per PGA, one line per friction coefficient."),
+               save_figure(figure(large, "8-drum column 6 m x 1 m under harmonic motion", 0.7), NAME,
+                           "column_8_drums.png", "The same for the 8-drum column.")]
     text = [f"Set-up: default contact law (corner, K_n {CORNER_STIFFNESS:.0e} N/m^2), harmonic ground "
             f"motion scaled to its PGA; small-scale column 5 s, mu {', '.join(f'{m:g}' for m in SMALL['mu'])}; "
             f"8-drum column 10 s, mu {', '.join(f'{m:g}' for m in LARGE['mu'])}. Overturned runs are crosses at "

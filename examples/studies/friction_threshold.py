@@ -12,8 +12,7 @@ import time
 
 import matplotlib.pyplot as plt
 import numpy as np
-import pandas as pd
-from _study import cached_threshold, markdown_table, out_dir, save, threshold_columns, write_readme
+from _study import cached_threshold, fmt, markdown_table, results_table, save_figure, threshold_columns, write_readme
 
 from dem_core import excitation, scenes
 from dem_core.analyses.thresholds import overturning_threshold
@@ -43,14 +42,7 @@ def main():
                 rows.append({"record": record, "n_drums": n, "mu": mu, **threshold_columns(found)})
                 print(f"{record} {n} drums mu {mu:g}: {found.smallest:.3g} ({rows[-1]['windows']})", file=sys.stderr,
                       flush=True)
-    table = pd.DataFrame(rows)
-    table.to_parquet(out_dir(NAME) / "results.parquet", index=False)
-    report(table, started)
-
-
-def fmt(value, flag=False, failed=0, high=None):
-    text = f"{value:.3g}" if np.isfinite(value) else f"none up to {high:g}"
-    return text + ("*" if flag else "") + (f" ({failed} failed)" if failed else "")
+    report(results_table(NAME, rows), started)
 
 
 def report(table, started):
@@ -62,7 +54,7 @@ def report(table, started):
     columns = [(r, n) for r in RECORDS for n in DRUMS]
     cell = {(r.record, r.n_drums, r.mu): r for r in table.itertuples(index=False)}
     rows = [[f"{mu:g}"] + [fmt(cell[(r, n, mu)].smallest, cell[(r, n, mu)].non_monotonic,
-                                cell[(r, n, mu)].failed_runs, RECORDS[r]) for r, n in columns] for mu in FRICTIONS]
+                                cell[(r, n, mu)].failed_runs) for r, n in columns] for mu in FRICTIONS]
     setup += markdown_table(["mu"] + [f"{r}, {n} drum{'s' * (n > 1)}" for r, n in columns], rows)
     findings = []
     for r, n in columns:
@@ -93,12 +85,9 @@ def figure(table, columns):
     ax.axvline(1.0 / 6.0, color="0.5", ls=":", label="tan(alpha) = 1/6")
     ax.set(xlabel="friction coefficient", ylabel="smallest overturning PGA (m/s$^2$)",
            title="Columns 6 m x 1 m, default contact law")
-    ax.grid(alpha=0.3)
-    ax.legend(fontsize=8)
-    fig.tight_layout()
-    return (save(fig, NAME, "friction_threshold.png"),
-            "The table's smallest overturning PGA against the friction coefficient, one line per record and drum "
-            "count; a gap is a friction at which nothing overturned within the scan.")
+    return save_figure(fig, NAME, "friction_threshold.png",
+                       "The table's smallest overturning PGA against the friction coefficient, one line per record "
+                       "and drum count; a gap is a friction at which nothing overturned within the scan.", legend=8)
 
 
 if __name__ == "__main__":

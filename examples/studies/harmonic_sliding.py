@@ -13,8 +13,7 @@ import time
 
 import matplotlib.pyplot as plt
 import numpy as np
-import pandas as pd
-from _study import markdown_table, out_dir, save, write_readme
+from _study import markdown_table, results_table, save_figure, write_readme
 
 import dem_core
 from dem_core import excitation, scenes
@@ -56,8 +55,7 @@ def run(frequency, amplitude):
 
 def main():
     started = time.perf_counter()
-    table = pd.DataFrame([run(f, a) for a in AMPLITUDES for f in FREQUENCIES])
-    table.to_parquet(out_dir(NAME) / "results.parquet", index=False)
+    table = results_table(NAME, [run(f, a) for a in AMPLITUDES for f in FREQUENCIES])
     setup = [f"Set-up: 8-drum column 6 m x 1 m, friction {FRICTION:g} at every interface (sliding starts at mu g = "
              f"{FRICTION * G:.3g} m/s^2, rocking at g b/h = {G / 6:.3g} m/s^2 for a rigid column), default contact law "
              f"(corner, K_n {CORNER_STIFFNESS:.0e} N/m^2); u_g = A sin(2 pi f t) for {DURATION:g} s (or up to "
@@ -96,12 +94,10 @@ def figure(table):
         ax.plot(fallen.frequency, fallen.sliding_ratio, "x", color=line.get_color(), ms=12, mew=2)
     ax.set(xscale="log", xlabel="frequency (Hz)", ylabel="total sliding / ground travel",
            title=f"8-drum column, friction {FRICTION:g}, default contact law")
-    ax.grid(alpha=0.3, which="both")
-    ax.legend(fontsize=8)
-    fig.tight_layout()
-    return (save(fig, NAME, "harmonic_sliding.png"),
-            "The table's ratio of total sliding to the ground's travel against frequency, one line per amplitude; a "
-            "cross marks a run that overturned (its ratio up to the overturn).")
+    return save_figure(fig, NAME, "harmonic_sliding.png",
+                       "The table's ratio of total sliding to the ground's travel against frequency, one line per "
+                       "amplitude; a cross marks a run that overturned (its ratio up to the overturn).", legend=8,
+                       grid={"which": "both"})
 
 
 if __name__ == "__main__":

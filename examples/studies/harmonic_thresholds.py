@@ -12,12 +12,11 @@ import time
 
 import matplotlib.pyplot as plt
 import numpy as np
-import pandas as pd
 from _rigid import overturning as rigid_overturning
-from _study import (cached_threshold, markdown_table, out_dir, plain_log_ticks, save, threshold_columns,
-                    write_readme)
+from _study import (cached_threshold, fmt, markdown_table, plain_log_ticks, results_table, save_figure,
+                    threshold_columns, write_readme)
 
-from comparisons.analytical import RockingBlock
+from comparisons.references.analytical import RockingBlock
 from dem_core import excitation, scenes
 from dem_core.analyses.thresholds import onset_threshold, overturning_threshold
 from dem_core.engine.contact import DEFAULT_STIFFNESS
@@ -58,14 +57,7 @@ def main():
                      **threshold_columns(over), **threshold_columns(rigid, "rigid_")})
         print(f"{f:g} Hz: onset {onset.value:.3g}, overturning {over.smallest:.3g}, rigid {rigid.smallest:.3g}",
               file=sys.stderr, flush=True)
-    table = pd.DataFrame(rows)
-    table.to_parquet(out_dir(NAME) / "results.parquet", index=False)
-    report(table, started)
-
-
-def fmt(value, flag=False, failed=0):
-    text = f"{value:.3g}" if np.isfinite(value) else f"none up to {HIGH:g}"
-    return text + ("*" if flag else "") + (f" ({failed} failed)" if failed else "")
+    report(results_table(NAME, rows), started)
 
 
 def report(table, started):
@@ -111,13 +103,10 @@ def figure(table):
     plain_log_ticks(ax.xaxis)
     plain_log_ticks(ax.yaxis)
     ax.set_xticks(sorted(table.frequency.unique()))  # the frequencies run
-    ax.grid(alpha=0.3, which="both")
-    ax.legend(fontsize=8)
-    fig.tight_layout()
-    return (save(fig, NAME, "harmonic_thresholds.png"),
-            "The table's thresholds against frequency: rocking onset and smallest overturning PGA of the 8-drum "
-            "column, "
-            "and the rigid monolith's smallest overturning PGA; the dotted line is the rigid uplift g b/h.")
+    return save_figure(fig, NAME, "harmonic_thresholds.png",
+                       "The table's thresholds against frequency: rocking onset and smallest overturning PGA of the "
+                       "8-drum column, and the rigid monolith's smallest overturning PGA; the dotted line is the rigid "
+                       "uplift g b/h.", legend=8, grid={"which": "both"})
 
 
 if __name__ == "__main__":

@@ -5,7 +5,7 @@ import time
 
 import matplotlib.pyplot as plt
 import numpy as np
-from _study import save, sweep, write_readme
+from _study import save_figure, sweep, write_readme
 
 from dem_core import excitation, scenes
 from dem_core.analyses.sweep import RunSpec
@@ -76,10 +76,9 @@ def main():
     fig.suptitle(f"One weak interface, harmonic {AMPLITUDE:g} m at {FREQUENCY:g} Hz "
                  f"(PGA {AMPLITUDE * (2 * np.pi * FREQUENCY) ** 2:.2f} m/s^2; sliding up to the end of the run or the "
                  "overturn)", fontsize=10)
-    fig.tight_layout()
-    figures = [(save(fig, NAME, "weak_interface.png"),
-                "Left: total sliding per second standing against the weak interface's friction, one line per weak "
-                "interface; right: time standing (the run's length for a column that survived).")]
+    figures = [save_figure(fig, NAME, "weak_interface.png",
+                           "Left: total sliding per second standing against the weak interface's friction, one line "
+                           "per weak interface; right: time standing (the run's length for a column that survived).")]
     write_readme(NAME, "Different friction at different interfaces", findings, figures, started,
                  "interface_friction.py")
 

@@ -20,7 +20,7 @@ import time
 import matplotlib.pyplot as plt
 import numpy as np
 import pandas as pd
-from _study import out_dir, save, write_readme
+from _study import out_dir, save_figure, write_readme
 
 from dem_core import excitation, records
 from dem_core.analyses.spectra import response_spectrum
@@ -109,14 +109,10 @@ def main():
     ax_s.axvspan(*THESIS_BAND, color="0.85", label="thesis: 2.9-3.5 Hz")
     ax_s.set(xscale="log", xlabel="frequency (Hz)", ylabel="PSA, 5% damping (m/s$^2$)",
              title="Response spectrum against the thesis' predominant frequencies")
-    for ax in (ax_a, ax_s):
-        ax.grid(alpha=0.3)
-        ax.legend(fontsize=8)
-    fig.tight_layout()
-    figures = [(save(fig, NAME, "kalamata_sampling.png"),
-                "Left: the record's accelerations placed at each candidate interval. Right: their 5%-damped "
-                "pseudo-acceleration spectra, with the thesis' 2.9-3.5 Hz shaded; the table above gives each "
-                "spectrum's peak.")]
+    figures = [save_figure(fig, NAME, "kalamata_sampling.png",
+                           "Left: the record's accelerations placed at each candidate interval. Right: their 5%-damped "
+                           "pseudo-acceleration spectra, with the thesis' 2.9-3.5 Hz shaded; the table above gives "
+                           "each spectrum's peak.", legend=8)]
 
     measures = {"pgv_over_pga": "PGV/PGA", "d5_75": "D5-75", "d5_95": "D5-95", "psa_peak": "spectrum peak",
                 "fourier_peak": "Fourier peak"}

@@ -4,11 +4,10 @@ number of drums (1 to 8) and against taper."""
 import time
 
 import matplotlib.pyplot as plt
-import pandas as pd
-from _study import out_dir, save, write_readme
+from _study import results_table, save_figure, write_readme
 
-from comparisons import analytical
-from comparisons.measures import first_exceedance
+from comparisons.cases.measures import first_exceedance
+from comparisons.references import analytical
 from dem_core import scenes
 from dem_core.analyses.thresholds import ROCKING_FRACTION, onset_under_ramp
 from dem_core.engine.contact import DEFAULT_STIFFNESS
@@ -33,8 +32,7 @@ def measure(n_drums, taper):
 def main():
     started = time.perf_counter()
     rows = [measure(n, 0.0) for n in DRUMS] + [measure(n, t) for n in (1, 4, 8) for t in TAPERS if t > 0]
-    table = pd.DataFrame(rows)
-    table.to_parquet(out_dir(NAME) / "results.parquet", index=False)
+    table = results_table(NAME, rows)
     prismatic = table[table.taper == 0.0]
     fig, (ax_n, ax_t) = plt.subplots(1, 2, figsize=(10, 4))
     ax_n.plot(prismatic.n_drums, prismatic.rocking_onset, "o-", label="rocking starts (theta_cr/30)")
@@ -48,13 +46,10 @@ def main():
         ax_t.plot(runs.taper, runs.overturning, "s--", label=f"{n} drums: overturns")
     ax_t.set(xlabel="taper (W_bottom - W_top) / W_bottom", ylabel="ground acceleration (m/s$^2$)",
              title="Tapered columns (same mass)")
-    for ax in (ax_n, ax_t):
-        ax.grid(alpha=0.3)
-        ax.legend(fontsize=7)
-    fig.tight_layout()
-    figures = [(save(fig, NAME, "onset_overturning.png"),
-                "Left: the ramp accelerations at which rocking starts and the column overturns against the number of "
-                "drums, with the rigid uplift g b/h; right: the same against taper for 1, 4 and 8 drums.")]
+    figures = [save_figure(fig, NAME, "onset_overturning.png",
+                           "Left: the ramp accelerations at which rocking starts and the column overturns against the "
+                           "number of drums, with the rigid uplift g b/h; right: the same against taper for 1, 4 and 8 "
+                           "drums.", legend=7)]
     one, eight = prismatic.iloc[0], prismatic.iloc[-1]
     block = analytical.RockingBlock.from_size(1.0, 6.0)
     rigid = analytical.rocking_response(block, lambda t: RATE * t, 12.0, max_step=1e-3)

@@ -3,7 +3,7 @@ search against the rigid rocking equation.
 
 1. Check: the 6 m x 1 m monolith on a rigid base (friction 2: no sliding) under each bundled record, as
    bundled, in the native core at the default stiffness and at 100 times it, against the rocking
-   equation (comparisons/rocking_reference.py); both by the same search, and again by a fine scan upward in
+   equation (comparisons/references/rocking_equation.py); both by the same search, and again by a fine scan upward in
    0.02 m/s^2 steps to the first overturn; the smaller of the two searches' answers is compared too.
 2. Study, in the thesis' set-up (friction 0.485; Mexico City SCT north-south): standalone columns of 1 to 3
    drums and colonnades of three columns of 1, 2, 3 and 5 drums under one epistyle (type a, 2.5 m spacing), in
@@ -21,9 +21,9 @@ import matplotlib.pyplot as plt
 import numpy as np
 import pandas as pd
 from _rigid import overturning as rigid_overturning
-from _study import cached_threshold, markdown_table, out_dir, save, threshold_columns, write_readme
+from _study import cached_threshold, fmt, markdown_table, out_dir, save_figure, threshold_columns, write_readme
 
-from comparisons.analytical import RockingBlock
+from comparisons.references.analytical import RockingBlock
 from dem_core import ContactParameters, excitation, records, scenes
 from dem_core.analyses.thresholds import overturning_threshold
 from dem_core.engine.contact import DEFAULT_STIFFNESS
@@ -112,14 +112,14 @@ def study_rows():
     return table
 
 
+def scanned(row, prefix: str) -> float:
+    """The smallest overturning PGA of a check row's model ``prefix`` found by the 2% scan."""
+    return row[f"{prefix}_smallest"]
+
+
 def lowest(row, prefix: str) -> float:
     """The smallest overturning PGA of a check row's model ``prefix`` found by either search."""
     return float(np.fmin(row[f"{prefix}_smallest"], row[f"{prefix}_fine"]))
-
-
-def fmt(value, non_monotonic=False, failed=0, digits=3):
-    text = f"{value:.{digits}g}" if np.isfinite(value) else "none in range"
-    return text + ("*" if non_monotonic else "") + (f" ({failed} failed)" if failed else "")
 
 
 def main():
@@ -132,74 +132,100 @@ def main():
 
 
 def report(check, table, started):
-    kn = [stiffness_key(k) for k in CHECK_STIFFNESS]
-    check_lines = ["Check: smallest overturning PGA (m/s^2) of the 1 x 6 m monolith (friction 2) under each bundled "
-                   "record as bundled, native core at two K_n (corner law) against the rocking equation; * a larger "
-                   "PGA survived where a smaller one toppled.", ""]
-    rows = []
-    for _, r in check.iterrows():
-        cells = [r.record, fmt(r.rigid_smallest, r.rigid_non_monotonic)]
-        for k in kn:
-            ratio = r[f"{k}_smallest"] / r.rigid_smallest
-            cells += [fmt(r[f"{k}_smallest"], r[f"{k}_non_monotonic"], r[f"{k}_failed_runs"]),
-                      f"{ratio - 1:+.1%}" if np.isfinite(ratio) else "-",
-                      "yes" if abs(ratio - 1) <= RIGID_AGREEMENT else "no" if np.isfinite(ratio) else "-"]
-        rows.append(cells)
-    header = ["record", "rocking equation"] + [c for k in CHECK_STIFFNESS for c in
-                                               (f"K_n {k:.0e}", "difference", f"within {RIGID_AGREEMENT:.0%}")]
-    check_lines += markdown_table(header, rows)
-    check_lines += markdown_table(["record", "rocking equation: windows"] + [f"K_n {k:.0e}: windows"
-                                                                             for k in CHECK_STIFFNESS],
-                                  [[r.record, r.rigid_windows] + [r[f"{k}_windows"] for k in kn]
-                                   for _, r in check.iterrows()])
-    check_lines += ["The smallest overturning PGA found by either search: the scan above with its refinements, or a "
-                    f"fine scan going up from {LOW:.2f} m/s^2 in {FINE_STEP} m/s^2 steps to the first overturn (a "
-                    "refined window can fall between two of its steps).", ""]
-    fine_rows = []
-    for _, r in check.iterrows():
-        cells = [r.record, fmt(lowest(r, "rigid"), digits=4)]
-        for k in kn:
-            ratio = lowest(r, k) / lowest(r, "rigid")
-            cells += [fmt(lowest(r, k), digits=4), f"{ratio - 1:+.1%}" if np.isfinite(ratio) else "-",
-                      "yes" if abs(ratio - 1) <= RIGID_AGREEMENT else "no" if np.isfinite(ratio) else "-"]
-        fine_rows.append(cells)
-    check_lines += markdown_table(header, fine_rows)
-    study_lines = [f"Study: smallest overturning PGA (m/s^2), friction {FRICTION:g}, default law "
-                   f"(corner, K_n {CORNER_STIFFNESS:.0e} N/m^2); Mexico City north-south; (scale factor "
-                   "over the record's own PGA).", ""]
     labels = [(kind, n) for kind, n, _ in study_scenes()]
     recs = list(records.BUNDLED)
+    tables = check_tables(check) + study_tables(table, labels, recs)
+    findings = check_findings(check) + study_findings(table, recs)
+    write_readme(NAME, "Overturning PGA of columns and colonnades under the bundled records", findings,
+                 [figure(table, labels, recs)], started, "record_overturning.py", resumes=False, tables=tables)
+
+
+def against_rigid(check, threshold, shown) -> list:
+    """Rows of a check table: per record the rocking equation's threshold, then each stiffness' with its
+    difference from it and whether that is within RIGID_AGREEMENT; ``threshold(row, prefix)`` is a model's
+    threshold, ``shown(row, prefix)`` its cell."""
+    rows = []
+    for _, r in check.iterrows():
+        cells = [r.record, shown(r, "rigid")]
+        for k in map(stiffness_key, CHECK_STIFFNESS):
+            ratio = threshold(r, k) / threshold(r, "rigid")
+            cells += [shown(r, k), f"{ratio - 1:+.1%}" if np.isfinite(ratio) else "-",
+                      "yes" if abs(ratio - 1) <= RIGID_AGREEMENT else "no" if np.isfinite(ratio) else "-"]
+        rows.append(cells)
+    return rows
+
+
+def check_tables(check) -> list:
+    """Markdown lines of the check: the 2% scan's thresholds against the rocking equation's, their windows, and the
+    smallest thresholds either search found."""
+    def scan_cell(r, prefix):  # the rocking equation's searches show no failed runs
+        return fmt(r[f"{prefix}_smallest"], r[f"{prefix}_non_monotonic"],
+                   0 if prefix == "rigid" else r[f"{prefix}_failed_runs"])
+
+    kn = [stiffness_key(k) for k in CHECK_STIFFNESS]
+    header = ["record", "rocking equation"] + [c for k in CHECK_STIFFNESS for c in
+                                               (f"K_n {k:.0e}", "difference", f"within {RIGID_AGREEMENT:.0%}")]
+    lines = ["Check: smallest overturning PGA (m/s^2) of the 1 x 6 m monolith (friction 2) under each bundled "
+             "record as bundled, native core at two K_n (corner law) against the rocking equation; * a larger "
+             "PGA survived where a smaller one toppled.", ""]
+    lines += markdown_table(header, against_rigid(check, scanned, scan_cell))
+    lines += markdown_table(["record", "rocking equation: windows"] + [f"K_n {k:.0e}: windows"
+                                                                       for k in CHECK_STIFFNESS],
+                            [[r.record, r.rigid_windows] + [r[f"{k}_windows"] for k in kn]
+                             for _, r in check.iterrows()])
+    lines += ["The smallest overturning PGA found by either search: the scan above with its refinements, or a "
+              f"fine scan going up from {LOW:.2f} m/s^2 in {FINE_STEP} m/s^2 steps to the first overturn (a "
+              "refined window can fall between two of its steps).", ""]
+    return lines + markdown_table(header, against_rigid(check, lowest, lambda r, p: fmt(lowest(r, p), digits=4)))
+
+
+def study_tables(table, labels, recs) -> list:
+    """Markdown lines of the study: each system's smallest overturning PGA under each record, and the windows."""
+    lines = [f"Study: smallest overturning PGA (m/s^2), friction {FRICTION:g}, default law "
+             f"(corner, K_n {CORNER_STIFFNESS:.0e} N/m^2); Mexico City north-south; (scale factor "
+             "over the record's own PGA).", ""]
     cell = {(r.kind, r.n_drums, r.record): r for r in table.itertuples(index=False)}
-    study_lines += markdown_table(
+    lines += markdown_table(
         ["system"] + [f"{r} (PGA {cell[labels[0] + (r,)].record_pga:.3g})" for r in recs],
         [[f"{kind}, {n} drum{'s' * (n > 1)}"] + [
             f"{fmt(cell[(kind, n, r)].smallest, cell[(kind, n, r)].non_monotonic, cell[(kind, n, r)].failed_runs)}"
             + (f" ({cell[(kind, n, r)].scale_factor:.2f}x)" if np.isfinite(cell[(kind, n, r)].smallest) else "")
             for r in recs] for kind, n in labels])
-    study_lines += ["Overturning windows (m/s^2):", ""] + markdown_table(
+    return lines + ["Overturning windows (m/s^2):", ""] + markdown_table(
         ["system"] + recs, [[f"{kind}, {n}"] + [cell[(kind, n, r)].windows or "-" for r in recs] for kind, n in labels])
 
+
+def check_findings(check) -> list:
+    """How many records each search of the native core puts within RIGID_AGREEMENT of the rocking equation, and
+    where the fine scan found an earlier first overturn than the 2% scan."""
     findings = []
-    for k, stiffness in zip(kn, CHECK_STIFFNESS):
-        for scan, native, rigid in (
-                (f"{STEP:.0%} scan", lambda r: r[f"{k}_smallest"], lambda r: r.rigid_smallest),
-                (f"either search (with the fine {FINE_STEP} m/s^2 scan)", lambda r: lowest(r, k),
-                 lambda r: lowest(r, "rigid"))):
-            close = np.array([abs(native(r) / rigid(r) - 1) <= RIGID_AGREEMENT for _, r in check.iterrows()])
+    for k, stiffness in zip(map(stiffness_key, CHECK_STIFFNESS), CHECK_STIFFNESS):
+        for scan, threshold in ((f"{STEP:.0%} scan", scanned),
+                                (f"either search (with the fine {FINE_STEP} m/s^2 scan)", lowest)):
+            close = np.array([abs(threshold(r, k) / threshold(r, "rigid") - 1) <= RIGID_AGREEMENT
+                              for _, r in check.iterrows()])
             findings.append(f"Check at K_n {stiffness:.0e} N/m^2, {scan}: {int(close.sum())} of {len(check)} records "
                             f"within {RIGID_AGREEMENT:.0%} of the rocking equation"
                             + ("" if close.all() else ": not " + ", ".join(
-                                f"{r.record} ({native(r):.3g} against {rigid(r):.3g})"
+                                f"{r.record} ({threshold(r, k):.3g} against {threshold(r, 'rigid'):.3g})"
                                 for _, r in check[~close].iterrows())) + ".")
-    lower = [(r.record, r.rigid_smallest, lowest(r, "rigid"), r[f"{kn[0]}_smallest"], lowest(r, kn[0]))
+    kn = stiffness_key(CHECK_STIFFNESS[0])
+    lower = [(r.record, r.rigid_smallest, lowest(r, "rigid"), r[f"{kn}_smallest"], lowest(r, kn))
              for _, r in check.iterrows() if lowest(r, "rigid") < (1 - TOLERANCE) * r.rigid_smallest
-             or lowest(r, kn[0]) < (1 - TOLERANCE) * r[f"{kn[0]}_smallest"]]
+             or lowest(r, kn) < (1 - TOLERANCE) * r[f"{kn}_smallest"]]
     if lower:
         findings.append("The fine scan found an earlier first overturn than the 2% scan under " + "; ".join(
             f"{record} (rocking equation {coarse:.4g} -> {fine:.4g}, native core at K_n {CHECK_STIFFNESS[0]:.0e} "
             f"{native_coarse:.4g} -> {native_fine:.4g})" for record, coarse, fine, native_coarse, native_fine in lower)
             + ": narrow windows below the first one a 2% scan finds. The study below scans in 2% steps, so under "
             "those records its values can lie above the smallest overturning PGA by as much.")
+    return findings
+
+
+def study_findings(table, recs) -> list:
+    """The study's trends: lowest and highest system per record, the colonnades against the number of drums,
+    colonnades against standalone columns, non-monotonic searches and failed runs."""
+    findings = []
     for record in recs:
         runs = table[(table.record == record) & np.isfinite(table.smallest)]
         if len(runs):
@@ -226,9 +252,7 @@ def report(check, table, started):
     findings.append(f"Failed (unstable) runs: {int(table.failed_runs.sum())}"
                     + (" in " + ", ".join(f"{r.kind} {r.n_drums} / {r.record}" for r in failed.itertuples())
                        if len(failed) else "") + ".")
-    figures = [figure(table, labels, recs)]
-    write_readme(NAME, "Overturning PGA of columns and colonnades under the bundled records", findings, figures,
-                 started, "record_overturning.py", resumes=False, tables=check_lines + study_lines)
+    return findings
 
 
 def figure(table, labels, recs):
@@ -247,11 +271,10 @@ def figure(table, labels, recs):
                  "refined to 0.5%; * a larger PGA survived", fontsize=9)
     ax.grid(axis="y", alpha=0.3)
     ax.legend(fontsize=7, ncol=2)
-    fig.tight_layout()
-    return (save(fig, NAME, "overturning_pga.png"),
-            "The study table as bars: for each record, the smallest overturning PGA of each system (hatched: "
-            "colonnades); a star marks a search where a larger PGA left standing what a smaller one toppled; a missing "
-            "bar, nothing overturned up to the cap.")
+    return save_figure(fig, NAME, "overturning_pga.png",
+                       "The study table as bars: for each record, the smallest overturning PGA of each system "
+                       "(hatched: colonnades); a star marks a search where a larger PGA left standing what a smaller "
+                       "one toppled; a missing bar, nothing overturned up to the cap.")
 
 
 if __name__ == "__main__":

@@ -22,10 +22,11 @@ import numpy as np
 import pandas as pd
 from _rigid import overturning as rigid_overturning
 from _rigid import rigid_body, rocking_frame
-from _study import cached_threshold, markdown_table, out_dir, plain_log_ticks, save, threshold_columns, write_readme
+from _study import (cached_threshold, fmt, markdown_table, out_dir, plain_log_ticks, save_figure, threshold_columns,
+                    write_readme)
 
 import dem_core
-from comparisons.analytical import RockingBlock
+from comparisons.references.analytical import RockingBlock
 from dem_core import ContactParameters, excitation, scenes
 from dem_core.analyses.thresholds import onset_under_ramp, overturning_threshold
 
@@ -152,14 +153,6 @@ def rigid_search(key, reference, scene, record, low):
     return threshold_columns(found, "rigid_")
 
 
-def fmt(value, non_monotonic=False, failed=0):
-    """A smallest overturning PGA for the tables: None where there is no such value (no thesis number, no
-    rigid reference), NaN where the scan found no overturn."""
-    if value is None or not np.isfinite(value):
-        return "none in range" if value is not None else "-"
-    return f"{value:.3g}{'*' if non_monotonic else ''}{f' ({failed} failed)' if failed else ''}"
-
-
 def main():
     started = time.perf_counter()
     rows = []
@@ -210,82 +203,99 @@ def verdict(by_law: dict) -> str:
     return f"reproduced only in the {hits[0]}"
 
 
+def threshold(wide, system, record, law) -> float:
+    """The smallest overturning PGA of ``system`` under ``record`` in ``law`` (NaN: none, or no such search)."""
+    rows = wide[(wide.system == system) & (wide.record == record)]
+    return float(rows[law].iloc[0]) if len(rows) else np.nan
+
+
+def ordered(pairs):
+    """Whether the first value of every pair with a value is the smaller (a missing value, none in range, counts
+    as larger); None if no pair has one."""
+    compared = [(a, b) for a, b in pairs if np.isfinite(a) or np.isfinite(b)]
+    if not compared:
+        return None
+    return all(np.nan_to_num(a, nan=np.inf) < np.nan_to_num(b, nan=np.inf) for a, b in compared)
+
+
+# Each finding of tables 6.1 and 7.1 judged in one contact law: ``(holds, evidence)``, ``holds`` True, False or
+# None (nothing overturned to compare).
+
+def colonnade_outlasts_loaded_column(wide, law):
+    pairs = [(n, r, threshold(wide, f"colonnade_{n}", r, law), threshold(wide, f"loaded_{n}", r, law))
+             for n in (1, 2, 3) for r in RECORDS]
+    return (ordered([(s, c) for _, _, c, s in pairs]),
+            ", ".join(f"{n} drum(s) {RECORDS[r][0].split()[0]}: {fmt(c)} vs {fmt(s)}" for n, r, c, s in pairs))
+
+
+def load_lowers_failure(wide, law):
+    pairs = [(n, r, threshold(wide, f"loaded_{n}", r, law), threshold(wide, f"bare_{n}", r, law))
+             for n in (1, 2, 3) for r in RECORDS]
+    return (ordered([(s, b) for _, _, s, b in pairs]),
+            ", ".join(f"{n} drum(s) {RECORDS[r][0].split()[0]}: loaded {fmt(s)} vs bare {fmt(b)}"
+                      for n, r, s, b in pairs))
+
+
+def mexico_city_drum_insensitive(wide, law):
+    spreads = {}
+    for kind in ("colonnade", "loaded"):
+        v = np.array([threshold(wide, f"{kind}_{n}", "mexico_city_1985", law) for n in (1, 2, 3)])
+        spreads[kind] = v.max() / v.min() - 1.0 if np.all(np.isfinite(v)) else np.nan
+    holds = None if np.all(np.isnan(list(spreads.values()))) else all(s <= DRUM_INSENSITIVE for s in spreads.values())
+    return holds, ", ".join(f"{'colonnades' if k == 'colonnade' else 'loaded columns'} vary by "
+                            + (f"{100 * s:.0f}%" if np.isfinite(s) else "(not all overturned)")
+                            for k, s in spreads.items())
+
+
+def kalamata_grows_with_drums(wide, law):
+    series = {kind: [threshold(wide, f"{kind}_{n}", "kalamata_1986", law) for n in (1, 2, 3)]
+              for kind in ("colonnade", "loaded")}
+    holds = None if not np.any(np.isfinite(list(series.values()))) else all(
+        np.all(np.diff(np.nan_to_num(v, nan=np.inf)) > 0) for v in series.values())
+    return holds, "; ".join(f"{'colonnades' if k == 'colonnade' else 'loaded columns'} with 1, 2, 3 drums: "
+                            f"{', '.join(fmt(x) for x in v)}" for k, v in series.items())
+
+
+def mexico_city_fails_first(wide, law):
+    kalamata_cap = RECORDS["kalamata_1986"][3]  # nothing overturned below it: the ratio is at least cap / Mexico
+    ratios = [np.nan_to_num(threshold(wide, key, "kalamata_1986", law), nan=kalamata_cap)
+              / threshold(wide, key, "mexico_city_1985", law) for key in wide.system.unique()]
+    known = [r for r in ratios if np.isfinite(r)]
+    return (None if not known else all(r >= 2.0 for r in known),
+            f"Kalamata over Mexico City {min(known):.2g} to {max(known):.2g} (a lower bound where "
+            f"Kalamata overturned nothing up to {kalamata_cap:g} m/s^2; {len(known)} of {len(ratios)} "
+            "systems overturned under Mexico City)" if known else "no system overturned under both")
+
+
+def thesis_values_matched(wide, law):
+    compared = wide[np.isfinite(wide.thesis)]
+    close = np.abs(compared[law] / compared.thesis - 1.0) <= THESIS_AGREEMENT
+    return (bool(close.all()),
+            f"{int(close.sum())} of {len(compared)} values within {THESIS_AGREEMENT:.0%} of the thesis")
+
+
+THESIS_FINDINGS = (
+    ("A colonnade needs a larger PGA to fail than the standalone column carrying the epistyle load (table 7.1, every "
+     "drum count and record).", colonnade_outlasts_loaded_column),
+    ("The epistyle load lowers the standalone column's failure PGA (table 7.1's loaded columns against table 6.1's "
+     "bare column, section 7.1).", load_lowers_failure),
+    (f"Under Mexico City the failure PGA hardly depends on the number of drums (thesis: 2% over 1 to 3 drums; here: "
+     f"within {DRUM_INSENSITIVE:.0%}).", mexico_city_drum_insensitive),
+    ("Under Kalamata the failure PGA grows with the number of drums (colonnades and loaded columns).",
+     kalamata_grows_with_drums),
+    ("The long-period Mexico City record fails every system at a far smaller PGA than Kalamata (thesis: 6.9 to 14 "
+     "times smaller; here: at least 2 times).", mexico_city_fails_first),
+    ("The thesis' failure PGAs themselves (tables 6.1 and 7.1, the bundled records).", thesis_values_matched),
+)
+
+
 def thesis_findings(wide):
     """Each finding of tables 6.1 and 7.1: (statement, verdict, evidence per law)."""
-    def value(system, record, law):
-        rows = wide[(wide.system == system) & (wide.record == record)]
-        return float(rows[law].iloc[0]) if len(rows) else np.nan
-
-    def holds(pairs, smaller_first):
-        """Whether every pair with a value is ordered (a missing value, none in range, counts as larger);
-        None if no pair has one."""
-        compared = [(a, b) for a, b in pairs if np.isfinite(a) or np.isfinite(b)]
-        if not compared:
-            return None
-        big = np.inf
-        return all((np.nan_to_num(a, nan=big) < np.nan_to_num(b, nan=big)) == smaller_first for a, b in compared)
-
     findings = []
-    evidence, ok = {}, {}
-    for law in LAWS:
-        pairs = [(n, r, value(f"colonnade_{n}", r, law), value(f"loaded_{n}", r, law))
-                 for n in (1, 2, 3) for r in RECORDS]
-        ok[law] = holds([(s, c) for _, _, c, s in pairs], True)
-        evidence[law] = ", ".join(f"{n} drum(s) {RECORDS[r][0].split()[0]}: {fmt(c)} vs {fmt(s)}"
-                                  for n, r, c, s in pairs)
-    findings.append(("A colonnade needs a larger PGA to fail than the standalone column carrying the epistyle load "
-                     "(table 7.1, every drum count and record).", verdict(ok), evidence))
-    evidence, ok = {}, {}
-    for law in LAWS:
-        pairs = [(n, r, value(f"loaded_{n}", r, law), value(f"bare_{n}", r, law)) for n in (1, 2, 3) for r in RECORDS]
-        ok[law] = holds([(s, b) for _, _, s, b in pairs], True)
-        evidence[law] = ", ".join(f"{n} drum(s) {RECORDS[r][0].split()[0]}: loaded {fmt(s)} vs bare {fmt(b)}"
-                                  for n, r, s, b in pairs)
-    findings.append(("The epistyle load lowers the standalone column's failure PGA (table 7.1's loaded columns "
-                     "against table 6.1's bare column, section 7.1).", verdict(ok), evidence))
-    evidence, ok = {}, {}
-    for law in LAWS:
-        spreads = {}
-        for kind in ("colonnade", "loaded"):
-            v = np.array([value(f"{kind}_{n}", "mexico_city_1985", law) for n in (1, 2, 3)])
-            spreads[kind] = v.max() / v.min() - 1.0 if np.all(np.isfinite(v)) else np.nan
-        ok[law] = None if np.all(np.isnan(list(spreads.values()))) else all(
-            s <= DRUM_INSENSITIVE for s in spreads.values())
-        evidence[law] = ", ".join(f"{'colonnades' if k == 'colonnade' else 'loaded columns'} vary by "
-                                  + (f"{100 * s:.0f}%" if np.isfinite(s) else "(not all overturned)")
-                                  for k, s in spreads.items())
-    findings.append((f"Under Mexico City the failure PGA hardly depends on the number of drums (thesis: 2% over 1 to 3 "
-                     f"drums; here: within {DRUM_INSENSITIVE:.0%}).", verdict(ok), evidence))
-    evidence, ok = {}, {}
-    for law in LAWS:
-        series = {kind: [value(f"{kind}_{n}", "kalamata_1986", law) for n in (1, 2, 3)]
-                  for kind in ("colonnade", "loaded")}
-        ok[law] = None if not np.any(np.isfinite(list(series.values()))) else all(
-            np.all(np.diff(np.nan_to_num(v, nan=np.inf)) > 0) for v in series.values())
-        evidence[law] = "; ".join(f"{'colonnades' if k == 'colonnade' else 'loaded columns'} with 1, 2, 3 drums: "
-                                  f"{', '.join(fmt(x) for x in v)}" for k, v in series.items())
-    findings.append(("Under Kalamata the failure PGA grows with the number of drums (colonnades and loaded columns).",
-                     verdict(ok), evidence))
-    evidence, ok = {}, {}
-    for law in LAWS:
-        kalamata_cap = RECORDS["kalamata_1986"][3]  # nothing overturned below it: the ratio is at least cap / Mexico
-        ratios = [np.nan_to_num(value(key, "kalamata_1986", law), nan=kalamata_cap)
-                  / value(key, "mexico_city_1985", law) for key in wide.system.unique()]
-        known = [r for r in ratios if np.isfinite(r)]
-        ok[law] = None if not known else all(r >= 2.0 for r in known)
-        evidence[law] = (f"Kalamata over Mexico City {min(known):.2g} to {max(known):.2g} (a lower bound where "
-                         f"Kalamata overturned nothing up to {kalamata_cap:g} m/s^2; {len(known)} of {len(ratios)} "
-                         "systems overturned under Mexico City)" if known else "no system overturned under both")
-    findings.append(("The long-period Mexico City record fails every system at a far smaller PGA than Kalamata "
-                     "(thesis: 6.9 to 14 times smaller; here: at least 2 times).", verdict(ok), evidence))
-    evidence, ok = {}, {}
-    for law in LAWS:
-        compared = wide[np.isfinite(wide.thesis)]
-        close = np.abs(compared[law] / compared.thesis - 1.0) <= THESIS_AGREEMENT
-        ok[law] = bool(close.all())
-        evidence[law] = f"{int(close.sum())} of {len(compared)} values within {THESIS_AGREEMENT:.0%} of the thesis"
-    findings.append(("The thesis' failure PGAs themselves (tables 6.1 and 7.1, the bundled records).", verdict(ok),
-                     evidence))
+    for statement, judge in THESIS_FINDINGS:
+        judged = {law: judge(wide, law) for law in LAWS}
+        findings.append((statement, verdict({law: holds for law, (holds, _) in judged.items()}),
+                         {law: evidence for law, (_, evidence) in judged.items()}))
     return findings
 
 
@@ -352,9 +362,9 @@ def write_report(table, damped, started):
         "each scaled to the PGA searched. Athens 1999 is not bundled.",
         f"Search: {STEP:.0%} steps from 0.9 of the lower of the rigid uplift and the ramp onset up to "
         f"{', '.join(f'{v[3]:g} m/s^2 ({v[0]})' for v in RECORDS.values())}; each change bisected to {TOLERANCE:.1%}. "
-        "Rigid references: the rocking equation (comparisons/rocking_reference.py) of the monolith, of the monolith "
-        "with its load held fixed, and of Makris and Vassiliou's rocking frame for the 1-drum colonnade (the "
-        "epistyle held on the column tops); none for 2 or more drums.", ""]
+        "Rigid references: the rocking equation (comparisons/references/rocking_equation.py) of the monolith, of "
+        "the monolith with its load held fixed, and of Makris and Vassiliou's rocking frame for the 1-drum "
+        "colonnade (the epistyle held on the column tops); none for 2 or more drums.", ""]
     findings = []
     for statement, result, evidence in thesis_findings(wide):
         findings.append(f"**{result}**: {statement} " + "; ".join(f"{law}: {text}" for law, text in evidence.items())
@@ -423,11 +433,11 @@ def figure(wide):
         ax.grid(alpha=0.3, which="both")
         ax.invert_yaxis()
     fig.legend(*axes[0].get_legend_handles_labels(), loc="upper center", ncol=4, fontsize=8)
-    fig.tight_layout(rect=(0, 0, 1, 0.94))
-    return (save(fig, NAME, "thesis_tables.png"),
-            "The side-by-side table as points: for each system (rows) and record (panels), the thesis' value "
-            "(squares), the smallest overturning PGA in each contact law and the rigid reference (crosses); a "
-            "missing point is a value not available or not overturned within the scan.")
+    return save_figure(fig, NAME, "thesis_tables.png",
+                       "The side-by-side table as points: for each system (rows) and record (panels), the thesis' "
+                       "value (squares), the smallest overturning PGA in each contact law and the rigid reference "
+                       "(crosses); a missing point is a value not available or not overturned within the scan.",
+                       rect=(0, 0, 1, 0.94))
 
 
 if __name__ == "__main__":

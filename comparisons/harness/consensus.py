@@ -3,7 +3,7 @@
 For a multi-block scene (a column of drums, a colonnade) no analytical answer exists, and judging the
 engines against one of them measures agreement with that engine, not accuracy.  Each engine instead
 runs the scene at its finest settings and at the settings next to them
-(:data:`comparisons.engines.FINEST`, :data:`~comparisons.engines.NEXT_FINEST`: the native core at 100
+(:data:`comparisons.harness.engines.FINEST`, :data:`~comparisons.harness.engines.NEXT_FINEST`: the native core at 100
 and 10 times its K_n, the others at 2.5e-4 s and 5e-4 s).  An engine whose two answers differ by less
 than :data:`CONVERGED` has converged, and its finest answer joins the consensus.  Measured per metric:
 
@@ -25,7 +25,7 @@ from dataclasses import dataclass
 import numpy as np
 import pandas as pd
 
-from comparisons.engines import FINEST, NATIVE_LAWS, NEXT_FINEST, settings_label, step_label
+from comparisons.harness.engines import FINEST, NATIVE_LAWS, NEXT_FINEST, settings_label, step_label
 
 #: relative change between an engine's finest and next-finest answer below which it has converged (the
 #: 8-drum column's peak moves by up to 9% between steps of 5e-4 and 2.5e-4 s in the engines that are

@@ -13,10 +13,10 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt
 import numpy as np
 
-from comparisons.case import exact_floor, metric_kind
-from comparisons.engines import USUAL_STEP, step_label
-from comparisons.glossary import METRICS
-from comparisons.verdicts import observed_order
+from comparisons.cases.case import exact_floor, metric_kind
+from comparisons.harness.engines import USUAL_STEP, step_label
+from comparisons.report.glossary import METRICS
+from comparisons.report.verdicts import observed_order
 
 COLOURS = {"dem": "#1b9e77", "dem-overlap": "#66a61e", "pymunk": "#d95f02", "pybullet": "#7570b3",
            "mujoco": "#e7298a"}

@@ -1,8 +1,8 @@
 """The report's words: plain column headers, metric names, and the glossary at the foot of the page."""
 
-from comparisons.case import ACCURACY, EXACT_ABSOLUTE, EXACT_RELATIVE
-from comparisons.consensus import CONVERGED, NO_REFERENCE_SPREAD
-from comparisons.ensembles import ROCKING_FLOOR, SLIDING_FLOOR
+from comparisons.cases.case import ACCURACY, EXACT_ABSOLUTE, EXACT_RELATIVE
+from comparisons.harness.consensus import CONVERGED, NO_REFERENCE_SPREAD
+from comparisons.harness.ensembles import ROCKING_FLOOR, SLIDING_FLOOR
 
 #: table columns as the page heads them
 HEADERS = {
@@ -104,7 +104,7 @@ def glossary() -> list:
          "method, 2 for second order; near 0 where the error does not come from the step (a bias of the contact "
          "model)."),
         ("Band at the usual step",
-         "the |error| the tests allow that engine at its usual step (comparisons/cases.py, declared once for "
+         "the |error| the tests allow that engine at its usual step (comparisons/cases/catalogue.py, declared once for "
          "tests and report)."),
         ("Right",
          f"an engine whose run comes within the case's accuracy ({ACCURACY:.0%} on relative measures unless the "

@@ -8,7 +8,7 @@ from pathlib import Path
 
 #: the packages whose versions change the numbers of the report
 PACKAGES = ("numpy", "numba", "scipy", "pandas", "matplotlib", "pymunk", "pybullet", "mujoco")
-REPOSITORY = Path(__file__).resolve().parent.parent
+REPOSITORY = Path(__file__).resolve().parents[2]  # comparisons/report/provenance.py -> the checkout
 
 
 def _git(*args) -> str:

@@ -2,14 +2,14 @@
 
 Free rocking of a rectangular block released from ``theta0``: the native core's
 peak angles after each of the first ``n`` impacts are compared with Housner's
-``theta_n`` (docs/method.md 4.2), and the rocking damping ratio ``zeta_r`` of
-:class:`dem_core.ContactParameters` (the other contact parameters at their
-defaults) that minimises the largest relative error
-is found by bounded scalar minimisation.  The value in
-``dem_core.engine.contact.DEFAULT_DAMPING_RATIO`` comes from running this script;
-it also prints how well that one value does for other slendernesses.
+``theta_n`` (docs/method.md 4.2), and the rocking damping ratio ``zeta_r`` of the
+overlap-area law (:class:`dem_core.ContactParameters`, the other contact parameters
+at their defaults) that minimises the largest relative error is found by bounded
+scalar minimisation.  The table ``dem_core.contact.HOUSNER_DAMPING`` (``zeta_r`` per
+slenderness, blocks 2 m tall released from 0.2 alpha) is what this script prints; it
+also prints the Housner block's own ``zeta_r`` and its peak errors at other steps.
 
-    python -m comparisons.calibrate_damping
+    python -m comparisons calibrate-damping
 """
 
 import argparse
@@ -18,9 +18,10 @@ import numpy as np
 from scipy.optimize import minimize_scalar
 
 import dem_core
-from comparisons import analytical
-from comparisons.measures import peaks_between_crossings
+from comparisons.cases.measures import peaks_between_crossings
+from comparisons.references import analytical
 from dem_core import scenes
+from dem_core.engine.model import compile_model
 
 #: the calibration runs at a time step converged for the impacts (a tenth of the stability limit):
 #: the model's own energy loss, not the discretisation's, is matched to Housner's
@@ -33,7 +34,7 @@ def simulated_peaks(width, height, theta0, n_impacts, contact, step=CALIBRATION_
     block = analytical.RockingBlock.from_size(width, height)
     duration = 1.5 * analytical.housner_period(block, theta0) * (n_impacts + 2) / 2.0
     scene = scenes.block(width, height, tilt=theta0, contact=contact)
-    dt = None if step is None else step * dem_core.stability.stability_limit(scene)
+    dt = None if step is None else step * dem_core.stability.stability_limit(compile_model(scene))
     result = dem_core.simulate(scene, duration=duration, dt=dt, output_dt=1e-9)
     return peaks_between_crossings(result.theta[:, 0], n_impacts + 1)
 
@@ -48,7 +49,11 @@ def peak_errors(width, height, theta0, n_impacts, contact, step=CALIBRATION_STEP
     return sim / reference - 1.0
 
 
-def calibrate(width=0.25, height=1.0, theta0=0.05236, n_impacts=5, kn=dem_core.contact.DEFAULT_STIFFNESS["overlap_area"]):
+#: N/m^2, the overlap-area law's default K_n: the stiffness the damping is calibrated at unless told
+OVERLAP_KN = dem_core.contact.DEFAULT_STIFFNESS["overlap_area"]
+
+
+def calibrate(width=0.25, height=1.0, theta0=0.05236, n_impacts=5, kn=OVERLAP_KN):
     def worst(zeta):
         cp = dem_core.ContactParameters(law="overlap_area", kn=kn, rocking_damping_ratio=zeta)
         return float(np.max(np.abs(peak_errors(width, height, theta0, n_impacts, cp))))
@@ -60,11 +65,14 @@ def calibrate(width=0.25, height=1.0, theta0=0.05236, n_impacts=5, kn=dem_core.c
     return res.x, res.fun
 
 
-def main(argv=None):
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--kn", type=float, default=dem_core.contact.DEFAULT_STIFFNESS["overlap_area"])
+def arguments(parser: argparse.ArgumentParser) -> None:
+    """The options of its subcommand of ``python -m comparisons``."""
+    parser.add_argument("--kn", type=float, default=OVERLAP_KN)
     parser.add_argument("--alphas", default="0.06,0.08,0.10,0.125,0.15,0.175,0.2,0.25,0.3,0.35,0.4")
-    args = parser.parse_args(argv)
+
+
+def run(args: argparse.Namespace) -> None:
+    """Run with the options of :func:`arguments` and print the results."""
     print(f"HOUSNER_DAMPING at kn = {args.kn:.3g} N/m^2 (blocks 2 m tall released from 0.2 alpha):")
     for alpha in (float(a) for a in args.alphas.split(",")):
         height = 2.0
@@ -78,6 +86,3 @@ def main(argv=None):
         where = "at the automatic dt" if step is None else f"at dt = {step} x the stability limit"
         print(f"  with that zeta {where}: peak errors {np.round(100 * errors, 2)} %")
 
-
-if __name__ == "__main__":
-    main()

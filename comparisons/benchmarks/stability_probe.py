@@ -7,7 +7,7 @@ which a mirror-image ground motion stops giving the mirror-image response
 silently wrong there), and the first at which the run stops with a stability
 error (energy, speed and overlap checks).  Up to the estimate both must hold.
 
-    python -m comparisons.stability_probe
+    python -m comparisons stability-probe
 """
 
 import argparse
@@ -17,6 +17,7 @@ import numpy as np
 
 import dem_core
 from dem_core import excitation, scenes, stability
+from dem_core.engine.model import compile_model
 
 PULSE = (4.0, 0.25)  # one-sine pulse, m/s^2 and s, that sets every scene rocking without overturning it
 DURATION = 1.0
@@ -47,14 +48,17 @@ def mirror_asymmetry(scene, mirrored_names, dt):
     return float(np.max(np.abs(a.theta + b.theta[:, order])) / np.max(np.abs(a.theta)))
 
 
-def main(argv=None):
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+def arguments(parser: argparse.ArgumentParser) -> None:
+    """The options of its subcommand of ``python -m comparisons``."""
     parser.add_argument("--factors", default="0.8,1,1.25,1.5,2,2.5,3,4", help="multiples of the limit")
-    args = parser.parse_args(argv)
+
+
+def run(args: argparse.Namespace) -> None:
+    """Run with the options of :func:`arguments` and print the results."""
     factors = [float(f) for f in args.factors.split(",")]
     print(f"{'case':30s} {'limit (s)':>10s} {'asymmetric from':>16s} {'stopped from':>13s}")
     for name, scene, mirrored in probe_cases():
-        limit = stability.stability_limit(scene)
+        limit = stability.stability_limit(compile_model(scene))
         asymmetric = stopped = np.inf
         for f in factors:
             try:
@@ -65,9 +69,6 @@ def main(argv=None):
                 asymmetric = min(asymmetric, f)
                 break
         print(f"{name:30s} {limit:10.3e} {asymmetric:16.2f} {stopped:13.2f}")
-    print(f"default: dt = min({dem_core.engine.simulation.DEFAULT_SAFETY} x limit, impact duration / "
-          f"{dem_core.engine.simulation.DEFAULT_STEPS_PER_IMPACT})")
+    print(f"default: dt = min({dem_core.simulation.DEFAULT_SAFETY} x limit, impact duration / "
+          f"{dem_core.simulation.DEFAULT_STEPS_PER_IMPACT})")
 
-
-if __name__ == "__main__":
-    main()

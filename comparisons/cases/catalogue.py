@@ -1,25 +1,25 @@
 """The benchmark cases of docs/method.md section 4, declared once for the tests, the scripts and the report.
 
-Every case is a :class:`comparisons.case.Case` written with keyword fields: its scene and motion,
+Every case is a :class:`comparisons.cases.case.Case` written with keyword fields: its scene and motion,
 its reference and how a run is judged, and the bands each engine's errors must stay within at its
-usual step.  The bands were set from the measured errors (the comment above each gives them, from
+usual step.  Each band is set from the measured errors (the comment above it gives them, from
 ``python -m comparisons report``) with a margin for the native core's tuning and for engines'
 version-to-version changes; a band is never widened to make a run pass.
 """
 
 import numpy as np
 
-from comparisons import analytical
-from comparisons.case import CLOSED_FORM, ODE_SOLVER, ROCKING_EQUATION, Case
-from comparisons.measures import (
+from comparisons.cases.case import CLOSED_FORM, ENGINES, ODE_SOLVER, ROCKING_EQUATION, Case, by_name
+from comparisons.cases.measures import (
     first_exceedance,
     first_zero_crossing,
     peak_until_overturn,
     peaks_between_crossings,
 )
-from comparisons.rocking_reference import rocking_response
-from comparisons.stacked_rocking import TwoBlockStack, stack_response
-from comparisons.strong_motion import strong_motion
+from comparisons.cases.strong_motion import strong_motion
+from comparisons.references import analytical
+from comparisons.references.rocking_equation import rocking_response
+from comparisons.references.stacked_rocking import TwoBlockStack, stack_response
 from dem_core import excitation, scenes, thresholds
 
 #: docs/method.md 4.1-4.2: the 0.25 x 1.0 m granite block released from 0.05236 rad (3 degrees)
@@ -239,57 +239,86 @@ def _el_centro(pga=None):
     return lambda: excitation.record("el_centro_1940", pga=pga)
 
 
+# --- what more than one case runs: motions, scenes, constants and bands -----------------------------
+
+def _northridge():
+    return excitation.record("northridge_1994")
+
+
+def _northridge_rocking():
+    return excitation.record("northridge_1994", pga=4.0)
+
+
+def _kalamata():
+    return excitation.record("kalamata_1986")
+
+
+def _housner_block():
+    """The 0.25 x 1.0 m block upright on a base with mu = 0.3 (the slide-rock cases)."""
+    return scenes.block(HOUSNER_WIDTH, HOUSNER_HEIGHT, friction=SLIDE_ROCK_MU)
+
+
+def _colonnade():
+    return scenes.colonnade(3, 3, spacing=2.5, epistyle="b", epistyle_density=8000.0)
+
+
+def _mexico():
+    return strong_motion("mexico_city_1985", COLONNADE_PGA)
+
+
+#: Newmark's cases: mu and the pulse's length (s); the amplitude is a multiple of mu g
+NEWMARK_MU = 0.3
+NEWMARK_PULSE = 0.3
+NEWMARK_MU_G = NEWMARK_MU * analytical.G
+
+#: the note of a single run of rocking under a record
+CHAOTIC = ("One run of a response that jumps with the amplitude (El Centro at 2.75 and 2.76 m/s^2 take the "
+           "rigid peak from 0.163 to 0.208 alpha): which engine is closest here is luck; the rocking "
+           "ensemble judges accuracy.")
+
+# measured |max slip error| 2e-4 or less (dem-overlap 4e-3 at a_p/(mu g) = 1.25)
+NEWMARK_BANDS = {"max_slip": {e: 0.01 for e in ENGINES}}
+PULSE_BANDS = {
+    # measured on the four pulse cases: dem 0.08% to 0.9% (the cosine pulse), dem-overlap 0.8% to 1.3% on the
+    # sine pulses (16% on the cosine pulse, its bias: no band there), pymunk 0.1% to 1.2%, pybullet 1.0% to
+    # 1.8%, mujoco 0.03% to 1.0%
+    "peak_rotation": {"dem": 0.03, "dem-overlap": 0.05, "pymunk": 0.05, "pybullet": 0.05, "mujoco": 0.05},
+    "overturn_mismatch": {e: 0.0 for e in ENGINES}}
+COSINE_BANDS = {"peak_rotation": {e: b for e, b in PULSE_BANDS["peak_rotation"].items() if e != "dem-overlap"},
+                "overturn_mismatch": PULSE_BANDS["overturn_mismatch"]}
+RECORD_SLIDING_BANDS = {
+    # measured under the three records: max slip within 1e-3 (mujoco 1.2% under Northridge); residual slip of
+    # the native core within 0.5%; RMS slip 1% or less (mujoco 3.8% under El Centro)
+    "max_slip": {e: 0.03 for e in ENGINES},
+    "residual_slip": {"dem": 0.03},
+    "rms_slip": {"dem": 0.03, "dem-overlap": 0.03, "pymunk": 0.03, "pybullet": 0.03, "mujoco": 0.08}}
+MODE_BANDS = {"mode_mismatch": {e: 0.0 for e in ENGINES}}  # every engine measured right on both sides
+
+
 def all_cases() -> list:
     """Every benchmark case, quick ones first."""
-    slender_alpha = float(np.arctan(1.0 / 6.0))
-    housner_alpha = float(np.arctan(HOUSNER_WIDTH / HOUSNER_HEIGHT))
-    squat_alpha = float(np.arctan(0.4))
-    below, above = slide_rock_amplitude(1.0 - SLIDE_ROCK_MARGIN), slide_rock_amplitude(1.0 + SLIDE_ROCK_MARGIN)
-    newmark_mu, newmark_tp = 0.3, 0.3
-    mu_g = newmark_mu * analytical.G
-    northridge_rocking = lambda: excitation.record("northridge_1994", pga=4.0)
-    northridge = lambda: excitation.record("northridge_1994")
-    kalamata = lambda: excitation.record("kalamata_1986")
-    housner_block = lambda: scenes.block(HOUSNER_WIDTH, HOUSNER_HEIGHT, friction=SLIDE_ROCK_MU)
-    colonnade = lambda: scenes.colonnade(3, 3, spacing=2.5, epistyle="b", epistyle_density=8000.0)
-    mexico = lambda: strong_motion("mexico_city_1985", COLONNADE_PGA)
-    chaotic = ("One run of a response that jumps with the amplitude (El Centro at 2.75 and 2.76 m/s^2 take the "
-               "rigid peak from 0.163 to 0.208 alpha): which engine is closest here is luck; the rocking "
-               "ensemble judges accuracy.")
-    every = ("dem", "dem-overlap", "pymunk", "pybullet", "mujoco")
-    newmark_bands = {  # measured |max slip error| 2e-4 or less (dem-overlap 4e-3 at a_p/(mu g) = 1.25)
-        "max_slip": {e: 0.01 for e in every}}
-    pulse_bands = {
-        # measured on the four pulse cases: dem 0.08% to 0.9% (the cosine pulse), dem-overlap 0.8% to 1.3% on the
-        # sine pulses (16% on the cosine pulse, its bias: no band there), pymunk 0.1% to 1.2%, pybullet 1.0% to
-        # 1.8%, mujoco 0.03% to 1.0%
-        "peak_rotation": {"dem": 0.03, "dem-overlap": 0.05, "pymunk": 0.05, "pybullet": 0.05, "mujoco": 0.05},
-        "overturn_mismatch": {e: 0.0 for e in every}}
-    cosine_bands = {"peak_rotation": {e: b for e, b in pulse_bands["peak_rotation"].items() if e != "dem-overlap"},
-                    "overturn_mismatch": pulse_bands["overturn_mismatch"]}
-    record_sliding_bands = {
-        # measured under the three records: max slip within 1e-3 (mujoco 1.2% under Northridge); residual slip of
-        # the native core within 0.5%; RMS slip 1% or less (mujoco 3.8% under El Centro)
-        "max_slip": {e: 0.03 for e in every},
-        "residual_slip": {"dem": 0.03},
-        "rms_slip": {"dem": 0.03, "dem-overlap": 0.03, "pymunk": 0.03, "pybullet": 0.03, "mujoco": 0.08}}
-    mode_bands = {"mode_mismatch": {e: 0.0 for e in every}}  # every engine measured right on both sides
+    return [*_quick_cases(), *_rocking_cases(), *_sliding_cases(), *_stack_cases()]
+
+
+def _quick_cases() -> list:
+    """The reduced set of ``--quick`` and CI: free rocking, Newmark's pulse, a pulse, sliding under a record
+    and a resting column."""
     return [
         Case(name="free_rocking", title="Free rocking of the 0.25 x 1.0 m block from 0.05236 rad (4.1, 4.2)",
              scene=housner_scene, motion=excitation.still, duration=4.0, bands=_free_rocking_bands(0.01, 0.03),
              quick=True,
              **_free_rocking(HOUSNER_WIDTH, HOUSNER_HEIGHT, HOUSNER_THETA0, 4.0)),
         Case(name="newmark", title="Sliding block under a rectangular pulse, a_p/(mu g) = 2 (Newmark 4.4)",
-             scene=lambda: sliding_block(newmark_mu),
-             motion=lambda: excitation.rectangular_pulse(2.0 * mu_g, newmark_tp), duration=1.2,
-             bands=newmark_bands, quick=True, **_newmark(2.0 * mu_g, newmark_mu, newmark_tp)),
+             scene=lambda: sliding_block(NEWMARK_MU),
+             motion=lambda: excitation.rectangular_pulse(2.0 * NEWMARK_MU_G, NEWMARK_PULSE), duration=1.2,
+             bands=NEWMARK_BANDS, quick=True, **_newmark(2.0 * NEWMARK_MU_G, NEWMARK_MU, NEWMARK_PULSE)),
         Case(name="sine_pulse", title="0.25 x 1.0 m block under a one-sine pulse, 6 m/s^2 for 0.25 s (4.3)",
              scene=lambda: scenes.block(HOUSNER_WIDTH, HOUSNER_HEIGHT),
-             motion=lambda: excitation.sine_pulse(6.0, 0.25), duration=2.5, bands=pulse_bands, quick=True,
+             motion=lambda: excitation.sine_pulse(6.0, 0.25), duration=2.5, bands=PULSE_BANDS, quick=True,
              **_forced_rocking(HOUSNER_WIDTH, HOUSNER_HEIGHT, lambda: excitation.sine_pulse(6.0, 0.25), 2.5)),
         Case(name="record_sliding", title="Block sliding under El Centro 1940, mu = 0.1 (rigid-plastic 4.5)",
              scene=lambda: sliding_block(0.1), motion=_el_centro(), duration=35.0, output_dt=0.005,
-             bands=record_sliding_bands, quick=True, **_record_sliding(0.1, _el_centro(), 35.0)),
+             bands=RECORD_SLIDING_BANDS, quick=True, **_record_sliding(0.1, _el_centro(), 35.0)),
         Case(name="statics", title="8-drum column at rest for 10 s (statics 4.8)", scene=lambda: scenes.column(8),
              motion=excitation.still, duration=10.0, output_dt=0.01, reference=lambda: None, errors=_statics_errors,
              reference_kind="rest", reference_uncertainty=0.0, accuracy=1e-6, primary="drift_m", quick=True,
@@ -298,6 +327,15 @@ def all_cases() -> list:
              bands={"drift_m": {"dem": 1e-9, "dem-overlap": 1e-9, "pymunk": 1e-3, "pybullet": 1e-3, "mujoco": 1e-6},
                     "rotation_rad": {"dem": 1e-9, "dem-overlap": 1e-9, "pymunk": 3e-4, "pybullet": 3e-4,
                                      "mujoco": 1e-6}}),
+    ]
+
+
+def _rocking_cases() -> list:
+    """Free rocking of other blocks and releases, rocking under pulses and records, and its onset."""
+    slender_alpha = float(np.arctan(1.0 / 6.0))
+    housner_alpha = float(np.arctan(HOUSNER_WIDTH / HOUSNER_HEIGHT))
+    squat_alpha = float(np.arctan(0.4))
+    return [
         Case(name="free_rocking_slender", title="Free rocking of the 1 x 6 m monolith from 0.2 alpha (4.1, 4.2)",
              scene=lambda: scenes.block(1.0, 6.0, tilt=0.2 * slender_alpha), motion=excitation.still,
              duration=12.0, bands=_free_rocking_bands(0.015, 0.03),
@@ -316,52 +354,65 @@ def all_cases() -> list:
              **_free_rocking(0.4, 1.0, 0.3 * squat_alpha, 4.0)),
         Case(name="cosine_pulse", title="1 x 6 m monolith under a one-cosine pulse, 2.5 m/s^2 for 1 s (4.3)",
              scene=lambda: scenes.block(1.0, 6.0), motion=lambda: excitation.cosine_pulse(2.5, 1.0), duration=6.0,
-             bands=cosine_bands, **_forced_rocking(1.0, 6.0, lambda: excitation.cosine_pulse(2.5, 1.0), 6.0)),
+             bands=COSINE_BANDS, **_forced_rocking(1.0, 6.0, lambda: excitation.cosine_pulse(2.5, 1.0), 6.0)),
         Case(name="sine_pulse_strong", title="0.25 x 1.0 m block under a one-sine pulse, 10 m/s^2 for 0.15 s (4.3)",
              scene=lambda: scenes.block(HOUSNER_WIDTH, HOUSNER_HEIGHT),
-             motion=lambda: excitation.sine_pulse(10.0, 0.15), duration=2.5, bands=pulse_bands,
+             motion=lambda: excitation.sine_pulse(10.0, 0.15), duration=2.5, bands=PULSE_BANDS,
              **_forced_rocking(HOUSNER_WIDTH, HOUSNER_HEIGHT, lambda: excitation.sine_pulse(10.0, 0.15), 2.5)),
         Case(name="sine_pulse_slender", title="1 x 6 m monolith under a one-sine pulse, 4 m/s^2 for 0.6 s (4.3)",
              scene=lambda: scenes.block(1.0, 6.0), motion=lambda: excitation.sine_pulse(4.0, 0.6), duration=6.0,
-             bands=pulse_bands, **_forced_rocking(1.0, 6.0, lambda: excitation.sine_pulse(4.0, 0.6), 6.0)),
+             bands=PULSE_BANDS, **_forced_rocking(1.0, 6.0, lambda: excitation.sine_pulse(4.0, 0.6), 6.0)),
         Case(name="record_rocking", title="1 x 6 m monolith under El Centro 1940 at 2.75 m/s^2, one run (4.3)",
              scene=lambda: scenes.block(1.0, 6.0), motion=_el_centro(2.75), duration=15.0, output_dt=0.005,
-             note=chaotic, **_forced_rocking(1.0, 6.0, _el_centro(2.75), 15.0)),
+             note=CHAOTIC, **_forced_rocking(1.0, 6.0, _el_centro(2.75), 15.0)),
         Case(name="record_rocking_northridge", title="1 x 6 m monolith under Northridge 1994 (Sylmar) at 4 m/s^2, "
-             "one run (4.3)", scene=lambda: scenes.block(1.0, 6.0), motion=northridge_rocking, duration=15.0,
-             output_dt=0.005, bands={"peak_rotation": {"dem": 0.05}}, note=chaotic.replace(
+             "one run (4.3)", scene=lambda: scenes.block(1.0, 6.0), motion=_northridge_rocking, duration=15.0,
+             output_dt=0.005, bands={"peak_rotation": {"dem": 0.05}}, note=CHAOTIC.replace(
                  "(El Centro", "(Northridge at 3.96 and 4.0 m/s^2 take it from 0.362 to 0.291 alpha; El Centro"),
-             **_forced_rocking(1.0, 6.0, northridge_rocking, 15.0)),
+             **_forced_rocking(1.0, 6.0, _northridge_rocking, 15.0)),
         Case(name="onset_ramp", title="Rocking onset of the 1 x 6 m monolith under a 0.5 m/s^2/s ramp "
              "(4.6; criterion alpha/30)", scene=lambda: scenes.block(ONSET_WIDTH, ONSET_HEIGHT),
              motion=lambda: excitation.ramp(ONSET_RAMP_RATE), duration=4.5,
              # measured: dem -0.003%, dem-overlap -9.0% (its lever arm is a third of the overlap short)
              bands={"onset_acceleration": {"dem": 0.005, "dem-overlap": 0.10}}, **_ramp_onset()),
+    ]
+
+
+def _sliding_cases() -> list:
+    """Newmark's pulses, sliding under records, the onset of sliding, and slide-rock either side of its threshold."""
+    below, above = slide_rock_amplitude(1.0 - SLIDE_ROCK_MARGIN), slide_rock_amplitude(1.0 + SLIDE_ROCK_MARGIN)
+    return [
         Case(name="newmark_low", title="Sliding block under a rectangular pulse, a_p/(mu g) = 1.25 (Newmark 4.4)",
-             scene=lambda: sliding_block(newmark_mu),
-             motion=lambda: excitation.rectangular_pulse(1.25 * mu_g, newmark_tp), duration=0.8,
-             bands=newmark_bands, **_newmark(1.25 * mu_g, newmark_mu, newmark_tp)),
+             scene=lambda: sliding_block(NEWMARK_MU),
+             motion=lambda: excitation.rectangular_pulse(1.25 * NEWMARK_MU_G, NEWMARK_PULSE), duration=0.8,
+             bands=NEWMARK_BANDS, **_newmark(1.25 * NEWMARK_MU_G, NEWMARK_MU, NEWMARK_PULSE)),
         Case(name="newmark_high", title="Sliding block under a rectangular pulse, a_p/(mu g) = 4 (Newmark 4.4)",
-             scene=lambda: sliding_block(newmark_mu),
-             motion=lambda: excitation.rectangular_pulse(4.0 * mu_g, newmark_tp), duration=1.6,
-             bands=newmark_bands, **_newmark(4.0 * mu_g, newmark_mu, newmark_tp)),
+             scene=lambda: sliding_block(NEWMARK_MU),
+             motion=lambda: excitation.rectangular_pulse(4.0 * NEWMARK_MU_G, NEWMARK_PULSE), duration=1.6,
+             bands=NEWMARK_BANDS, **_newmark(4.0 * NEWMARK_MU_G, NEWMARK_MU, NEWMARK_PULSE)),
         Case(name="sliding_northridge", title="Block sliding under Northridge 1994 (Sylmar), mu = 0.2 (rigid-plastic "
-             "4.5)", scene=lambda: sliding_block(0.2), motion=northridge, duration=30.0, output_dt=0.005,
-             bands=record_sliding_bands, **_record_sliding(0.2, northridge, 30.0)),
+             "4.5)", scene=lambda: sliding_block(0.2), motion=_northridge, duration=30.0, output_dt=0.005,
+             bands=RECORD_SLIDING_BANDS, **_record_sliding(0.2, _northridge, 30.0)),
         Case(name="sliding_kalamata", title="Block sliding under Kalamata 1986, mu = 0.1 (rigid-plastic 4.5)",
-             scene=lambda: sliding_block(0.1), motion=kalamata, duration=30.0, output_dt=0.005,
-             bands=record_sliding_bands, **_record_sliding(0.1, kalamata, 30.0)),
+             scene=lambda: sliding_block(0.1), motion=_kalamata, duration=30.0, output_dt=0.005,
+             bands=RECORD_SLIDING_BANDS, **_record_sliding(0.1, _kalamata, 30.0)),
         Case(name="sliding_onset", title="Onset of sliding of a squat block, mu = 0.3, under a 0.5 m/s^2/s ramp "
              "(4.6; slip 0.1 mm)", scene=lambda: sliding_block(0.3), motion=lambda: excitation.ramp(0.5),
              duration=8.0, **_sliding_onset(0.3, 0.5, 8.0)),
         Case(name="slide_rock_below", title=f"0.25 x 1.0 m block, mu = 0.3, rectangular pulse {below:.2f} m/s^2: "
              f"rocking only ({1 - SLIDE_ROCK_MARGIN:g} x the Zhang-Makris slide-rock threshold, 4.6)",
-             scene=housner_block, motion=lambda: excitation.rectangular_pulse(below, SLIDE_ROCK_PULSE),
-             duration=SLIDE_ROCK_PULSE, bands=mode_bands, **_slide_rock(1.0 - SLIDE_ROCK_MARGIN)),
+             scene=_housner_block, motion=lambda: excitation.rectangular_pulse(below, SLIDE_ROCK_PULSE),
+             duration=SLIDE_ROCK_PULSE, bands=MODE_BANDS, **_slide_rock(1.0 - SLIDE_ROCK_MARGIN)),
         Case(name="slide_rock_above", title=f"0.25 x 1.0 m block, mu = 0.3, rectangular pulse {above:.2f} m/s^2: "
              f"rocking and sliding ({1 + SLIDE_ROCK_MARGIN:g} x the Zhang-Makris slide-rock threshold, 4.6)",
-             scene=housner_block, motion=lambda: excitation.rectangular_pulse(above, SLIDE_ROCK_PULSE),
-             duration=SLIDE_ROCK_PULSE, bands=mode_bands, **_slide_rock(1.0 + SLIDE_ROCK_MARGIN)),
+             scene=_housner_block, motion=lambda: excitation.rectangular_pulse(above, SLIDE_ROCK_PULSE),
+             duration=SLIDE_ROCK_PULSE, bands=MODE_BANDS, **_slide_rock(1.0 + SLIDE_ROCK_MARGIN)),
+    ]
+
+
+def _stack_cases() -> list:
+    """Two stacked blocks against their rigid equations, and the column and the colonnade by consensus."""
+    return [
         Case(name="stacked_blocks", title="Two stacked blocks (2.5 x 2.5 m under 2.0 x 5.0 m) released from 0.1 rad, "
              "up to the first impact (Psycharis 4.7)", scene=lambda: scenes.stack(STACK_SIZES, tilt=STACK_THETA0),
              motion=excitation.still, duration=0.8,
@@ -374,14 +425,11 @@ def all_cases() -> list:
              measures=_multi_block_measures, reference_uncertainty=np.nan),
         Case(name="colonnade_mexico", title="3-column colonnade of 3-drum columns, epistyles (b) of 8000 kg/m^3, "
              f"under the strong motion of Mexico City 1985 (25-82 s) at {COLONNADE_PGA:g} m/s^2",
-             scene=colonnade, motion=mexico, duration=mexico().end_time, output_dt=0.005, reference_kind="consensus",
-             measures=_multi_block_measures, reference_uncertainty=np.nan),
+             scene=_colonnade, motion=_mexico, duration=_mexico().end_time, output_dt=0.005,
+             reference_kind="consensus", measures=_multi_block_measures, reference_uncertainty=np.nan),
     ]
 
 
 def case(name: str) -> Case:
     """The case declared under ``name``."""
-    for c in all_cases():
-        if c.name == name:
-            return c
-    raise KeyError(f"no case named {name!r}")
+    return by_name(all_cases(), name, "case")

@@ -1,13 +1,13 @@
 """Wall time and error of the native core against pymunk, measured in the same run.
 
-For every single-block case of :mod:`comparisons.cases` and for the 8-drum column under 20 s of the
+For every single-block case of :mod:`comparisons.cases.catalogue` and for the 8-drum column under 20 s of the
 1940 El Centro record: the native core at its automatic step (both contact laws) and pymunk at 1e-3 s,
 interleaved so that all see the same machine, each timing the best of ``--repeats`` runs of the
 engine's own stepping (compile or build time apart).  Printed per case: the time step, the wall time,
 the case's primary error, and the ratio of the native core's time to pymunk's (below 1: faster).
 The column has no closed form: its error is against the native core at an eighth of its step.
 
-    python -m comparisons.benchmark [--repeats 5] [--cases free_rocking,newmark]
+    python -m comparisons against-pymunk [--repeats 5] [--cases free_rocking,newmark]
 """
 
 import argparse
@@ -20,12 +20,12 @@ import numpy as np
 
 import dem_core
 from adapters import pymunk_adapter
-from comparisons.cases import all_cases
+from comparisons.cases.catalogue import all_cases
+from comparisons.harness.engines import NATIVE_LAWS, native_scene
 from dem_core import excitation, scenes
 
 PYMUNK_DT = 1e-3
 COLUMN_DURATION = 20.0  # s of El Centro
-LAWS = {"dem": "corner", "dem-overlap": "overlap_area"}
 
 
 def cold_compile_time() -> float:
@@ -38,14 +38,10 @@ def cold_compile_time() -> float:
     return float(done.stdout.split()[-1])
 
 
-def _with_law(scene, law):
-    return scene.replace(contact=dem_core.ContactParameters(law=law))
-
-
 def _runners(scene, motion, duration, output_dt):
-    runs = {engine: (lambda law=law: dem_core.simulate(_with_law(scene, law), motion, duration=duration,
-                                                        output_dt=output_dt))
-            for engine, law in LAWS.items()}
+    runs = {engine: (lambda engine=engine: dem_core.simulate(native_scene(scene, engine), motion, duration=duration,
+                                                              output_dt=output_dt))
+            for engine in NATIVE_LAWS}
     runs["pymunk"] = lambda: pymunk_adapter.simulate(scene, motion, duration=duration, dt=PYMUNK_DT,
                                                      output_dt=output_dt)
     return runs
@@ -66,11 +62,14 @@ def single_block_cases(names=None):
     return [c for c in all_cases() if len(c.scene().blocks) == 1 and (names is None or c.name in names)]
 
 
-def main(argv=None):
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+def arguments(parser: argparse.ArgumentParser) -> None:
+    """The options of its subcommand of ``python -m comparisons``."""
     parser.add_argument("--repeats", type=int, default=5)
     parser.add_argument("--cases", help="comma-separated case names (default: every single-block case)")
-    args = parser.parse_args(argv)
+
+
+def run(args: argparse.Namespace) -> None:
+    """Run with the options of :func:`arguments` and print the results."""
     names = args.cases.split(",") if args.cases else None
 
     first = dem_core.simulate(scenes.block(1.0, 2.0), duration=0.01)
@@ -78,7 +77,7 @@ def main(argv=None):
           f"scratch in {cold_compile_time():.1f} s (a fresh process with an empty cache)\n")
     header = f"{'case':28s} {'engine':12s} {'dt (s)':>9s} {'wall (s)':>9s} {'error':>10s} {'time / pymunk':>14s}"
     print(header)
-    worst = {engine: 0.0 for engine in LAWS}
+    worst = {engine: 0.0 for engine in NATIVE_LAWS}
     for case in single_block_cases(names):
         reference = case.reference()
         best = _best_of(_runners(case.scene(), case.motion(), case.duration, case.output_dt), args.repeats)
@@ -96,8 +95,7 @@ def main(argv=None):
 
     print(f"\n8-drum column, {COLUMN_DURATION:g} s of El Centro 1940 (outputs every 5 ms)")
     column, motion = scenes.column(8), excitation.record("el_centro_1940")
-    reference = dem_core.simulate(column, motion, duration=COLUMN_DURATION, output_dt=0.005,
-                                  dt=dem_core.automatic_time_step(column) / 8)
+    reference = dem_core.simulate(column, motion, duration=COLUMN_DURATION, output_dt=0.005, step_fraction=1 / 8)
     best = _best_of(_runners(column, motion, COLUMN_DURATION, 0.005), args.repeats)
     peak = np.max(np.abs(reference.theta[:, -1]))
     for engine, result in best.items():
@@ -108,6 +106,3 @@ def main(argv=None):
               f"({1e9 * result.info['run_time_s'] / steps / len(column.blocks):.0f} ns per block-step), top-drum "
               f"peak {error:+.2%} against the corner law at dt/8, time / pymunk {ratio:.2f}")
 
-
-if __name__ == "__main__":
-    main()

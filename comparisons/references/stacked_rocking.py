@@ -11,7 +11,7 @@ a Lagrangian system with the pivot corners fixed:
 
 A mode ends at an impact (a rotation returning to zero) or, for ``locked``,
 when the contact resultant under the upper block leaves its base and it starts
-to rock on that edge.  Angles as in :mod:`comparisons.analytical`: counter-
+to rock on that edge.  Angles as in :mod:`comparisons.references.analytical`: counter-
 clockwise positive, ``theta1`` the lower block's angle, ``theta2`` the upper
 one's (absolute).  Which corners the blocks pivot on is part of the state, not
 read off the signs of the angles: ``pivot1 = +1`` is the lower block's left
@@ -31,7 +31,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.integrate import solve_ivp
 
-from comparisons.analytical import G
+from comparisons.references.analytical import G
 
 _E = np.array([[0.0, -1.0], [1.0, 0.0]])  # rotation by +90 degrees
 

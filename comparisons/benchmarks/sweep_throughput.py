@@ -5,7 +5,7 @@ The grid: 10 frequencies (0.5 to 5 Hz) x 10 PGAs (1 to 5.5 m/s^2) of harmonic mo
 process, on as many as the machine has cores, and (``--dask``) on a local Dask cluster of that many
 worker processes, each time from an empty output folder; the ratios are measured in the same run.
 
-    python -m comparisons.sweep_throughput [--runs 100] [--dask]
+    python -m comparisons sweep-throughput [--runs 100] [--dask]
 """
 
 import argparse
@@ -41,11 +41,14 @@ def timed(sweep, **where):
     return wall, table
 
 
-def main(argv=None):
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+def arguments(parser: argparse.ArgumentParser) -> None:
+    """The options of its subcommand of ``python -m comparisons``."""
     parser.add_argument("--runs", type=int, default=100, help="grid size (a square: 100 = 10 x 10)")
     parser.add_argument("--dask", action="store_true", help="also on a local Dask cluster")
-    args = parser.parse_args(argv)
+
+
+def run(args: argparse.Namespace) -> None:
+    """Run with the options of :func:`arguments` and print the results."""
     sweep = grid(args.runs)
     n = len(sweep.points())
     cores = os.cpu_count()
@@ -70,6 +73,3 @@ def main(argv=None):
     for label, wall in rows:
         print(f"{label:28s} {wall:9.1f} {n / wall * 60:9.0f} {one / wall:9.2f}")
 
-
-if __name__ == "__main__":
-    main()

@@ -1,7 +1,7 @@
 """The rocking equation under sampled ground motion, compiled: the reference for records and ensembles.
 
-The rigid block of :class:`comparisons.analytical.RockingBlock` on a rigid base, no sliding
-(docs/method.md 4.3, in the sign convention of :mod:`comparisons.analytical`):
+The rigid block of :class:`comparisons.references.analytical.RockingBlock` on a rigid base, no sliding
+(docs/method.md 4.3, in the sign convention of :mod:`comparisons.references.analytical`):
 
     theta'' = -p^2 [ s (1 + a_v/g) sin(alpha - s theta) - (a_g/g) cos(alpha - s theta) ]
 
@@ -169,6 +169,61 @@ def _write(out_t, out_theta, out_omega, j, t0, t1, th0, om0, acc0, th1, om1, acc
 
 
 @nb.njit(cache=True)
+def _event_in_step(theta, omega, th1, om1, tau, sigma, forcing, side, p2, alpha, g, peak):
+    """The first event inside the Runge-Kutta step of length ``sigma`` from ``(theta, omega)`` at ``tau``
+    to ``(th1, om1)``: ``(event, length to it, peak)``, ``event`` -1 and the whole length if none.
+
+    An extremum inside the step is found first: a maximum past alpha means the block overturned before it
+    (one short of alpha raises the peak), a minimum past zero that it impacted before it; otherwise the
+    step's end is checked for either."""
+    event, at, lo = -1, sigma, 0.0
+    if side * omega >= 0.0 and side * om1 < 0.0:
+        top = _locate(_MAXIMUM, 0.0, sigma, theta, omega, tau, forcing, side, p2, alpha, g)
+        th_top, _ = _rk4(theta, omega, tau, top, forcing, side, p2, alpha, g)
+        if side * th_top >= alpha:
+            event, at = _OVERTURN, _locate(_OVERTURN, 0.0, top, theta, omega, tau, forcing, side, p2, alpha, g)
+        else:
+            peak = max(peak, side * th_top)
+            lo = top
+    elif side * omega < 0.0 and side * om1 > 0.0:
+        bottom = _locate(_MINIMUM, 0.0, sigma, theta, omega, tau, forcing, side, p2, alpha, g)
+        th_bottom, _ = _rk4(theta, omega, tau, bottom, forcing, side, p2, alpha, g)
+        if side * th_bottom <= 0.0:
+            event, at = _IMPACT, _locate(_IMPACT, 0.0, bottom, theta, omega, tau, forcing, side, p2, alpha, g)
+    if event < 0:
+        if side * th1 >= alpha:
+            event, at = _OVERTURN, _locate(_OVERTURN, lo, sigma, theta, omega, tau, forcing, side, p2, alpha, g)
+        elif side * th1 <= 0.0:
+            event, at = _IMPACT, _locate(_IMPACT, lo, sigma, theta, omega, tau, forcing, side, p2, alpha, g)
+    return event, at, peak
+
+
+@nb.njit(cache=True)
+def _write_piece(out_t, out_theta, out_omega, j, t_knot, tau, at, theta, omega, th_end, om_end, forcing, side, p2,
+                 alpha, g):
+    """Fill the outputs over the piece of length ``at`` from local time ``tau`` (:func:`_write`), with the
+    angular accelerations at its two ends; returns the next output index."""
+    acc0 = _angular_acceleration(theta, forcing[0] + forcing[1] * tau, forcing[2] + forcing[3] * tau,
+                                 side, p2, alpha, g)
+    t_end = tau + at
+    acc1 = _angular_acceleration(th_end, forcing[0] + forcing[1] * t_end,
+                                 forcing[2] + forcing[3] * t_end, side, p2, alpha, g)
+    return _write(out_t, out_theta, out_omega, j, t_knot + tau, t_knot + t_end, theta, omega, acc0,
+                  th_end, om_end, acc1)
+
+
+@nb.njit(cache=True)
+def _rest_until_uplift(out_t, out_theta, out_omega, j, t_knot, tau, tau_end, forcing, g, tan_alpha):
+    """A block at rest from local time ``tau``: zero outputs until the ground lifts a corner or ``tau_end``.
+    Returns ``(local time reached, corner lifted (0: none), next output index)``."""
+    start, corner = _uplift(tau, tau_end, forcing, g, tan_alpha)
+    while j < out_t.shape[0] and out_t[j] <= t_knot + start:
+        out_theta[j], out_omega[j] = 0.0, 0.0
+        j += 1
+    return start, corner, j
+
+
+@nb.njit(cache=True)
 def _integrate(knot_t, knot_ah, knot_av, max_step, p2, alpha, g, restitution, rest_speed, theta0, omega0,
                out_t, max_steps):
     """The rocking history on ``out_t``; see the module docstring.
@@ -188,14 +243,12 @@ def _integrate(knot_t, knot_ah, knot_av, max_step, p2, alpha, g, restitution, re
     side = 1.0 if theta > 0.0 or (theta == 0.0 and omega > 0.0) else -1.0
     resting = theta == 0.0 and omega == 0.0
     uplift = np.nan if resting else knot_t[0]
-    overturn = np.nan
     peak = abs(theta)
     tan_alpha = math.tan(alpha)
-    status, passes, j = _RUNNING, 0, 0
+    passes, j = 0, 0
     while j < out_t.shape[0] and out_t[j] <= knot_t[0]:
         out_theta[j], out_omega[j] = theta, omega
         j += 1
-    t_now = knot_t[0]
     for i in range(knot_t.shape[0] - 1):
         t_knot, length = knot_t[i], knot_t[i + 1] - knot_t[i]
         if length <= 0.0:
@@ -208,74 +261,44 @@ def _integrate(knot_t, knot_ah, knot_av, max_step, p2, alpha, g, restitution, re
             tau_end = length if k == n_steps else length * k / n_steps
             while tau < tau_end:
                 passes += 1
-                t_now = t_knot + tau
                 if passes > max_steps:
-                    return (out_theta, out_omega, impacts[:n_impacts], uplift, overturn, peak, _OUT_OF_BUDGET,
-                            t_now, passes)
+                    return (out_theta, out_omega, impacts[:n_impacts], uplift, np.nan, peak, _OUT_OF_BUDGET,
+                            t_knot + tau, passes)
                 if resting:
-                    start, corner = _uplift(tau, tau_end, forcing, g, tan_alpha)
-                    while j < out_t.shape[0] and out_t[j] <= t_knot + start:
-                        out_theta[j], out_omega[j] = 0.0, 0.0
-                        j += 1
-                    tau = start
+                    tau, corner, j = _rest_until_uplift(out_t, out_theta, out_omega, j, t_knot, tau, tau_end, forcing,
+                                                        g, tan_alpha)
                     if corner != 0:
                         resting, side, theta, omega = False, float(corner), 0.0, 0.0
                         if np.isnan(uplift):
-                            uplift = t_knot + start
+                            uplift = t_knot + tau
                     continue
                 sigma = tau_end - tau
                 th1, om1 = _rk4(theta, omega, tau, sigma, forcing, side, p2, alpha, g)
-                event, at, lo = -1, sigma, 0.0
-                if side * omega >= 0.0 and side * om1 < 0.0:
-                    top = _locate(_MAXIMUM, 0.0, sigma, theta, omega, tau, forcing, side, p2, alpha, g)
-                    th_top, _ = _rk4(theta, omega, tau, top, forcing, side, p2, alpha, g)
-                    if side * th_top >= alpha:
-                        event, at = _OVERTURN, _locate(_OVERTURN, 0.0, top, theta, omega, tau, forcing, side, p2,
-                                                       alpha, g)
-                    else:
-                        peak = max(peak, side * th_top)
-                        lo = top
-                elif side * omega < 0.0 and side * om1 > 0.0:
-                    bottom = _locate(_MINIMUM, 0.0, sigma, theta, omega, tau, forcing, side, p2, alpha, g)
-                    th_bottom, _ = _rk4(theta, omega, tau, bottom, forcing, side, p2, alpha, g)
-                    if side * th_bottom <= 0.0:
-                        event, at = _IMPACT, _locate(_IMPACT, 0.0, bottom, theta, omega, tau, forcing, side, p2,
-                                                     alpha, g)
-                if event < 0:
-                    if side * th1 >= alpha:
-                        event, at = _OVERTURN, _locate(_OVERTURN, lo, sigma, theta, omega, tau, forcing, side, p2,
-                                                       alpha, g)
-                    elif side * th1 <= 0.0:
-                        event, at = _IMPACT, _locate(_IMPACT, lo, sigma, theta, omega, tau, forcing, side, p2,
-                                                     alpha, g)
+                event, at, peak = _event_in_step(theta, omega, th1, om1, tau, sigma, forcing, side, p2, alpha, g,
+                                                 peak)
                 if event < 0:
                     th_end, om_end = th1, om1
                 else:
                     th_end, om_end = _rk4(theta, omega, tau, at, forcing, side, p2, alpha, g)
                     th_end = 0.0 if event == _IMPACT else side * alpha
-                acc0 = _angular_acceleration(theta, forcing[0] + forcing[1] * tau, forcing[2] + forcing[3] * tau,
-                                             side, p2, alpha, g)
-                t_end = tau + at
-                acc1 = _angular_acceleration(th_end, forcing[0] + forcing[1] * t_end,
-                                             forcing[2] + forcing[3] * t_end, side, p2, alpha, g)
-                j = _write(out_t, out_theta, out_omega, j, t_knot + tau, t_knot + t_end, theta, omega, acc0,
-                           th_end, om_end, acc1)
-                tau = t_end
+                j = _write_piece(out_t, out_theta, out_omega, j, t_knot, tau, at, theta, omega, th_end, om_end,
+                                 forcing, side, p2, alpha, g)
+                tau = tau + at
                 if event < 0:
                     peak = max(peak, side * th1)
                     theta, omega = th1, om1
                 elif event == _OVERTURN:
-                    return (out_theta, out_omega, impacts[:n_impacts], uplift, t_knot + t_end, alpha, _OVERTURNED,
-                            t_knot + t_end, passes)
+                    return (out_theta, out_omega, impacts[:n_impacts], uplift, t_knot + tau, alpha, _OVERTURNED,
+                            t_knot + tau, passes)
                 else:
                     if n_impacts == impacts.shape[0]:
                         impacts = np.concatenate((impacts, np.empty(impacts.shape[0])))
-                    impacts[n_impacts] = t_knot + t_end
+                    impacts[n_impacts] = t_knot + tau
                     n_impacts += 1
                     theta, omega, side = 0.0, restitution * om_end, -side
                     if abs(omega) <= rest_speed:
                         resting, omega = True, 0.0
-    return out_theta, out_omega, impacts[:n_impacts], uplift, overturn, peak, status, knot_t[-1], passes
+    return out_theta, out_omega, impacts[:n_impacts], uplift, np.nan, peak, _RUNNING, knot_t[-1], passes
 
 
 def rocking_response(block: RockingBlock, ground, duration: float | None = None, *, dt: float | None = None,
@@ -297,7 +320,7 @@ def rocking_response(block: RockingBlock, ground, duration: float | None = None,
     sample_dt : s, the knot spacing of analytic components.
     output_dt : s between outputs (default: the Runge-Kutta step).
     max_steps : step budget (default ``STEP_BUDGET_PER_STEP`` per regular step).
-    Returns a :class:`comparisons.analytical.RockingHistory` whose ``peak`` is the largest
+    Returns a :class:`comparisons.references.analytical.RockingHistory` whose ``peak`` is the largest
     ``|theta|`` between samples too; ``theta`` and ``omega`` are NaN after an overturn.
     Raises :class:`StepBudgetExceeded` when the budget runs out.
     """

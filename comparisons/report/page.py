@@ -1,12 +1,12 @@
 """The comparison report: verdicts, ensembles, overturning spectra, cases and the stability map, as HTML.
 
 ``python -m comparisons report [--quick] [--out reports]`` runs the harness
-(:mod:`comparisons.harness`), the ensembles (:mod:`comparisons.ensembles`), the overturning spectra
-(:mod:`comparisons.overturning_spectra`) and the stability stress tests (:mod:`comparisons.stress`),
+(:mod:`comparisons.harness.case_runs`), the ensembles (:mod:`comparisons.harness.ensembles`), the overturning spectra
+(:mod:`comparisons.harness.overturning_spectra`) and the stability stress tests (:mod:`comparisons.harness.stress`),
 then writes into the output folder the tidy tables (``results.csv``, ``ensembles.csv``,
-``spectra.csv``, ``stability.csv``), one PNG per figure (:mod:`comparisons.figures`, each checked for
+``spectra.csv``, ``stability.csv``), one PNG per figure (:mod:`comparisons.report.figures`, each checked for
 cut text) and ``index.html``, which states the commit and versions it was made from, heads its
-tables in plain words and explains its terms in a glossary (:mod:`comparisons.glossary`).
+tables in plain words and explains its terms in a glossary (:mod:`comparisons.report.glossary`).
 """
 
 import html
@@ -17,12 +17,13 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from comparisons import consensus, ensembles, figures, overturning_spectra, verdicts
-from comparisons.case import REFERENCE_KINDS, exact_floor
-from comparisons.cases import all_cases
-from comparisons.glossary import HEADERS, METRICS, glossary
-from comparisons.provenance import REPOSITORY, provenance
-from comparisons.stress import WRONG
+from comparisons.cases.case import REFERENCE_KINDS, exact_floor
+from comparisons.cases.catalogue import all_cases
+from comparisons.harness import consensus, ensembles, overturning_spectra
+from comparisons.harness.stress import WRONG
+from comparisons.report import figures, verdicts
+from comparisons.report.glossary import HEADERS, METRICS, glossary
+from comparisons.report.provenance import REPOSITORY, provenance
 
 STUDIES = REPOSITORY / "reports" / "studies"
 ENSEMBLE_SHARES = ("median_error", "p90_error", "overturn_agreement")
@@ -190,7 +191,7 @@ def write_report(table: pd.DataFrame, stability: pd.DataFrame, out: Path, *, qui
                  made: dict | None = None) -> Path:
     """Write figures, CSV tables and index.html into ``out``; returns the path of index.html.
 
-    made : :func:`~comparisons.provenance.provenance` taken when the runs started (default: now)."""
+    made : :func:`~comparisons.report.provenance.provenance` taken when the runs started (default: now)."""
     out.mkdir(parents=True, exist_ok=True)
     ensemble_table = pd.DataFrame() if ensemble_table is None else ensemble_table
     spectra_table = pd.DataFrame() if spectra_table is None else spectra_table

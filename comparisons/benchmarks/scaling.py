@@ -6,7 +6,7 @@ two-tier colonnade), under a 2 Hz harmonic ground motion: the set-up time (scene
 stability limit), the wall time per block-step of a fixed number of steps (one thread, and all
 threads), and the peak resident memory of the process.
 
-    python -m comparisons.scaling [--steps 2000] [--sizes 8 64 512 2048] [--families columns colonnade two_tier]
+    python -m comparisons scaling [--steps 2000] [--sizes 8 64 512 2048] [--families columns colonnade two_tier]
 """
 
 import argparse
@@ -17,7 +17,6 @@ import numba
 
 import dem_core
 from dem_core import excitation, scenes
-from dem_core.engine.simulation import Simulation
 
 SPACING = 2.5  # m between column centres
 
@@ -52,7 +51,7 @@ FAMILIES = {"columns": columns, "colonnade": colonnade, "two_tier": two_tier}
 def measure(scene, steps, parallel):
     """(set-up s, s per block-step) of ``steps`` steps with the serial or the threaded kernel."""
     started = time.perf_counter()
-    run = Simulation(scene, excitation.harmonic(pga=1.0, frequency=2.0), duration=10.0, parallel=parallel)
+    run = dem_core.Simulation(scene, excitation.harmonic(pga=1.0, frequency=2.0), duration=10.0, parallel=parallel)
     setup = time.perf_counter() - started
     run.advance(50)  # the first pair lists and caches
     started = time.perf_counter()
@@ -60,12 +59,15 @@ def measure(scene, steps, parallel):
     return setup, (time.perf_counter() - started) / steps / len(scene.blocks)
 
 
-def main(argv=None):
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+def arguments(parser: argparse.ArgumentParser) -> None:
+    """The options of its subcommand of ``python -m comparisons``."""
     parser.add_argument("--steps", type=int, default=2000)
     parser.add_argument("--sizes", type=int, nargs="+", default=[8, 64, 512, 2048])
     parser.add_argument("--families", nargs="+", default=list(FAMILIES), choices=list(FAMILIES))
-    args = parser.parse_args(argv)
+
+
+def run(args: argparse.Namespace) -> None:
+    """Run with the options of :func:`arguments` and print the results."""
     threads = numba.config.NUMBA_NUM_THREADS
     print(f"{'family':10s} {'blocks':>6s} {'set-up (s)':>10s} {'1 thread':>12s} {f'{threads} threads':>12s} "
           f"{'speed-up':>8s} {'peak RSS (MB)':>13s}")
@@ -78,6 +80,3 @@ def main(argv=None):
             print(f"{family:10s} {len(scene.blocks):6d} {setup:10.3f} {one * 1e9:9.0f} ns {many * 1e9:9.0f} ns "
                   f"{one / many:8.2f} {rss:13.0f}", flush=True)
 
-
-if __name__ == "__main__":
-    main()

@@ -91,7 +91,7 @@ class RockingHistory:
     uplift_time : first time the block left rest, s (NaN if it never did).
     overturned : whether |theta| reached alpha; overturn_time (s, NaN if not).
     peak : largest |theta| reached, rad: over the outputs (:func:`rocking_response`), or between
-        them too (:func:`comparisons.rocking_reference.rocking_response`); alpha once overturned there.
+        them too (:func:`comparisons.references.rocking_equation.rocking_response`); alpha once overturned there.
     """
 
     t: np.ndarray
@@ -117,7 +117,7 @@ def rocking_response(block: RockingBlock, ground_acceleration, t_end: float, *, 
     Integrated with scipy's ``solve_ivp`` (DOP853) and event detection: slow (seconds per record,
     and no end in sight under a record just above the uplift threshold, where the block chatters);
     for records, pulses and ensembles use the compiled
-    :func:`comparisons.rocking_reference.rocking_response`, checked against this one.
+    :func:`comparisons.references.rocking_equation.rocking_response`, checked against this one.
 
     ground_acceleration, vertical_acceleration : callables ``t -> m/s^2``.
     t_eval : output times (default: every ``max_step``).
@@ -161,21 +161,7 @@ def rocking_response(block: RockingBlock, ground_acceleration, t_end: float, *, 
             if np.isnan(uplift_time):
                 uplift_time = t
         side = 1.0 if th > 0 or (th == 0.0 and om > 0) else -1.0
-
-        def crossing(t_, y):
-            return y[0]
-
-        crossing.terminal = True
-        crossing.direction = -side
-
-        def topple(t_, y):
-            return abs(y[0]) - alpha
-
-        topple.terminal = True
-        topple.direction = 1.0
-        sol = solve_ivp(lambda t_, y, side=side: rhs(t_, y, side), (t, t_end), [th, om], method="DOP853",
-                        events=(crossing, topple), dense_output=True,
-                        max_step=max_step, rtol=rtol, atol=atol)
+        sol = _rock_on_corner(rhs, side, alpha, t, t_end, th, om, max_step=max_step, rtol=rtol, atol=atol)
         t_stop = sol.t[-1]
         mask = (t_eval >= t) & (t_eval <= t_stop)
         if np.any(mask):
@@ -198,6 +184,25 @@ def rocking_response(block: RockingBlock, ground_acceleration, t_end: float, *, 
         break
     return RockingHistory(t_eval, out_theta, out_omega, np.array(impacts), float(uplift_time),
                           bool(np.isfinite(overturn_time)), overturn_time, float(np.nanmax(np.abs(out_theta))))
+
+
+def _rock_on_corner(rhs, side, alpha, t, t_end, th, om, **tolerances):
+    """``solve_ivp`` of ``rhs(t, y, side)`` from ``(th, om)`` at ``t`` up to the first impact (``theta``
+    back to zero: event 0), overturning (``|theta| = alpha``: event 1) or ``t_end``, with dense output."""
+
+    def crossing(t_, y):
+        return y[0]
+
+    crossing.terminal = True
+    crossing.direction = -side
+
+    def topple(t_, y):
+        return abs(y[0]) - alpha
+
+    topple.terminal = True
+    topple.direction = 1.0
+    return solve_ivp(lambda t_, y: rhs(t_, y, side), (t, t_end), [th, om], method="DOP853",
+                     events=(crossing, topple), dense_output=True, **tolerances)
 
 
 def _first_uplift(margin, t0, t_end, step):

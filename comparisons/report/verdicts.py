@@ -2,18 +2,18 @@
 ensemble and spectrum, the same on their statistics.
 
 An engine is right on a case when one of its runs comes within the case's verdict level on the
-primary measure (:meth:`comparisons.case.Case.verdict_level`: the case's accuracy, or the
+primary measure (:meth:`comparisons.cases.case.Case.verdict_level`: the case's accuracy, or the
 reference's uncertainty where that is larger) and agrees on every mismatch measure.  Errors below
-the exact floor (:func:`comparisons.case.exact_floor`) are reported as exact and never ranked
+the exact floor (:func:`comparisons.cases.case.exact_floor`) are reported as exact and never ranked
 against each other.
 """
 
 import numpy as np
 import pandas as pd
 
-from comparisons.case import exact_floor, metric_kind
-from comparisons.engines import USUAL_STEP, step_label
-from comparisons.glossary import METRICS
+from comparisons.cases.case import exact_floor, metric_kind
+from comparisons.harness.engines import USUAL_STEP, step_label
+from comparisons.report.glossary import METRICS
 
 ACCURACY_LEVELS = (0.10, 0.03, 0.01)
 

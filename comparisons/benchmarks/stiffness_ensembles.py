@@ -1,7 +1,7 @@
 """Do multi-block scenes' answers depend on the contact stiffness?  An ensemble at several K_n.
 
 The 8-drum column and a three-column colonnade (three drums each, a single epistyle of 8000 kg/m^3)
-under each bundled record's strong motion (:mod:`comparisons.strong_motion`) at ``--scales`` amplitudes
+under each bundled record's strong motion (:mod:`comparisons.cases.strong_motion`) at ``--scales`` amplitudes
 (default 10) from 1.2 to 3 times the scene's uplift acceleration ``g tan(alpha)``, with the native core's
 default contact law at multiples of its default stiffness.  Printed per stiffness: how many members
 overturn, the median peak rotation (largest |theta| of any block) over the members that stand at every
@@ -14,9 +14,9 @@ same measures against the unperturbed run, with the median |log| of the member-b
 every comparison: how far members move under a change nobody would call physical, the floor below
 which a stiffness dependence cannot be told from the response's own sensitivity.
 
-    python -m comparisons.stiffness_ensembles [--scene column|colonnade] [--factors 1 10 100] [--scales 10]
+    python -m comparisons stiffness-ensembles [--scene column|colonnade] [--factors 1 10 100] [--scales 10]
         [--perturb 0.001] [--members FILE.csv]
-    python -m comparisons.stiffness_ensembles --summarise FILE.csv
+    python -m comparisons stiffness-ensembles --summarise FILE.csv
 """
 
 import argparse
@@ -26,7 +26,7 @@ import numpy as np
 import pandas as pd
 
 import dem_core
-from comparisons.strong_motion import strong_motion
+from comparisons.cases.strong_motion import strong_motion
 from dem_core import records, scenes
 
 SCALE_RANGE = (1.2, 3.0)  # amplitudes, in multiples of the uplift acceleration g tan(alpha)
@@ -45,8 +45,7 @@ def members(n_scales: int) -> list:
 def peaks(scene, factor: float, ensemble: list, amplitude_factor: float = 1.0) -> tuple:
     """(peak |theta| (members,) rad, overturned (members,) bool) of ``ensemble`` at ``factor`` x K_n, every
     amplitude times ``amplitude_factor``; a run that lost stability counts as overturned, with a NaN peak."""
-    contact = dem_core.ContactParameters(kn=factor * dem_core.ContactParameters().kn)
-    scene = scene.replace(contact=contact)
+    scene = scene.replace(contact=dem_core.contact.stiffer(scene.contact, factor))
     uplift = scene.gravity * np.tan(scene.rocking_slenderness)
     out, over = [], []
     for name, scale in ensemble:
@@ -118,8 +117,8 @@ def summarise(table: pd.DataFrame, name: str = "") -> list:
     return lines
 
 
-def main(argv=None):
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+def arguments(parser: argparse.ArgumentParser) -> None:
+    """The options of its subcommand of ``python -m comparisons``."""
     parser.add_argument("--scene", choices=list(SCENES), default="column")
     parser.add_argument("--factors", type=float, nargs="+", default=[1.0, 10.0, 100.0])
     parser.add_argument("--scales", type=int, default=10, help="amplitudes per record, from 1.2 to 3 g tan(alpha)")
@@ -127,7 +126,10 @@ def main(argv=None):
     parser.add_argument("--members", help="write every member's peak and outcome in each run to this CSV")
     parser.add_argument("--summarise", metavar="CSV",
                         help="print the summary of a CSV written by --members; run nothing")
-    args = parser.parse_args(argv)
+
+
+def run(args: argparse.Namespace) -> None:
+    """Run with the options of :func:`arguments` and print the results."""
     if args.summarise:
         print("\n".join(summarise(pd.read_csv(args.summarise), args.summarise)))
         return
@@ -136,6 +138,3 @@ def main(argv=None):
         table.to_csv(args.members, index=False)
     print("\n".join(summarise(table, args.scene)))
 
-
-if __name__ == "__main__":
-    main()

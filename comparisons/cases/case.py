@@ -18,7 +18,7 @@ from dataclasses import dataclass, field
 ENGINES = ("dem", "dem-overlap", "pymunk", "pybullet", "mujoco")
 
 #: relative errors below this count as exact: the rocking reference converges its peaks to 3e-7 alpha
-#: (``comparisons.rocking_reference.STEP_TIMES_P``), and no relative error here is asked to be finer
+#: (``comparisons.references.rocking_equation.STEP_TIMES_P``), and no relative error here is asked to be finer
 EXACT_RELATIVE = 1e-6
 #: absolute errors (m, rad) below this count as exact: 1e-9 m is 1.7e-10 of a 6 m column, round-off
 #: of the state over 1e5 to 1e7 steps
@@ -37,11 +37,11 @@ ODE_SOLVER = 1e-8
 REFERENCE_KINDS = {
     "closed form": "a closed-form solution (docs/method.md section 4)",
     "rocking equation": "the rigid rocking equation with Housner's impact rule, integrated exactly "
-                        "(comparisons/rocking_reference.py)",
+                        "(comparisons/references/rocking_equation.py)",
     "rigid-plastic": "the exact stick-slip integration of a rigid block (docs/method.md 4.5)",
-    "rigid stack": "the equations of motion of two rigid stacked blocks (comparisons/stacked_rocking.py)",
+    "rigid stack": "the equations of motion of two rigid stacked blocks (comparisons/references/stacked_rocking.py)",
     "rest": "the exact answer of a resting stack: nothing moves",
-    "consensus": "the converged consensus of the other engines (comparisons/consensus.py)",
+    "consensus": "the converged consensus of the other engines (comparisons/harness/consensus.py)",
 }
 
 
@@ -59,6 +59,23 @@ def exact_floor(metric: str) -> float:
     return {"mismatch": 0.0, "absolute": EXACT_ABSOLUTE, "relative": EXACT_RELATIVE}[metric_kind(metric)]
 
 
+def declared_band(bands: Mapping, declaration: str, metric: str, engine: str) -> float:
+    """``bands[metric][engine]`` of a declaration (a case, an ensemble, a spectrum), named in the error
+    (``"case 'newmark'"``) when it declares no such band."""
+    try:
+        return bands[metric][engine]
+    except KeyError:
+        raise KeyError(f"{declaration} declares no band for {engine} on {metric}") from None
+
+
+def by_name(declarations, name: str, kind: str):
+    """The one of ``declarations`` (cases, ensembles, spectra) called ``name``; KeyError naming ``kind`` if none."""
+    for declared in declarations:
+        if declared.name == name:
+            return declared
+    raise KeyError(f"no {kind} named {name!r}")
+
+
 @dataclass(frozen=True, kw_only=True)
 class Case:
     """One benchmark: what to run, what it is measured against, and how close each engine must come.
@@ -71,7 +88,7 @@ class Case:
     reference : computes, once, what ``errors`` compares with (None for a consensus case).
     errors : ``(result, reference) -> {metric: error}`` (analytical references).
     measures : ``result -> {metric: value}`` (consensus cases: the errors come from
-        :mod:`comparisons.consensus` once every engine has run).
+        :mod:`comparisons.harness.consensus` once every engine has run).
     bands : ``{metric: {engine: band}}``, |error| at the engine's usual step; an engine missing from a
         metric has no band there (it is reported, not asserted).
     reference_uncertainty : how far the reference itself may be from the truth, in the metric's unit
@@ -119,10 +136,7 @@ class Case:
 
     def band(self, metric: str, engine: str) -> float:
         """The band of ``engine`` on ``metric`` (KeyError if none is declared)."""
-        try:
-            return self.bands[metric][engine]
-        except KeyError:
-            raise KeyError(f"case {self.name!r} declares no band for {engine} on {metric}") from None
+        return declared_band(self.bands, f"case {self.name!r}", metric, engine)
 
     def within_band(self, metric: str, engine: str, error: float) -> bool:
         """Whether |error| is within the declared band (a NaN error never is)."""

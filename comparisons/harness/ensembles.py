@@ -4,13 +4,13 @@ runs, not on which side of a jump in a chaotic response one run happens to land.
 Rocking under a record is sensitive to its amplitude: the rigid rocking equation takes the 1 x 6 m
 monolith from 0.163 alpha under El Centro at 2.75 m/s^2 to 0.208 alpha at 2.76 m/s^2.  An
 :class:`Ensemble` therefore scales each record (its strong-motion window,
-:mod:`comparisons.strong_motion`) to several multiples of the threshold of the motion it studies
+:mod:`comparisons.cases.strong_motion`) to several multiples of the threshold of the motion it studies
 (``g tan(alpha)`` for rocking, ``mu g`` for sliding) on two blocks, and each engine's runs are
 compared member by member with the reference:
 
 * rocking: the rigid rocking equation with Housner's impact rule
-  (:func:`comparisons.rocking_reference.rocking_response`);
-* sliding: the exact rigid-plastic integration (:func:`comparisons.analytical.rigid_plastic_sliding`).
+  (:func:`comparisons.references.rocking_equation.rocking_response`);
+* sliding: the exact rigid-plastic integration (:func:`comparisons.references.analytical.rigid_plastic_sliding`).
 
 Peak error of a member: ``(peak - reference peak) / max(reference peak, floor)`` with the peak |theta|
 of the block (rocking) or its largest |slip| (sliding).  The floor, alpha/30 for rocking (the rocking
@@ -34,12 +34,13 @@ import numpy as np
 import pandas as pd
 from tqdm import tqdm
 
-from comparisons import analytical, engines
-from comparisons.case import ENGINES
-from comparisons.engines import settings_label
-from comparisons.measures import peak_until_overturn
-from comparisons.rocking_reference import rocking_response
-from comparisons.strong_motion import strong_motion
+from comparisons.cases.case import ENGINES, by_name, declared_band
+from comparisons.cases.measures import peak_until_overturn
+from comparisons.cases.strong_motion import strong_motion
+from comparisons.harness import engines
+from comparisons.harness.engines import settings_label
+from comparisons.references import analytical
+from comparisons.references.rocking_equation import rocking_response
 from dem_core import records, scenes
 
 #: the floor of the relative peak error: rocking, as a fraction of alpha; sliding, m
@@ -134,10 +135,7 @@ class Ensemble:
         return out
 
     def band(self, metric: str, engine: str) -> float:
-        try:
-            return self.bands[metric][engine]
-        except KeyError:
-            raise KeyError(f"ensemble {self.name!r} declares no band for {engine} on {metric}") from None
+        return declared_band(self.bands, f"ensemble {self.name!r}", metric, engine)
 
 
 def all_ensembles() -> list:
@@ -187,10 +185,7 @@ def all_ensembles() -> list:
 
 def ensemble(name: str) -> Ensemble:
     """The ensemble declared under ``name``."""
-    for e in all_ensembles():
-        if e.name == name:
-            return e
-    raise KeyError(f"no ensemble named {name!r}")
+    return by_name(all_ensembles(), name, "ensemble")
 
 
 @dataclass(frozen=True)

@@ -1,9 +1,9 @@
 """Run every case in every engine over a ladder of time steps and solver settings: one tidy table.
 
-Each row is one metric of one run: case, engine, step (its label, :func:`comparisons.engines.step_label`),
+Each row is one metric of one run: case, engine, step (its label, :func:`comparisons.harness.engines.step_label`),
 dt, solver settings, status ("ok", or "stopped" with the engine's message), wall time of the run
 (building and compiling apart), steps, the metric, its error and, for the consensus cases, the
-measured value, the consensus and its uncertainty (:mod:`comparisons.consensus`).  The native core
+measured value, the consensus and its uncertainty (:mod:`comparisons.harness.consensus`).  The native core
 runs at its automatic step and fractions of it; the other engines at fixed steps around their usual
 1e-3 s, and in the full run at 1e-3 s with more solver iterations too.  Consensus cases run every
 engine at its finest and next-finest settings instead (the native core at 10 and 100 times K_n).
@@ -15,14 +15,14 @@ import numpy as np
 import pandas as pd
 from tqdm import tqdm
 
-from comparisons import consensus, engines
-from comparisons.case import ENGINES
-from comparisons.cases import all_cases
-from comparisons.engines import settings_label
+from comparisons.cases.case import ENGINES
+from comparisons.cases.catalogue import all_cases
+from comparisons.harness import consensus, engines
+from comparisons.harness.engines import settings_label
 
 #: steps of each engine: for the native core, divisors of its automatic step; for the others, s.  PyBullet's
-#: quick ladder stops at 5e-4 s: its steps cost five times pymunk's (the resting column alone takes 15 s at
-#: 2.5e-4 s), and CI's quick run has 3 minutes
+#: quick ladder stops at 5e-4 s: its steps cost five times pymunk's (docs/performance.md), and the quick run
+#: has to fit in CI's 3 minutes
 LADDER = {
     "dem": {"full": (1, 2, 4, 8), "quick": (1, 4)},
     "dem-overlap": {"full": (1, 2, 4, 8), "quick": (1, 4)},

@@ -8,8 +8,8 @@ A native run replaces the scene's contact with its law's default parameters, wit
 ``kn_factor`` when its settings ask for a stiffer contact (``{"kn_factor": 100}``), and stops at the
 first overturn, as :func:`dem_core.simulate` does by default.  Its step is a divisor N of the
 automatic step, labelled ``auto/N``: the step :func:`dem_core.simulate` picks when given none (the
-smaller of 0.8 of the stability limit and a tenth of the shortest impact, both for the contact it
-runs with) divided by N.  The other engines take a step in seconds and their own solver settings
+smaller of 0.8 of the stability limit and a fifteenth of the shortest impact, both for the contact
+it runs with) divided by N.  The other engines take a step in seconds and their own solver settings
 (``{"iterations": 200}``).
 """
 
@@ -22,42 +22,37 @@ import numpy as np
 
 import adapters
 import dem_core
-from comparisons.case import ENGINES
-from dem_core.engine.contact import DEFAULT_STIFFNESS
+from comparisons.cases.case import ENGINES
 
+#: the native core's engine names and the contact law each runs
 NATIVE_LAWS = {"dem": "corner", "dem-overlap": "overlap_area"}
 #: each engine's usual step: the native core's automatic one, 1e-3 s for the others (their defaults)
 USUAL_STEP = {"dem": 1, "dem-overlap": 1, "pymunk": 1e-3, "pybullet": 1e-3, "mujoco": 1e-3}
-#: (step, settings) of each engine's finest run, and of the run next to it: the consensus of a
-#: multi-block scene is made of finest runs whose answer agrees with the next-finest one.  The native
-#: core's finest is its automatic step at 100 x K_n (a stiffer contact than any other run); the others'
-#: is their finest step (more solver iterations at that step take PyBullet three times as long, and
-#: moved none of the column's answers by more than the step did)
-FINEST = {
-    "dem": (1, {"kn_factor": 100}),
-    "dem-overlap": (1, {"kn_factor": 100}),
-    "pymunk": (2.5e-4, {}),
-    "pybullet": (2.5e-4, {}),
-    "mujoco": (2.5e-4, {}),
-}
-NEXT_FINEST = {
-    "dem": (1, {"kn_factor": 10}),
-    "dem-overlap": (1, {"kn_factor": 10}),
-    "pymunk": (5e-4, {}),
-    "pybullet": (5e-4, {}),
-    "mujoco": (5e-4, {}),
-}
 
 
 def is_native(engine: str) -> bool:
     return engine in NATIVE_LAWS
 
 
+def _refined(engine: str, kn_factor: float, step: float) -> tuple:
+    """(step, settings) of a refined run: the native core at its automatic step with K_n times
+    ``kn_factor``, the others at ``step`` s."""
+    return (1, {"kn_factor": kn_factor}) if is_native(engine) else (step, {})
+
+
+#: (step, settings) of each engine's finest run, and of the run next to it: the consensus of a
+#: multi-block scene is made of finest runs whose answer agrees with the next-finest one.  The native
+#: core's finest is its automatic step at 100 x K_n (a stiffer contact than any other run); the others'
+#: is their finest step (more solver iterations at that step take PyBullet three times as long, and
+#: moved none of the column's answers by more than the step did)
+FINEST = {engine: _refined(engine, kn_factor=100, step=2.5e-4) for engine in ENGINES}
+NEXT_FINEST = {engine: _refined(engine, kn_factor=10, step=5e-4) for engine in ENGINES}
+
+
 def native_scene(scene, engine: str, kn_factor: float = 1.0):
     """``scene`` with the contact law of ``engine`` at its default parameters, K_n times ``kn_factor``."""
-    law = NATIVE_LAWS[engine]
-    contact = dem_core.ContactParameters(law=law, kn=kn_factor * DEFAULT_STIFFNESS[law])
-    return scene.replace(contact=contact)
+    defaults = dem_core.ContactParameters(law=NATIVE_LAWS[engine])
+    return scene.replace(contact=dem_core.contact.stiffer(defaults, kn_factor))
 
 
 def step_label(engine: str, step, settings: dict | None = None) -> str:
@@ -107,19 +102,20 @@ def run(scene, motion, duration: float, engine: str, step=None, settings: dict |
     label = step_label(engine, step, settings)
     if is_native(engine):
         scene = native_scene(scene, engine, settings.pop("kn_factor", 1.0))
-        dt = dem_core.automatic_time_step(scene) / step
-        name = "dem"
+        # a divisor of the automatic step, which the native core works out as it compiles the scene
+        timing, name = {"dt": None, "step_fraction": 1.0 / step}, "dem"
     else:
-        dt, name = float(step), engine
+        timing, name = {"dt": float(step)}, engine
     start = time.perf_counter()
     try:
         with warnings.catch_warnings():
             warnings.filterwarnings("ignore", message=".*product of their coefficients")
-            result = adapters.simulate(scene, motion, duration, engine=name, dt=dt, output_dt=output_dt, **settings)
+            result = adapters.simulate(scene, motion, duration, engine=name, output_dt=output_dt, **timing, **settings)
         status, message = "ok", ""
-    except (dem_core.SimulationUnstable, adapters.EngineUnstable) as exc:
+    except dem_core.SimulationUnstable as exc:
         result, status, message = exc.partial, "stopped", str(exc)
     wall = time.perf_counter() - start
     info = result.info if result is not None else {}
+    dt = timing["dt"] if timing["dt"] is not None else (result.dt if result is not None else np.nan)
     return Run(result, status, message, dt, label, float(info.get("run_time_s", wall)),
                float(info.get("compile_time_s", np.nan)), float(info.get("steps", np.nan)))

@@ -17,7 +17,7 @@ the outcome draws the overturning spectrum (Zhang and Makris (2001), J. Eng. Mec
   impact at still larger amplitudes.
 
 The reference's boundaries (:func:`reference_transitions`) come from the rocking equation with
-Housner's impact rule (:func:`comparisons.rocking_reference.rocking_response`): a fine scan of the
+Housner's impact rule (:func:`comparisons.references.rocking_equation.rocking_response`): a fine scan of the
 amplitude in each column, then bisection of every change of outcome.  Each engine runs the points
 of each column at 3% and 10% below and above every transition and in the middle of every band
 between two transitions; the reference's own outcome is computed at every point.  Agreement is
@@ -36,9 +36,10 @@ import numpy as np
 import pandas as pd
 from tqdm import tqdm
 
-from comparisons import analytical, engines
-from comparisons.case import ENGINES
-from comparisons.rocking_reference import rocking_response
+from comparisons.cases.case import ENGINES, by_name, declared_band
+from comparisons.harness import engines
+from comparisons.references import analytical
+from comparisons.references.rocking_equation import rocking_response
 from dem_core import excitation, scenes
 
 #: run length after the pulse, in units of 1/p
@@ -101,15 +102,12 @@ class Spectrum:
         return motion, length + FREE_TIME / block.p
 
     def band(self, metric: str, engine: str) -> float:
-        try:
-            return self.bands[metric][engine]
-        except KeyError:
-            raise KeyError(f"spectrum {self.name!r} declares no band for {engine} on {metric}") from None
+        return declared_band(self.bands, f"spectrum {self.name!r}", metric, engine)
 
 
 def all_spectra() -> list:
     """The overturning spectra of the report, quick ones first: both pulses on the two blocks of the
-    rocking ensemble (``comparisons.ensembles``), whose slenderness is all the dimensionless spectrum
+    rocking ensemble (``comparisons.harness.ensembles``), whose slenderness is all the dimensionless spectrum
     depends on (tan alpha = 1/6 and 1/4)."""
     sine_columns = (0.5, 1.0, 1.5, 2.0, 3.0, 4.0, 5.0, 6.0, 7.0, 7.5, 8.0, 8.5, 9.0, 10.0)
     rectangular_columns = (0.25, 0.5, 0.75, 1.0, 1.5, 2.0, 3.0, 4.0)
@@ -135,10 +133,8 @@ def all_spectra() -> list:
 
 
 def spectrum(name: str) -> Spectrum:
-    for s in all_spectra():
-        if s.name == name:
-            return s
-    raise KeyError(f"no overturning spectrum named {name!r}")
+    """The overturning spectrum declared under ``name``."""
+    return by_name(all_spectra(), name, "overturning spectrum")
 
 
 def closed_form_rectangular(p_td):

@@ -1,0 +1,9 @@
+"""Measurements and calibrations run by hand, each a subcommand of ``python -m comparisons``.
+
+* :mod:`.against_pymunk` (``against-pymunk``): wall time and error of the native core against pymunk;
+* :mod:`.scaling` (``scaling``): cost of the native core as scenes grow;
+* :mod:`.sweep_throughput` (``sweep-throughput``): runs per minute of a parameter sweep;
+* :mod:`.stability_probe` (``stability-probe``): the estimated stability limit against the real one;
+* :mod:`.calibrate_damping` (``calibrate-damping``): the contact damping that matches Housner's impact loss;
+* :mod:`.stiffness_ensembles` (``stiffness-ensembles``): whether multi-block answers depend on K_n.
+"""
