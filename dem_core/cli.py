@@ -9,7 +9,7 @@
   that overturns the scene, or starts it rocking or sliding;
 * ``ramp SCENE.toml --rate 0.5``: rocking, sliding and overturning
   accelerations under a monotonic ramp;
-* ``animate SCENE.toml --out run.gif``: run and animate (GIF or MP4);
+* ``animate SCENE.toml --out run.gif``: run and animate (GIF or MP4, at most 5000 frames);
 * ``spectrum RECORD ... --out spectra.png``: elastic response spectra;
 * ``stiffness SCENE.toml``: the run again at 10 and 100 times the contact stiffness, to see
   whether the answer depends on it;
@@ -21,9 +21,29 @@
   (t, block, x, y, theta, x_rel, base_x, base_y);
 * ``metrics.csv``: per block peak |theta|, residual displacement, sliding,
   mean |theta|, overturn;
-* ``summary.json``: scene-level measures and run facts (time step and
+* ``summary.json``: the scene file (``scene``), whether the run is whole (``status``: "complete";
+  "stopped" when the run lost stability, with ``stop_reason``, the files then holding the run up to
+  ``end_time_s``; "incomplete" while the files are written, so a folder left by Ctrl-C or a full
+  disk says so), the files written (``files``), scene-level measures and run facts (time step and
   stability limit, steps, compile and run wall times);
 * ``rotations.png``, ``displacements.png``, ``sliding.png`` (and ``epistyles.png`` for colonnades).
+
+A folder that holds an earlier run of the same scene file has it replaced whole (its files are
+deleted once the new run has finished, before the new ones are written; the command says so); a
+folder that holds another scene's run is refused, naming that scene, unless ``--overwrite``.
+
+Output paths are checked before any run starts (created, writable, not a file where a folder
+belongs), and every number on the command line is checked for finiteness, sign and range; an error
+is one line naming the option.  Each file is written under a temporary name (``NAME.partial``) and
+renamed when complete: a full disk or Ctrl-C leaves no truncated file that looks whole
+(:mod:`dem_core.output_files`).
+
+Exit status: 0 done; 1 failed (a sweep with failed runs, a file that could not be written, an
+unexpected error); 2 refused input (an option, a scene or sweep file, an output path); 3 a run that
+stopped unstable (``run`` and ``animate`` still write what it reached, marked so); 130 interrupted
+by Ctrl-C, with one line saying what was saved (for a sweep, how many runs, and that the same
+command resumes).  No error prints a traceback: an unexpected one is a line ending "unexpected:
+please report"; ``DEM_CORE_DEBUG=1`` shows its traceback.
 
 Accelerations are printed in m/s^2 with g in brackets, ``PGA 2.75 m/s^2 (0.281 g)``; every other
 quantity in SI units.  Long work (frames, the runs of a search) shows a progress bar with an
@@ -33,6 +53,7 @@ estimate of the time left when stderr is a terminal, and nothing otherwise (CI, 
 import argparse
 import json
 import math
+import os
 import re
 import sys
 import time
@@ -45,7 +66,8 @@ import numpy as np
 from .inputs import records
 from .inputs.records import G_STANDARD
 from .inputs.scene_file import SceneFileError, load, read_toml
-from .simulation import SimulationUnstable, simulate
+from .output_files import OutputPathError, OutputWriteError, output_file, output_folder, reason, replacing
+from .simulation import SimulationUnstable, run_duration, simulate
 
 DEFAULT_SCENE = "column_el_centro.toml"
 
@@ -74,11 +96,67 @@ def _simulate_options(settings: dict, *, progress: bool = True) -> dict:
     """The keyword arguments of every ``simulate`` call the command line makes, directly or through
     an analysis: the one place where run-wide options are added.  ``progress``: a bar with the time
     left for each long run, shown only on a terminal (commands that run many short runs have their
-    own bar over the runs and pass False)."""
+    own bar over the runs and pass False).  The progress callback is always given: between a run's
+    chunks it raises a Ctrl-C that came while the compiled kernel ran (see :class:`_Interrupts`)."""
     options = dict(settings)
-    if progress and sys.stderr.isatty():
-        options["progress"] = _StepProgress()
+    bar = _StepProgress() if progress and sys.stderr.isatty() else None
+
+    def report(done: int, total: int):
+        INTERRUPTS.check()
+        if bar is not None:
+            bar(done, total)
+
+    options["progress"] = report
     return options
+
+
+class _Interrupts:
+    """Ctrl-C as the command line takes it: ``KeyboardInterrupt`` raised where the program is, except in Python
+    code that the compiled kernel calls back (numba loading a constant), where an exception crashes the process
+    with a segmentation fault; there the request is only noted, and :meth:`check` raises it at the next safe
+    point (between a run's chunks, a quarter of a second apart, and after each run)."""
+
+    def __init__(self):
+        self.requested = False
+
+    def handle(self, signum, frame):
+        self.requested = True
+        if not _called_back_from_compiled_code(frame):
+            raise KeyboardInterrupt
+
+    def check(self) -> None:
+        """Raise ``KeyboardInterrupt`` if Ctrl-C came and was held back."""
+        if self.requested:
+            raise KeyboardInterrupt
+
+    def installed(self):
+        """A context in which SIGINT goes to :meth:`handle` (in the main thread only: elsewhere Python's own)."""
+        import contextlib
+        import signal
+        import threading
+
+        self.requested = False
+        if threading.current_thread() is not threading.main_thread():
+            return contextlib.nullcontext()
+        previous = signal.signal(signal.SIGINT, self.handle)
+        stack = contextlib.ExitStack()
+        stack.callback(signal.signal, signal.SIGINT, previous)
+        return stack
+
+
+INTERRUPTS = _Interrupts()
+_PACKAGE = os.path.dirname(os.path.abspath(__file__)) + os.sep
+
+
+def _called_back_from_compiled_code(frame) -> bool:
+    """Whether ``frame`` runs in numba's Python code called straight from a call in this package (its compiled
+    code has no Python frames of its own), compilation (``_compile_for_args``) excepted."""
+    above = None
+    while frame is not None and not frame.f_code.co_filename.startswith(_PACKAGE):
+        if frame.f_code.co_name == "_compile_for_args":
+            return False
+        above, frame = frame, frame.f_back
+    return frame is not None and above is not None and f"{os.sep}numba{os.sep}" in above.f_code.co_filename
 
 
 class _StepProgress:
@@ -99,72 +177,214 @@ class _StepProgress:
             self.bar.close()
 
 
+class _ArgumentError(Exception):
+    """A command line argparse refuses; ``main`` prints it as one line and returns 2."""
+
+
+class _Parser(argparse.ArgumentParser):
+    """argparse, with an error as one line naming the option (no usage block) returned by ``main`` as 2
+    rather than a ``SystemExit`` (``--help`` still exits)."""
+
+    def error(self, message):
+        raise _ArgumentError(f"{message} (see {self.prog} --help)")
+
+
+def _number(parse, test, requirement: str):
+    """An argparse ``type`` that parses with ``parse`` and refuses values failing ``test``: NaN, infinities and
+    values out of range never reach a run.  The message names the option: ``argument --rate: must be a positive,
+    finite number (m/s^2 per s), got 0``."""
+    def check(text):
+        try:
+            value = parse(text)
+        except (TypeError, ValueError):
+            raise argparse.ArgumentTypeError(f"expected {requirement}, got {text!r}") from None
+        if not test(value):
+            raise argparse.ArgumentTypeError(f"must be {requirement}, got {text}")
+        return value
+
+    return check
+
+
+def _finite_positive(value) -> bool:
+    return math.isfinite(value) and value > 0
+
+
+SECONDS = _number(float, _finite_positive, "a positive, finite number of seconds")
+POSITIVE = _number(float, _finite_positive, "a positive, finite number")
+RATE = _number(float, _finite_positive, "a positive, finite number (m/s^2 per s)")
+WORKERS = _number(int, lambda v: v >= 1, "a whole number of at least 1")
+#: frames per second of an animation: GIF players honour at most 100
+FPS = _number(int, lambda v: 1 <= v <= 100, "a whole number from 1 to 100")
+SCALES = _number(int, lambda v: 2 <= v <= 1000, "a whole number from 2 to 1000")
+FRACTION = _number(float, lambda v: 0 < v < 1, "a number between 0 and 1 (both excluded)")
+DAMPING = _number(float, lambda v: 0 <= v < 1, "a damping ratio from 0 up to (not including) 1")
+#: most frames an animation may have (at 25 frames/s, 200 s of playback): each is held in memory for a GIF
+MOST_FRAMES = 5000
+#: the files a run writes into its folder (an animation's name is recorded in summary.json)
+RUN_FILES = ("summary.json", "time_history.csv", "time_history.parquet", "metrics.csv", "rotations.png",
+             "displacements.png", "sliding.png", "epistyles.png", "snapshots.png")
+#: exit status of a command stopped by Ctrl-C (128 + SIGINT, as shells report it)
+INTERRUPTED = 130
+#: environment variable that lets an unexpected error show its traceback
+DEBUG = "DEM_CORE_DEBUG"
+
+
 def main(argv=None) -> int:
-    parser = argparse.ArgumentParser(prog="dem-core", description="Seismic response of stone columns and colonnades "
-                                     "(native soft-contact DEM).")
+    """Run the command line ``argv`` (default ``sys.argv[1:]``) and return its exit status: 0 done; 1 failed (a
+    sweep with failed runs, a file that could not be written, an unexpected error); 2 refused input (an option,
+    a scene file, an output path); 3 a run that stopped unstable (its results up to there are written and
+    marked so); 130 interrupted by Ctrl-C.  Every error is one line on stderr, never a traceback (set
+    ``DEM_CORE_DEBUG=1`` to see the traceback of an unexpected one)."""
+    try:
+        args = _parser().parse_args(argv)
+    except _ArgumentError as exc:
+        print(f"error: {exc}", file=sys.stderr)
+        return 2
+    args.on_interrupt = lambda: "nothing was written"
+    commands = {"run": _run, "sweep": _sweep, "threshold": _threshold, "ramp": _ramp, "animate": _animate,
+                "spectrum": _spectrum, "stiffness": _stiffness, "records": _records}
+    try:
+        with warnings.catch_warnings(), INTERRUPTS.installed():
+            warnings.showwarning = _show_warning
+            return commands[args.command](args)
+    except KeyboardInterrupt:
+        print(f"interrupted: {args.on_interrupt()}", file=sys.stderr)
+        return INTERRUPTED
+    except (_Refused, OutputPathError) as exc:
+        print(f"error: {exc}", file=sys.stderr)
+        return 2
+    except OutputWriteError as exc:
+        print(f"error: {exc}{_after_write_error(args)}", file=sys.stderr)
+        return 1
+    except Exception as exc:  # noqa: BLE001 - the last resort: a user never gets a traceback
+        if os.environ.get(DEBUG, "") not in ("", "0"):
+            raise
+        print(f"error: {_one_line(exc)} (unexpected: please report; rerun with {DEBUG}=1 for the traceback)",
+              file=sys.stderr)
+        return 1
+
+
+def _one_line(exc: BaseException) -> str:
+    """An exception as the first line of its message, with its type when that says something."""
+    text = str(exc).strip().splitlines()[0] if str(exc).strip() else ""
+    if isinstance(exc, OSError) and exc.filename:
+        return f"{exc.filename}: {reason(exc)}"
+    return f"{type(exc).__name__}: {text}" if text else type(exc).__name__
+
+
+def _after_write_error(args) -> str:
+    """What a failed write left, for the commands that say more than the file that failed."""
+    note = getattr(args, "after_write_error", None)
+    return f"; {note()}" if note else ""
+
+
+class _Refused(Exception):
+    """An output folder that holds results this command will not mix with its own; the message says which."""
+
+
+def _parser() -> argparse.ArgumentParser:
+    parser = _Parser(prog="dem-core", description="Seismic response of stone columns and colonnades (native "
+                     "soft-contact DEM).", epilog="Exit status: 0 done, 1 failed, 2 refused input, 3 a run that "
+                     "stopped unstable, 130 interrupted (Ctrl-C).  No error shows a traceback; set "
+                     f"{DEBUG}=1 to see that of an unexpected one.")
     sub = parser.add_subparsers(dest="command", required=True)
-    run = sub.add_parser("run", help="run a scene file and write results and plots")
+    _add_run(sub)
+    _add_sweep(sub)
+    _add_threshold(sub)
+    _add_ramp(sub)
+    _add_animate(sub)
+    spectrum = sub.add_parser("spectrum", help="elastic response spectra of records")
+    spectrum.add_argument("records", nargs="+", help="bundled record names or record files")
+    spectrum.add_argument("--damping", type=DAMPING, default=0.05, help="damping ratio, 0 <= damping < 1 "
+                          "(default 0.05)")
+    spectrum.add_argument("--out", default="spectra.png", help="figure to write; a .csv beside it holds the values")
+    stiffness = sub.add_parser("stiffness", help="rerun a scene file at stiffer contacts and compare the measures")
+    stiffness.add_argument("scene", nargs="?", help=f"scene file; default the bundled {DEFAULT_SCENE}")
+    stiffness.add_argument("--factors", type=POSITIVE, nargs="+", default=[1.0, 10.0, 100.0],
+                           help="multiples of the scene's K_n, each positive (default 1 10 100)")
+    stiffness.add_argument("--duration", type=SECONDS, help="simulated time in s (default from the file or the "
+                           "record)")
+    sub.add_parser("records", help="list the bundled accelerograms")
+    return parser
+
+
+def _add_run(sub):
+    run = sub.add_parser("run", help="run a scene file and write results and plots",
+                         description="Run a scene file and write its results and figures into a folder.  A "
+                         "folder that holds an earlier run of the same scene file has that run replaced whole "
+                         "(its files are deleted when this run has finished, before its own are written; the "
+                         "command says so); a folder that holds the run of another scene is refused, naming it, "
+                         "unless --overwrite.  Each file is written whole "
+                         "or not at all; summary.json says whether the run is complete, stopped (unstable: the "
+                         "files hold the run up to there, and why) or incomplete (interrupted while writing).")
     run.add_argument("scene", nargs="?", help=f"scene file (TOML); default: the bundled {DEFAULT_SCENE}")
-    run.add_argument("--out", help="output folder (default: results/<scene name>)")
+    run.add_argument("--out", help="output folder (default: results/<scene name>), created if need be")
+    run.add_argument("--overwrite", action="store_true", help="replace the results of another scene's run in "
+                     "--out (its files are deleted before this run's are written); without it such a folder is "
+                     "refused")
     run.add_argument("--format", choices=("csv", "parquet"), help="time-history format (default from the file, csv)")
-    run.add_argument("--duration", type=float, help="simulated time in s (default from the file or the record)")
+    run.add_argument("--duration", type=SECONDS, help="simulated time in s (default from the file or the record)")
     run.add_argument("--no-plots", action="store_true", help="skip the figures")
     run.add_argument("--animate", metavar="FILE", help="also write an animation (.gif or .mp4, relative to --out) "
                      "and snapshots.png")
-    run.add_argument("--exaggerate", type=float, default=1.0, metavar="K",
-                     help="draw rotations and displacements K times larger in the animation (default 1)")
+    run.add_argument("--exaggerate", type=POSITIVE, default=1.0, metavar="K",
+                     help="draw rotations and displacements K times larger in the animation (K > 0, default 1)")
     run.add_argument("--relative-rotations", action="store_true",
                      help="plot rotations as theta / alpha, alpha the critical angle (column's for drums)")
-    sweep = sub.add_parser("sweep", help="run a parametric sweep file; resumes where a previous run stopped")
+
+
+def _add_sweep(sub):
+    sweep = sub.add_parser("sweep", help="run a parametric sweep file; resumes where a previous run stopped",
+                           description="Run a parametric sweep.  Each finished run is saved at once in "
+                           "OUT/runs/: after Ctrl-C (exit status 130) or a crash, the same command resumes, "
+                           "running only what is missing; a saved run that cannot be read is run again.")
     sweep.add_argument("spec", help="sweep file: a scene file with a [sweep] table")
     sweep.add_argument("--out", required=True, help="output folder (results.parquet, runs/, histories/)")
-    sweep.add_argument("--workers", type=int, help="processes on this machine (default: one per core)")
+    sweep.add_argument("--workers", type=WORKERS, help="processes on this machine, at least 1 (default: one per "
+                       "core)")
     sweep.add_argument("--scheduler", help="address of a running Dask scheduler, e.g. tcp://10.0.0.5:8786")
     sweep.add_argument("--retry-failed", action="store_true", help="run again the points that failed before")
     sweep.add_argument("--overwrite", action="store_true", help="delete the results already in --out and run every "
                        "point (without it, another sweep's results there are refused)")
     sweep.add_argument("--no-progress", action="store_true")
+
+
+def _add_threshold(sub):
     threshold = sub.add_parser("threshold", help="smallest excitation scale that overturns the scene (or starts "
                                "rocking or sliding), by a scan and bisection")
     threshold.add_argument("scene", help="scene file whose [excitation] is scaled")
-    threshold.add_argument("--parameter", default="pga", help="the [excitation] key that is varied (default pga)")
-    threshold.add_argument("--low", type=float, required=True)
-    threshold.add_argument("--high", type=float, required=True)
+    threshold.add_argument("--parameter", default="pga", help="the [excitation] key that is varied (default pga); "
+                           "the scene file must not give a key that excludes it (amplitude for pga)")
+    threshold.add_argument("--low", type=POSITIVE, required=True, help="lowest value scanned (> 0)")
+    threshold.add_argument("--high", type=POSITIVE, required=True, help="highest value scanned (> --low)")
     threshold.add_argument("--criterion", choices=("overturning", "rocking", "sliding"), default="overturning")
-    threshold.add_argument("--tolerance", type=float, default=0.02, help="relative width of the final bracket")
-    threshold.add_argument("--scan", type=int, default=6, help="scales tried before bisecting")
-    threshold.add_argument("--duration", type=float, help="simulated time of each run in s (default from the file "
-                           "or the record)")
+    threshold.add_argument("--tolerance", type=FRACTION, default=0.02, help="relative width of the final "
+                           "bracket, between 0 and 1 (default 0.02)")
+    threshold.add_argument("--scan", type=SCALES, default=6, help="scales tried before bisecting, 2 to 1000 "
+                           "(default 6)")
+    threshold.add_argument("--duration", type=SECONDS, help="simulated time of each run in s (default from the "
+                           "file or the record)")
+
+
+def _add_ramp(sub):
     ramp = sub.add_parser("ramp", help="rocking, sliding and overturning accelerations under a monotonic ramp")
     ramp.add_argument("scene", help="scene file (its [excitation] is ignored)")
-    ramp.add_argument("--rate", type=float, default=0.5, help="m/s^2 per s (default 0.5)")
-    ramp.add_argument("--duration", type=float, help="s (default: until the ramp reaches 1 g)")
+    ramp.add_argument("--rate", type=RATE, default=0.5, help="m/s^2 per s, positive (default 0.5)")
+    ramp.add_argument("--duration", type=SECONDS, help="s (default: until the ramp reaches 1 g)")
+
+
+def _add_animate(sub):
     anim = sub.add_parser("animate", help="run a scene file and write an animation and snapshots")
     anim.add_argument("scene", nargs="?", help=f"scene file; default the bundled {DEFAULT_SCENE}")
-    anim.add_argument("--out", default="animation.gif", help="file to write (.gif or .mp4)")
-    anim.add_argument("--duration", type=float, help="simulated time in s (default from the file or the record)")
-    anim.add_argument("--fps", type=int, default=25)
-    anim.add_argument("--speed", type=float, default=1.0, help="simulated seconds per second of playback")
-    anim.add_argument("--exaggerate", type=float, default=1.0, metavar="K",
-                      help="draw rotations and displacements relative to the start K times larger (default 1)")
-    spectrum = sub.add_parser("spectrum", help="elastic response spectra of records")
-    spectrum.add_argument("records", nargs="+", help="bundled record names or record files")
-    spectrum.add_argument("--damping", type=float, default=0.05)
-    spectrum.add_argument("--out", default="spectra.png", help="figure to write; a .csv beside it holds the values")
-    stiffness = sub.add_parser("stiffness", help="rerun a scene file at stiffer contacts and compare the measures")
-    stiffness.add_argument("scene", nargs="?", help=f"scene file; default the bundled {DEFAULT_SCENE}")
-    stiffness.add_argument("--factors", type=float, nargs="+", default=[1.0, 10.0, 100.0],
-                           help="multiples of the scene's K_n (default 1 10 100)")
-    stiffness.add_argument("--duration", type=float, help="simulated time in s (default from the file or the record)")
-    sub.add_parser("records", help="list the bundled accelerograms")
-    args = parser.parse_args(argv)
-    if args.command == "records":
-        return _records()
-    commands = {"run": _run, "sweep": _sweep, "threshold": _threshold, "ramp": _ramp, "animate": _animate,
-                "spectrum": _spectrum, "stiffness": _stiffness}
-    with warnings.catch_warnings():
-        warnings.showwarning = _show_warning
-        return commands[args.command](args)
+    anim.add_argument("--out", default="animation.gif", help="file to write (.gif or .mp4); snapshots go to "
+                      "<name>_snapshots.png beside it.  Both are written whole or not at all")
+    anim.add_argument("--duration", type=SECONDS, help="simulated time in s (default from the file or the record)")
+    anim.add_argument("--fps", type=FPS, default=25, help="frames per second, 1 to 100 (default 25)")
+    anim.add_argument("--speed", type=POSITIVE, default=1.0, help="simulated seconds per second of playback, "
+                      f"positive (default 1); the animation may have at most {MOST_FRAMES} frames")
+    anim.add_argument("--exaggerate", type=POSITIVE, default=1.0, metavar="K",
+                      help="draw rotations and displacements relative to the start K times larger (K > 0, "
+                      "default 1)")
 
 
 def _show_warning(message, category, filename, lineno, file=None, line=None):
@@ -172,7 +392,7 @@ def _show_warning(message, category, filename, lineno, file=None, line=None):
     print(f"warning: {message}", file=sys.stderr if file is None else file, flush=True)
 
 
-def _records() -> int:
+def _records(args=None) -> int:
     from .inputs.excitation import record
 
     for name, entry in records.BUNDLED.items():
@@ -191,35 +411,36 @@ def _motion_text(motion) -> str:
 
 def _run(args) -> int:
     path = Path(args.scene) if args.scene else default_scene_path()
-    try:
-        spec = load(path)
-    except SceneFileError as exc:
-        print(f"error: {exc}", file=sys.stderr)
-        return 2
-    if not args.exaggerate > 0:
-        print(f"error: --exaggerate must be positive, got {args.exaggerate:g}", file=sys.stderr)
+    spec = _load_or_fail(path)
+    if spec is None:
         return 2
     if args.exaggerate != 1 and not args.animate:
         print("note: --exaggerate applies to the animation: add --animate run.gif", file=sys.stderr)
     if args.animate and not _movie_name_ok(args.animate, "--animate"):
         return 2
-    out = Path(args.out) if args.out else Path("results") / path.stem
-    out.mkdir(parents=True, exist_ok=True)
+    out = output_folder(Path(args.out) if args.out else Path("results") / path.stem, "--out")
+    movie = output_file(out / args.animate, "--animate") if args.animate else None
+    previous = _previous_run(out, path, args.overwrite)
     settings = dict(spec.simulation)
     if args.duration is not None:
         settings["duration"] = args.duration
     fmt = args.format or spec.output.get("format", "csv")
     print(f"scene {path} ({len(spec.scene.blocks)} blocks), ground motion: {_motion_text(spec.excitation)}")
+    args.on_interrupt = lambda: f"the run was stopped before its results were written: {out}/ is as it was"
     started = time.perf_counter()
-    status = 0
+    stopped = ""
     try:
         result = simulate(spec.scene, spec.excitation, **_simulate_options(settings))
     except SimulationUnstable as exc:
-        print(f"error: {exc}", file=sys.stderr)
-        result, status = exc.partial, 3
-    except ValueError as exc:
+        INTERRUPTS.check()
+        result, stopped = exc.partial, _stopped_text(exc)
+        if result is None or len(result.t) == 0:
+            print(f"error: {stopped}; nothing was written", file=sys.stderr)
+            return 3
+    except (TypeError, ValueError) as exc:
         print(f"error: {path}: {exc}", file=sys.stderr)
         return 2
+    INTERRUPTS.check()
     wall = time.perf_counter() - started
     info = result.info
     print(f"{info.get('contact_law', '?')} contact law, K_n = {info.get('kn', float('nan')):.3g} N/m^2; dt = "
@@ -227,31 +448,109 @@ def _run(args) -> int:
           f"{info.get('steps')} steps, run {info.get('run_time_s', 0):.2f} s, total {wall:.2f} s")
     print(f"peak |theta| {np.max(result.peak_theta):.4g} rad, total sliding {result.total_sliding:.4g} m, "
           f"overturned: {f'yes at t = {result.time_of_overturn:.3f} s' if result.overturned else 'no'}")
-    _write(result, out, fmt)
+    args.on_interrupt = lambda: (f"writing the results into {out}/ was stopped: they are incomplete (summary.json "
+                                 "says so); run the same command again")
+    args.after_write_error = lambda: f"the results in {out}/ are incomplete"
+    for old in previous:
+        old.unlink(missing_ok=True)
+    summary = _summary(result, path, stopped)
+    written = _write(result, out, fmt, summary)
     if not args.no_plots and spec.output.get("plots", True) and len(result.t) > 1:
         from .pictures.plots import save_run_figures  # matplotlib loads only when figures are written
 
-        written = save_run_figures(result, out, spec.excitation, title=path.stem,
+        figures = save_run_figures(result, out, spec.excitation, title=path.stem,
                                    relative_rotations=args.relative_rotations)
-        print(f"figures: {', '.join(p.name for p in written)}")
-    if args.animate:
-        _write_animation(spec, result, out / args.animate, out / "snapshots.png", path.stem,
-                         exaggerate=args.exaggerate)
-    print(f"results written to {out}/")
-    return status
+        written += [p.name for p in figures]
+        print(f"figures: {', '.join(p.name for p in figures)}")
+    if movie is not None:
+        _write_animation(spec, result, movie, out / "snapshots.png", path.stem, exaggerate=args.exaggerate)
+        written += [movie.resolve().relative_to(out.resolve()).as_posix() if _inside(movie, out) else str(movie),
+                    "snapshots.png"]
+    _write_summary(out, {**summary, "status": "stopped" if stopped else "complete", "files": written})
+    if not stopped:
+        print(f"results written to {out}/")
+        return 0
+    print(f"results up to t = {result.t[-1]:.4g} s written to {out}/")
+    print(f"error: {stopped}; the results up to t = {result.t[-1]:.6g} s are written to {out}/, marked \"stopped\" "
+          "in summary.json", file=sys.stderr)
+    return 3
 
 
-def _write(result, out: Path, fmt: str):
-    frame = result.to_frame()
-    if fmt == "parquet":
-        frame.to_parquet(out / "time_history.parquet", index=False)
-    else:
-        frame.to_csv(out / "time_history.csv", index=False)
-    result.metrics().to_csv(out / "metrics.csv", index=False)
-    summary = {k: (v.item() if isinstance(v, np.generic) else v) for k, v in result.summary().items()}
-    summary["blocks"] = list(result.names)
-    summary = {k: (None if isinstance(v, float) and not np.isfinite(v) else v) for k, v in summary.items()}
-    (out / "summary.json").write_text(json.dumps(summary, indent=2))
+def _stopped_text(exc: SimulationUnstable) -> str:
+    """Why a run stopped, without the sentence addressed to Python callers (the result in ``.partial``)."""
+    return re.sub(r"\.?\s*The result up to t = \S+ s is in this error's \.partial\.?$", "", str(exc)).strip()
+
+
+def _previous_run(out: Path, scene: Path, overwrite: bool) -> list:
+    """The files of an earlier run in ``out``, to be deleted before this run's are written ([] if none): an
+    earlier run of the same scene file is replaced whole (said on stderr); another scene's run, or one whose
+    scene is not recorded, raises :class:`_Refused` naming it, unless ``overwrite``."""
+    try:
+        previous = json.loads((out / "summary.json").read_text())
+    except (OSError, ValueError):
+        previous = {}
+    previous = previous if isinstance(previous, dict) else {}
+    listed = previous.get("files") if isinstance(previous.get("files"), list) else []
+    names = {*RUN_FILES, *(name for name in listed if isinstance(name, str))}
+    files = sorted(p for p in (out / name for name in names) if _inside(p, out) and p.is_file())
+    if not files:
+        return []
+    held = previous.get("scene")
+    if isinstance(held, str) and _same_file(held, scene):
+        print(f"note: {out}/ holds an earlier run of {scene}: it is replaced whole", file=sys.stderr)
+        return files
+    what = (f"a run of another scene, {held}" if isinstance(held, str) else
+            f"another run, whose scene it does not record ({', '.join(p.name for p in files[:4])})")
+    if overwrite:
+        print(f"note: --overwrite: {out}/ holds {what}: its files are deleted", file=sys.stderr)
+        return files
+    raise _Refused(f"--out {out} holds {what}; the results of two runs are not mixed: give another --out, or "
+                   "--overwrite to delete them and write this run's")
+
+
+def _inside(path: Path, folder: Path) -> bool:
+    try:
+        path.resolve().relative_to(folder.resolve())
+    except ValueError:
+        return False
+    return True
+
+
+def _same_file(recorded: str, scene: Path) -> bool:
+    try:
+        return Path(recorded).resolve() == scene.resolve()
+    except OSError:
+        return False
+
+
+def _summary(result, scene: Path, stopped: str) -> dict:
+    """What summary.json holds: the scene file, whether the run is complete (``status``: "incomplete" until
+    every file is written, then "complete", or "stopped" with ``stop_reason``), its measures and run facts."""
+    measures = {k: (v.item() if isinstance(v, np.generic) else v) for k, v in result.summary().items()}
+    summary = {"scene": str(scene.resolve()), "status": "incomplete", "stop_reason": stopped or None,
+               "end_time_s": float(result.t[-1]), **measures, "blocks": list(result.names)}
+    return {k: (None if isinstance(v, float) and not np.isfinite(v) else v) for k, v in summary.items()}
+
+
+def _write_summary(out: Path, summary: dict) -> None:
+    with replacing(out / "summary.json") as tmp:
+        tmp.write_text(json.dumps(summary, indent=2))
+
+
+def _write(result, out: Path, fmt: str, summary: dict) -> list:
+    """Write summary.json (status "incomplete" until the caller marks it otherwise), the time history and
+    metrics.csv into ``out``, each whole or not at all; returns the names written."""
+    _write_summary(out, {**summary, "files": []})
+    history = f"time_history.{fmt}"
+    with replacing(out / history) as tmp:
+        frame = result.to_frame()
+        if fmt == "parquet":
+            frame.to_parquet(tmp, index=False)
+        else:
+            frame.to_csv(tmp, index=False)
+    with replacing(out / "metrics.csv") as tmp:
+        result.metrics().to_csv(tmp, index=False)
+    return ["summary.json", history, "metrics.csv"]
 
 
 def _write_animation(spec, result, movie, strip, title, fps=25, speed=1.0, exaggerate=1.0):
@@ -260,7 +559,8 @@ def _write_animation(spec, result, movie, strip, title, fps=25, speed=1.0, exagg
     animate(spec.scene, result, movie, excitation=spec.excitation, fps=fps, speed=speed, title=title,
             exaggerate=exaggerate, progress=_interactive())
     figure = snapshot_strip(spec.scene, result, default_snapshot_times(result), title=title, exaggerate=exaggerate)
-    figure.savefig(strip, dpi=110)
+    with replacing(strip) as tmp:
+        figure.savefig(tmp, dpi=110, format="png")
     frames = len(frame_indices(result, fps, speed))
     shown = f", rotations and displacements x {exaggerate:g}" if exaggerate != 1 else ""
     print(f"animation written to {movie} ({frames} frames, {frames / fps:.1f} s at {fps} frames/s{shown}), "
@@ -278,25 +578,32 @@ def _load_or_fail(path):
 
 
 def _sweep(args) -> int:
-    from .analyses.sweep import SweepError, load_sweep, run_sweep
+    from .analyses.sweep import SweepError, load_sweep, run_sweep, saved_runs
 
     try:
         sweep = load_sweep(args.spec)
     except SweepError as exc:
         print(f"error: {exc}", file=sys.stderr)
         return 2
+    out = output_folder(args.out, "--out")
     points = len(sweep.points())
     where = f"Dask scheduler {args.scheduler}" if args.scheduler else f"{args.workers or 'all'} local worker(s)"
     print(f"sweep {args.spec}: {points} runs over {', '.join(sweep.parameters)} on {where}")
+
+    def saved():
+        done, total = saved_runs(out)
+        return f"{done} of {total or points} runs saved in {out}; run the same command again to resume"
+
+    args.on_interrupt = args.after_write_error = saved
     try:
-        table = run_sweep(sweep, args.out, workers=args.workers, scheduler=args.scheduler,
+        table = run_sweep(sweep, out, workers=args.workers, scheduler=args.scheduler,
                           progress=False if args.no_progress else None, retry_failed=args.retry_failed,
                           overwrite=args.overwrite)
     except SweepError as exc:
         print(f"error: {exc}", file=sys.stderr)
         return 2
     counts = table.status.value_counts().to_dict()
-    print(f"{len(table)} runs in {args.out}/results.parquet: {counts}")
+    print(f"{len(table)} runs in {out}/results.parquet: {counts}")
     for _, row in table[table.status != "ok"].head(5).iterrows():
         print(f"  {row.run_id} {row.status}: {row.error.splitlines()[0] if row.error else ''}")
     return 0 if counts.get("failed", 0) == 0 else 1
@@ -331,25 +638,19 @@ def _bisections(width, above, tolerance) -> int:
 
 
 def _threshold(args) -> int:
-    from .analyses.sweep import SceneFileBuild
     from .analyses.thresholds import onset_threshold, overturning_threshold
 
-    try:
-        data = read_toml(args.scene)
-        build = SceneFileBuild(data, str(args.scene))
-        spec = build({})
-    except SceneFileError as exc:
-        print(f"error: {exc}", file=sys.stderr)
+    if not args.low < args.high:
+        print(f"error: --low {args.low:g} must be below --high {args.high:g}", file=sys.stderr)
         return 2
-    key = f"excitation.{args.parameter}"
+    loaded = _threshold_scene(args)
+    if loaded is None:
+        return 2
+    data, spec, motion_at = loaded
     unit = _parameter_unit(data.get("excitation", {}).get("kind"), args.parameter)
     settings = dict(spec.simulation)
     if args.duration is not None:
         settings["duration"] = args.duration
-
-    def motion_at(value):
-        return build({key: value}).excitation
-
     scan_step = (args.high - args.low) / max(args.scan - 1, 1)
     bar = _progress(total=args.scan + _bisections(scan_step, args.high, args.tolerance), desc="runs", unit="run")
 
@@ -361,15 +662,15 @@ def _threshold(args) -> int:
         bar.update()
 
     runs_so_far = []
+    args.on_interrupt = lambda: f"the search was stopped after {len(runs_so_far)} run(s); nothing was written"
     options = {"tolerance": args.tolerance, "scan": args.scan, "on_run": on_run,
                **_simulate_options(settings, progress=False)}
     try:
-        motion_at(args.low)
         if args.criterion == "overturning":
             found = overturning_threshold(spec.scene, motion_at, args.low, args.high, **options)
         else:
             found = onset_threshold(spec.scene, motion_at, args.low, args.high, criterion=args.criterion, **options)
-    except (SceneFileError, ValueError) as exc:
+    except (SceneFileError, TypeError, ValueError) as exc:
         print(f"error: {exc}", file=sys.stderr)
         return 2
     finally:
@@ -389,6 +690,53 @@ def _threshold(args) -> int:
     return 0
 
 
+def _threshold_scene(args):
+    """(the scene file's tables, the scene file, ``motion_at(value)``) of the threshold command, or None after
+    printing why the file, or its excitation with ``--parameter`` set to ``--low`` or ``--high``, cannot be
+    built; an excitation that cannot be built names the key ``--parameter`` sets."""
+    from .analyses.sweep import SceneFileBuild
+
+    try:
+        data = read_toml(args.scene)
+        build = SceneFileBuild(data, str(args.scene))
+        spec = build({})
+    except SceneFileError as exc:
+        print(f"error: {exc}", file=sys.stderr)
+        return None
+    key = f"excitation.{args.parameter}"
+
+    def motion_at(value):
+        try:
+            return build({key: value}).excitation
+        except SceneFileError as exc:
+            raise SceneFileError(f"{exc} ({_parameter_hint(data, args.scene, args.parameter, value)})") from None
+
+    try:
+        motion_at(args.low)
+        motion_at(args.high)
+    except SceneFileError as exc:
+        print(f"error: {exc}", file=sys.stderr)
+        return None
+    return data, spec, motion_at
+
+
+def _parameter_hint(data: dict, path, parameter: str, value) -> str:
+    """Which key ``--parameter`` sets, and the key of the scene file's [excitation] it cannot stand beside (the
+    one whose removal lets the excitation be built), if there is one."""
+    from .analyses.sweep import SceneFileBuild
+
+    hint = f"--parameter {parameter} sets [excitation] {parameter}"
+    table = data.get("excitation")
+    for other in [k for k in table if k not in ("kind", parameter)] if isinstance(table, dict) else []:
+        trial = {**data, "excitation": {k: v for k, v in table.items() if k != other}}
+        try:
+            SceneFileBuild(trial, str(path))({f"excitation.{parameter}": value})
+        except Exception:  # noqa: BLE001 - only whether it builds without that key matters
+            continue
+        return f"{hint}; the scene file gives {other}: use --parameter {other} or remove it"
+    return hint
+
+
 def _ramp(args) -> int:
     from .analyses.thresholds import onset_under_ramp
 
@@ -396,7 +744,14 @@ def _ramp(args) -> int:
     if spec is None:
         return 2
     settings = {k: v for k, v in spec.simulation.items() if k not in ("duration", "output_dt")}
-    found = onset_under_ramp(spec.scene, args.rate, args.duration, **_simulate_options(settings))
+    try:
+        found = onset_under_ramp(spec.scene, args.rate, args.duration, **_simulate_options(settings))
+    except SimulationUnstable as exc:
+        print(f"error: {_stopped_text(exc)}", file=sys.stderr)
+        return 3
+    except (TypeError, ValueError) as exc:
+        print(f"error: {args.scene}: {exc}", file=sys.stderr)
+        return 2
     print(f"ramp of {args.rate:g} m/s^2 per s, run for {found.result.t[-1]:.4g} s; the ground acceleration when "
           "the scene")
     for what, value in (("starts rocking", found.rocking), ("starts sliding", found.sliding),
@@ -423,28 +778,40 @@ def _animate(args) -> int:
     if loaded is None:
         return 2
     path, spec, settings = loaded
-    if not args.exaggerate > 0:
-        print(f"error: --exaggerate must be positive, got {args.exaggerate:g}", file=sys.stderr)
-        return 2
     if not _movie_name_ok(args.out, "--out"):
         return 2
-    if not (args.fps > 0 and args.speed > 0):
-        print(f"error: --fps and --speed must be positive, got {args.fps} and {args.speed:g}", file=sys.stderr)
+    movie = output_file(args.out, "--out")
+    try:
+        duration = run_duration(spec.excitation, settings.get("duration"))
+    except (TypeError, ValueError) as exc:
+        print(f"error: {path}: {exc}", file=sys.stderr)
+        return 2
+    frames = duration * args.fps / args.speed + 1
+    if frames > MOST_FRAMES:
+        print(f"error: --speed {args.speed:g} at --fps {args.fps}: the animation of {duration:.4g} s would have "
+              f"{frames:.3g} frames, more than {MOST_FRAMES}: raise --speed, lower --fps or shorten --duration",
+              file=sys.stderr)
         return 2
     settings["output_dt"] = min(settings.get("output_dt", 0.01), args.speed / args.fps)
     print(f"scene {path} ({len(spec.scene.blocks)} blocks), ground motion: {_motion_text(spec.excitation)}")
+    args.on_interrupt = lambda: f"nothing was written ({movie} is written whole or not at all)"
+    status = 0
     try:
         result = simulate(spec.scene, spec.excitation, **_simulate_options(settings))
     except SimulationUnstable as exc:
-        print(f"error: {exc}; animating up to there", file=sys.stderr)
-        result = exc.partial
-    except ValueError as exc:
+        INTERRUPTS.check()
+        result, status = exc.partial, 3
+        if result is None or len(result.t) == 0:
+            print(f"error: {_stopped_text(exc)}; nothing was written", file=sys.stderr)
+            return 3
+        print(f"error: {_stopped_text(exc)}; animating up to t = {result.t[-1]:.4g} s", file=sys.stderr)
+    except (TypeError, ValueError) as exc:
         print(f"error: {path}: {exc}", file=sys.stderr)
         return 2
-    movie = Path(args.out)
+    INTERRUPTS.check()
     _write_animation(spec, result, movie, movie.with_name(movie.stem + "_snapshots.png"), path.stem, args.fps,
                      args.speed, args.exaggerate)
-    return 0
+    return status
 
 
 def _movie_name_ok(name: str, option: str) -> bool:
@@ -465,28 +832,39 @@ def _movie_name_ok(name: str, option: str) -> bool:
 def _spectrum(args) -> int:
     import matplotlib.pyplot as plt
     import pandas as pd
+    from matplotlib.figure import Figure
 
     from .inputs.excitation import record
     from .analyses.spectra import response_spectrum, spectrum_figure
 
+    out = Path(args.out) if Path(args.out).suffix else Path(args.out).with_suffix(".png")
+    formats = Figure().canvas.get_supported_filetypes()
+    if out.suffix[1:].lower() not in formats:
+        print(f"error: --out {out}: the figure's format is taken from its name: end it in one of "
+              f"{', '.join('.' + f for f in sorted(formats))}", file=sys.stderr)
+        return 2
+    output_file(out, "--out")
+    table_path = output_file(out.with_suffix(".csv"), "--out")
     try:
         spectra = [response_spectrum(record(name), damping=args.damping) for name in args.records]
     except (OSError, ValueError) as exc:
         print(f"error: {exc}", file=sys.stderr)
         return 2
-    out = Path(args.out)
-    out.parent.mkdir(parents=True, exist_ok=True)
     figure = spectrum_figure(spectra)
-    figure.savefig(out, dpi=130)
-    plt.close(figure)
+    try:
+        with replacing(out) as tmp:
+            figure.savefig(tmp, dpi=130, format=out.suffix[1:].lower())
+    finally:
+        plt.close(figure)
     table = pd.concat([pd.DataFrame({"record": s.name, "period_s": s.periods, "sd_m": s.sd, "psv_m_s": s.psv,
                                      "psa_m_s2": s.psa, "damping": s.damping}) for s in spectra])
-    table.to_csv(out.with_suffix(".csv"), index=False)
+    with replacing(table_path) as tmp:
+        table.to_csv(tmp, index=False)
     for s in spectra:
         k = int(np.argmax(s.psa))
         print(f"{s.name}: PGA {acceleration_text(s.pga)}, peak PSA {acceleration_text(s.psa[k])} at "
               f"T = {s.periods[k]:.3g} s, peak SD {np.max(s.sd):.3g} m")
-    print(f"written {out} and {out.with_suffix('.csv')}")
+    print(f"written {out} and {table_path}")
     return 0
 
 
@@ -509,7 +887,10 @@ def _stiffness(args) -> int:
     try:
         table = stiffness_convergence(spec.scene, spec.excitation, factors=args.factors, on_run=on_run,
                                       **_simulate_options(settings))
-    except (ValueError, SimulationUnstable) as exc:
+    except SimulationUnstable as exc:
+        print(f"error: {_stopped_text(exc)}", file=sys.stderr)
+        return 2
+    except (TypeError, ValueError) as exc:
         print(f"error: {exc}", file=sys.stderr)
         return 2
     finally:

@@ -9,9 +9,13 @@ engine (:mod:`dem_core.engine`).  The scene compiles into an immutable
 advanced a piece at a time, pickled and continued.  The scene is kept for the blocks' names.
 """
 
+import contextlib
 import math
+import numbers
 import os
+import signal
 import sys
+import threading
 import time
 import warnings
 from typing import NamedTuple
@@ -27,6 +31,8 @@ from .engine.result import Result
 from .engine.stacks import columns, find_stacks
 from .engine.state import NARROW, OUTPUTS, PAIR_KEY, REBUILDS, SLIP, State, initial_state
 from .inputs.excitation import GroundMotion, still
+from .inputs.records import G_STANDARD
+from .inputs.scene import Scene
 
 #: largest fraction of the stability limit used when dt is not given (the scheme is stable up to the
 #: limit: mirror-image runs stay mirror images to round-off there)
@@ -44,6 +50,10 @@ GROUND_MOTION_MODES = ("inertial", "moving_base")
 #: and stiffer contacts than the standing scene the stability limit is computed for (the 8-drum column
 #: under El Centro at 10 m/s^2 goes through its collapse at a quarter of the step, not at a half)
 COLLAPSE_STEP_FACTOR = 0.25
+#: a ground acceleration above this many g (9.80665 m/s^2) is beyond what a stone block can meet and more likely a
+#: mistake of units or scale: such a motion is announced before the run, and a run that loses stability under it
+#: blames the motion
+EXTREME_PGA_G = 50.0
 #: wall time (s) a chunk of steps aims at between progress updates
 CHUNK_SECONDS = 0.25
 
@@ -71,14 +81,42 @@ class SimulationUnstable(RuntimeError):
 
 def run_duration(excitation: GroundMotion, duration: float | None) -> float:
     """The duration (s) of a run: ``duration``, or the excitation's natural end when None (a record's,
-    a pulse's); ``ValueError`` when there is neither or it is not positive."""
+    a pulse's); ``ValueError`` when there is neither or it is not positive and finite."""
     if duration is None:
         duration = excitation.end_time
         if not np.isfinite(duration) or duration <= 0:
             raise ValueError(f"give a duration: the excitation '{excitation.name}' has no natural end")
-    if not duration > 0:
-        raise ValueError(f"duration must be positive, got {duration}")
-    return duration
+    return seconds("duration", duration)
+
+
+def seconds(name: str, value) -> float:
+    """``value`` as a positive, finite number of seconds; ``TypeError``/``ValueError`` naming ``name``."""
+    if isinstance(value, bool) or not isinstance(value, numbers.Real):
+        raise TypeError(f"{name} must be a number of seconds, got {type(value).__name__} {value!r}")
+    if not (math.isfinite(value) and value > 0):
+        raise ValueError(f"{name} must be positive and finite, got {value}")
+    return float(value)
+
+
+def check_run_arguments(scene, excitation) -> GroundMotion:
+    """The scene and the ground motion of a run checked at the door: ``TypeError`` naming the argument when
+    either is of the wrong kind (a scene file's path or a dict where a :class:`~dem_core.Scene` is
+    expected, a number where a ground motion is); returns the excitation, :func:`still` for None."""
+    if not isinstance(scene, Scene):
+        if isinstance(scene, (str, os.PathLike)):
+            hint = (f"the path {str(scene)!r}: read a scene file with dem_core.inputs.scene_file.load(path), whose "
+                    f".scene is the Scene")
+        elif isinstance(scene, dict):
+            hint = "a dict: build a Scene with dem_core.scenes (column, colonnade, ...) or dem_core.Scene(...)"
+        else:
+            hint = f"{type(scene).__name__} {scene!r:.60}"
+        raise TypeError(f"scene must be a dem_core.Scene, got {hint}")
+    if excitation is None:
+        return still()
+    if not isinstance(excitation, GroundMotion):
+        raise TypeError(f"excitation must be a ground motion (dem_core.excitation.record(...), harmonic(...), "
+                        f"sine_pulse(...), ...) or None, got {type(excitation).__name__} {excitation!r:.60}")
+    return excitation
 
 
 class RunSettings(NamedTuple):
@@ -108,10 +146,13 @@ class Simulation:
                  safety: float = DEFAULT_SAFETY, steps_per_impact: float = DEFAULT_STEPS_PER_IMPACT,
                  step_fraction: float = 1.0, stop_at_overturn: bool = True, enforce_stability_limit: bool = True,
                  parallel: bool = False):
-        excitation = still() if excitation is None else excitation
+        excitation = check_run_arguments(scene, excitation)
         if ground_motion not in GROUND_MOTION_MODES:
             raise ValueError(f"ground_motion must be one of {GROUND_MOTION_MODES}, got {ground_motion!r}")
         duration = run_duration(excitation, duration)
+        output_dt = 0.01 if output_dt is None else seconds("output_dt", output_dt)
+        if _extreme(excitation):
+            warn_caller(f"{_extreme(excitation)}; check its units and scale")
         stacks = find_stacks(scene)
         self.scene, self.excitation, self.ground_motion = scene, excitation, ground_motion
         self.model: Model = compile_model(scene, stacks)
@@ -128,7 +169,7 @@ class Simulation:
         if auto_dt and not stop_at_overturn:
             dt *= COLLAPSE_STEP_FACTOR
         n_steps = math.ceil(duration / dt - 1e-9)
-        stride = max(1, round((0.01 if output_dt is None else output_dt) / dt))
+        stride = max(1, round(output_dt / dt))
         n_out = n_steps // stride + 2
         _check_run_size(self.model, scene.block_names, duration, dt, auto_dt, n_steps, n_out, self.limit,
                         self.impact)
@@ -176,15 +217,19 @@ class Simulation:
             return False
         s = self.state
         steps = self.settings.last_step - s.step if steps is None else min(steps, self.settings.last_step - s.step)
+        ground = self._ground(s.step, steps)
         started = time.perf_counter()
-        status, i, j, s.contacts, s.retired = self.kernel(
-            self.model, self.settings, s.pos, s.vel, s.contacts, s.retired, s.tracking,
-            self._ground(s.step, steps), steps, self.out_pos, self.out_slip, self.out_step)
+        with _interrupt_after_the_kernel() as interrupted:
+            status, i, j, s.contacts, s.retired = self.kernel(
+                self.model, self.settings, s.pos, s.vel, s.contacts, s.retired, s.tracking,
+                ground, steps, self.out_pos, self.out_slip, self.out_step)
         self.run_time += time.perf_counter() - started
         if status != _step.STATUS_OK:
             self.status, self.stopped_by = status, (i, j)
         elif s.step >= self.settings.last_step:
             self.status = _step.STATUS_OK
+        if interrupted:
+            raise KeyboardInterrupt  # after the chunk: the state is whole and the run can go on
         return self.status is None
 
     def run(self, progress=None) -> "Simulation":
@@ -319,8 +364,12 @@ class Simulation:
         else:
             what = (f"blocks '{bodies[i].name}' and '{bodies[j].name}' overlap by more than "
                     f"{self.model.law.max_penetration:.0%} of the smaller block's area")
-        advice = ("nothing after this time is physical" if status == _step.STATUS_FELL_OFF else
-                  f"reduce dt below {dt:.4g} s or check the contact parameters (kn = {self.model.law.kn:.3g})")
+        if _extreme(self.excitation):
+            advice = f"{_extreme(self.excitation)}: check its units and scale before the time step"
+        elif status == _step.STATUS_FELL_OFF:
+            advice = "nothing after this time is physical"
+        else:
+            advice = f"reduce dt below {dt:.4g} s or check the contact parameters (kn = {self.model.law.kn:.3g})"
         last = out_t[-1] if len(out_t) else 0.0
         return (f"simulation stopped at t = {step * dt:.6g} s (step {step}, dt = {dt:.4g} s): {what}; {advice}. "
                 f"The result up to t = {last:.6g} s is in this error's .partial")
@@ -358,7 +407,7 @@ def simulate(scene, excitation: GroundMotion | None = None, duration: float | No
         and for piles of fallen blocks (``COLLAPSE_STEP_FACTOR``).
     enforce_stability_limit : refuse an explicit dt above the stability limit.
         Only for stress tests that study what happens past it
-        (``comparisons/stability_probe.py``); such a result says so in ``info``.
+        (``python -m comparisons stability-probe``); such a result says so in ``info``.
     progress : None, or a callable ``(steps done, steps in all)`` called every quarter second
         or so (the command line passes a progress bar).
     parallel : spread the contacts over numba's threads (``NUMBA_NUM_THREADS``).  Off by default: on
@@ -373,6 +422,35 @@ def simulate(scene, excitation: GroundMotion | None = None, duration: float | No
                      steps_per_impact=steps_per_impact, step_fraction=step_fraction, stop_at_overturn=stop_at_overturn,
                      enforce_stability_limit=enforce_stability_limit, parallel=parallel)
     return run.run(progress).result()
+
+
+@contextlib.contextmanager
+def _interrupt_after_the_kernel():
+    """Hold Ctrl-C back while the compiled kernel runs: an exception raised in the Python code that numba's
+    compiled code calls back crashes the process.  Yields a list that is true after the block if Ctrl-C came
+    (the caller raises ``KeyboardInterrupt`` then).  In threads other than the main one SIGINT is not
+    delivered, and nothing changes."""
+    came = []
+    if threading.current_thread() is not threading.main_thread():
+        yield came
+        return
+    previous = signal.signal(signal.SIGINT, lambda signum, frame: came.append(signum))
+    try:
+        yield came
+    finally:
+        signal.signal(signal.SIGINT, previous)
+
+
+def _extreme(excitation: GroundMotion) -> str:
+    """What is extreme about ``excitation`` (a peak above ``EXTREME_PGA_G``), or ''."""
+    try:
+        peak = max(excitation.horizontal.peak_acceleration, excitation.vertical.peak_acceleration)
+    except NotImplementedError:
+        return ""
+    if not EXTREME_PGA_G * G_STANDARD < peak < np.inf:  # a ramp without a peak rises until the run ends
+        return ""
+    return (f"the ground motion '{excitation.name}' peaks at {peak:.3g} m/s^2 ({peak / G_STANDARD:.3g} g), beyond the "
+            f"{EXTREME_PGA_G:g} g a stone block can meet")
 
 
 def _stack_label(scene, stack) -> str:
@@ -404,8 +482,7 @@ def _time_step(model, dt, limit, impact, safety, steps_per_impact, step_fraction
         return automatic if step_fraction == 1.0 else automatic * step_fraction
     if step_fraction != 1.0:
         raise ValueError(f"step_fraction ({step_fraction}) applies to the automatic step; give it or dt, not both")
-    if not dt > 0:
-        raise ValueError(f"dt must be positive, got {dt}")
+    dt = seconds("dt", dt)
     if dt > limit and enforce:
         raise ValueError(f"dt = {dt:.4g} s is above the stability limit {limit:.4g} s of this scene "
                          f"(contact stiffness kn = {model.law.kn:.3g}); use dt <= {limit:.4g} or dt=None")

@@ -419,3 +419,39 @@ def test_run_warnings_point_at_the_line_that_started_the_run():
         Simulation(scenes.column(8, density=1e-4), duration=0.5)
     for record in (direct, through, long_run):
         assert [w.filename for w in record] == [__file__]
+
+
+# --- issue 21: sweep keys and the ramp's rate ---------------------------------------------------------------
+
+SWEEP_FILE = ('[scene]\nbuilder = "column"\nn_drums = 2\n[excitation]\nkind = "harmonic"\nfrequency = 1.0\n'
+              'pga = 1.0\n[simulation]\nduration = 1.0\n[sweep]\nmode = "zip"\n[sweep.excitation]\npga = [1.0, 2.0]\n')
+
+
+@pytest.mark.parametrize("old, new, message", [
+    ('mode = "zip"', 'mdoe = "zip"', r"\[sweep\] has no key 'mdoe' \(did you mean 'mode'\?\); it takes mode, "
+                                     r"time_histories and the tables \[sweep\.scene\]"),
+    ('mode = "zip"', 'mode = "zpi"', r"\[sweep\] mode must be one of grid, zip, got 'zpi' \(did you mean 'zip'\?\)"),
+    ("[sweep.excitation]", "[sweep.excitaton]", r"\[sweep\.excitaton\] is not a table of scene, contact, excitation, "
+                                                r"simulation keys \(did you mean 'excitation'\?\)"),
+    ("pga = [1.0, 2.0]", "pgaa = [1.0, 2.0]", r"has no parameter\(s\) \['pgaa'\] \(did you mean 'pga'\?\)"),
+])
+def test_a_misspelt_sweep_key_gets_the_nearest_valid_one(tmp_path, old, new, message):
+    """A misspelt key of [sweep], a table name under it or a key it varies is named with the nearest valid one
+    (``mdoe`` was taken for a table [sweep.mdoe] and ``mode`` not suggested)."""
+    from dem_core.analyses.sweep import SweepError, load_sweep
+
+    path = tmp_path / "spec.toml"
+    path.write_text(SWEEP_FILE.replace(old, new))
+    with pytest.raises(SweepError, match=message) as info:
+        load_sweep(path)
+    assert str(info.value).startswith(str(path))
+
+
+@pytest.mark.parametrize("rate, shown", [(0.0, "0"), (-0.5, "-0.5"), (float("inf"), "inf"), (float("nan"), "nan")])
+def test_a_ramp_rate_that_is_not_positive_is_named_with_its_unit(rate, shown):
+    """``dem-core ramp --rate 0`` said "rate must be positive, got 0.0": the message names the ramp rate and its
+    unit, and is refused before any run."""
+    from dem_core.analyses.thresholds import onset_under_ramp
+
+    with pytest.raises(ValueError, match=rf"ramp rate must be positive and finite, got {shown} m/s\^2 per s"):
+        onset_under_ramp(scenes.column(2), rate)

@@ -84,3 +84,32 @@ def test_horizontal_and_vertical_components_together():
 def test_array_record_needs_dt():
     with pytest.raises(ValueError, match="dt"):
         excitation.record(np.zeros(10))
+
+
+def test_harmonic_with_both_amplitude_and_pga_names_both_as_given():
+    """Both amplitude and pga: the error names both keys with their values, and carries them (``keys``) so that
+    a caller that set one of them (``threshold --parameter pga``) can say so."""
+    both = (r"harmonic: give exactly one of amplitude \(m\) and pga \(m/s\^2\), got both: "
+            r"amplitude = 0\.1 and pga = 2\.0")
+    with pytest.raises(excitation.ExcitationError, match=both) as info:
+        excitation.harmonic(0.1, 1.0, pga=2.0)
+    assert info.value.keys == ("amplitude", "pga")
+    with pytest.raises(excitation.ExcitationError, match="got neither"):
+        excitation.harmonic(frequency=1.0)
+
+
+@pytest.mark.parametrize("make, message", [
+    (lambda: excitation.ramp(0.0), r"ramp rate must not be zero, got 0 m/s\^2 per s"),
+    (lambda: excitation.ramp(float("nan")), r"ramp rate \(m/s\^2 per s\) must be a finite number, got nan"),
+    (lambda: excitation.ramp(1.0, peak=-2.0), r"ramp peak must be positive, got -2\.0 m/s\^2"),
+    (lambda: excitation.rectangular_pulse(2.0, 0.0), r"rectangular pulse duration must be positive, got 0\.0 s"),
+    (lambda: excitation.sine_pulse(float("inf"), 0.5), r"sine pulse amplitude \(m/s\^2\) must be a finite number"),
+    (lambda: excitation.cosine_pulse(1.0, -0.5), r"cosine pulse duration must be positive, got -0\.5 s"),
+    (lambda: excitation.harmonic(0.1, 0.0), r"harmonic frequency must be positive, got 0\.0 Hz"),
+    (lambda: excitation.harmonic(pga=-1.0, frequency=1.0), r"harmonic pga must not be negative, got -1\.0 m/s\^2"),
+    (lambda: excitation.harmonic(0.1, 1.0, vertical_amplitude=float("nan")),
+     r"harmonic vertical_amplitude \(m\) must be a finite number, got nan"),
+])
+def test_numbers_are_checked_for_finiteness_and_sign_naming_the_input_and_its_unit(make, message):
+    with pytest.raises(ValueError, match=message):
+        make()

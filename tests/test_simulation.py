@@ -175,3 +175,24 @@ def test_a_run_pickled_halfway_continues_to_the_same_trajectory_in_another_proce
                           capture_output=True, text=True, timeout=600)
     assert done.returncode == 0, done.stderr[-2000:]
     np.testing.assert_array_equal(np.load(tmp_path / "end.npy"), np.stack([whole.x, whole.theta]))
+
+
+def test_ctrl_c_stops_a_run_between_chunks_and_it_can_go_on():
+    """Ctrl-C is held back while the compiled kernel runs (an exception in a callback from compiled code
+    crashes the process) and raised after the chunk: the state is whole, and the run goes on to the
+    trajectory of an uninterrupted run, bit for bit."""
+    import os
+    import signal
+    import threading
+
+    scene, motion = scenes.column(2), excitation.harmonic(pga=2.0, frequency=1.0)
+    whole = dem_core.simulate(scene, motion, duration=60.0)
+    run = dem_core.Simulation(scene, motion, duration=60.0)
+    timer = threading.Timer(0.4, lambda: os.kill(os.getpid(), signal.SIGINT))
+    timer.start()
+    with pytest.raises(KeyboardInterrupt):
+        run.run()
+    timer.join()
+    assert 0 < run.step < run.settings.last_step
+    resumed = run.run().result()
+    assert np.array_equal(resumed.theta, whole.theta) and np.array_equal(resumed.x, whole.x)

@@ -12,7 +12,10 @@ sweep ends its workers) or on a Dask distributed cluster
 ``OUT/runs/<run_id>.parquet`` (one row: parameters, status, measures), so a
 sweep that is killed and started again skips what is done and loses nothing;
 a failing point, first or last, is recorded with its error and the sweep goes
-on.  At the end the rows of this sweep's points are gathered into
+on.  Every file is written under a temporary name and renamed when complete
+(:mod:`dem_core.output_files`); a saved run that cannot be read (a file left
+empty or damaged by something else) is run again, with a warning saying so.
+At the end the rows of this sweep's points are gathered into
 ``OUT/results.parquet``.
 
 ``OUT/sweep.json`` holds the sweep's spec (its parameters, its runs and, for a
@@ -48,9 +51,11 @@ Parameter names in the results are ``table.key`` (``excitation.frequency``).
 import copy
 import itertools
 import json
+import numbers
 import os
 import time
 import traceback
+import warnings
 from collections.abc import Callable
 from concurrent.futures import as_completed
 from dataclasses import dataclass, field
@@ -62,8 +67,10 @@ from tqdm import tqdm
 
 from ..simulation import SimulationUnstable, simulate
 from ..inputs import scene_file
+from ..inputs.text_files import did_you_mean
 from ..inputs.excitation import GroundMotion
 from ..inputs.scene import Scene
+from ..output_files import PARTIAL, OutputPathError, output_folder, replacing
 from . import run_identity
 from .worker_pool import TaskFailed, WorkerDied, run_tasks
 
@@ -195,16 +202,29 @@ def load_sweep(path) -> Sweep:
     data = scene_file.read_toml(path, SweepError, "sweep file")
     table = data.get("sweep", {})
     if not isinstance(table, dict) or not table:
-        raise SweepError(f"{path}: no [sweep] table: nothing to vary")
+        raise SweepError(f"{path}: no [sweep] table: nothing to vary"
+                         f"{did_you_mean(set(data) - set(scene_file.TOP_LEVEL), ['sweep'])}")
     table = dict(table)
     mode = table.pop("mode", "grid")
     histories = table.pop("time_histories", False)
     if not isinstance(histories, bool):
         raise SweepError(f"{path}: [sweep] time_histories: expected true or false, got {histories!r}")
+    if mode not in MODES:
+        raise SweepError(f"{path}: [sweep] mode must be one of {', '.join(MODES)}, got {mode!r}"
+                         f"{did_you_mean(mode, MODES) if isinstance(mode, str) else ''}")
     parameters = {}
     for section, entries in table.items():
-        if section not in SECTIONS or not isinstance(entries, dict):
-            raise SweepError(f"{path}: [sweep.{section}] is not a table of {', '.join(SECTIONS)} keys")
+        if not isinstance(entries, dict) and section in SECTIONS:
+            raise SweepError(f"{path}: [sweep] {section} must be a table, [sweep.{section}], of the keys to vary; "
+                             f"got {entries!r}")
+        if not isinstance(entries, dict):
+            tables = ", ".join(f"[sweep.{name}]" for name in SECTIONS)
+            raise SweepError(f"{path}: [sweep] has no key {section!r}"
+                             f"{did_you_mean(section, ['mode', 'time_histories', *SECTIONS])}; it takes mode, "
+                             f"time_histories and the tables {tables} of the keys to vary")
+        if section not in SECTIONS:
+            raise SweepError(f"{path}: [sweep.{section}] is not a table of {', '.join(SECTIONS)} keys"
+                             f"{did_you_mean(section, SECTIONS)}")
         for key, spec in entries.items():
             parameters[f"{section}.{key}"] = _values(spec, f"{path}: [sweep.{section}] {key}")
     build = SceneFileBuild(data, str(path))
@@ -292,21 +312,64 @@ def _failed_row(point: _Point, error: str) -> dict:
 
 
 def _write_atomic(frame: pd.DataFrame, path: Path) -> None:
-    tmp = path.with_name(path.name + ".tmp")
-    frame.to_parquet(tmp, index=False)
-    os.replace(tmp, path)
+    """Write ``frame`` to ``path`` whole or not at all (:func:`dem_core.output_files.replacing`)."""
+    with replacing(path) as tmp:
+        frame.to_parquet(tmp, index=False)
+
+
+def _read_run(path: Path):
+    """The one-row table of a saved run, or why it cannot be read (a string): empty, damaged, not one row of
+    that run."""
+    try:
+        row = pd.read_parquet(path)
+    except Exception as exc:  # noqa: BLE001 - pyarrow raises ArrowInvalid, OSError and others for a bad file
+        return str(exc).splitlines()[0] if str(exc) else type(exc).__name__
+    if len(row) != 1 or "status" not in row or "run_id" not in row or row.run_id.iloc[0] != path.stem:
+        return f"not the one row of run {path.stem}"
+    return row
+
+
+def _warn_unreadable(unreadable: list, what: str) -> None:
+    """One warning for the saved runs that cannot be read: ``[(path, why), ...]``."""
+    if not unreadable:
+        return
+    shown = "; ".join(f"{path.name}: {why}" for path, why in unreadable[:3])
+    more = f"; and {len(unreadable) - 3} more" if len(unreadable) > 3 else ""
+    folder = unreadable[0][0].parent
+    count = "a saved run" if len(unreadable) == 1 else f"{len(unreadable)} saved runs"
+    warnings.warn(f"{count} in {folder} cannot be read ({shown}{more}): {what}", RuntimeWarning, stacklevel=3)
 
 
 def _finished(runs_dir: Path, ids, retry_failed: bool) -> set:
-    done = set()
+    """The runs of ``ids`` saved in ``runs_dir`` (with ``retry_failed``, those that went well); a saved file that
+    cannot be read is deleted, with a warning, and its run done again."""
+    done, unreadable = set(), []
     for run in ids:
         part = runs_dir / f"{run}.parquet"
         if not part.is_file():
             continue
-        if retry_failed and pd.read_parquet(part, columns=["status"]).status.iloc[0] != "ok":
+        row = _read_run(part)
+        if isinstance(row, str):
+            unreadable.append((part, row))
+            part.unlink(missing_ok=True)
+            continue
+        if retry_failed and row.status.iloc[0] != "ok":
             continue
         done.add(run)
+    _warn_unreadable(unreadable, "run again")
     return done
+
+
+def saved_runs(out) -> tuple:
+    """``(saved, total)``: the runs of the sweep in ``out`` (its sweep.json) saved so far in ``out/runs``, and
+    all its runs; ``(0, 0)`` when ``out`` holds no readable sweep.json."""
+    out = Path(out)
+    try:
+        runs = json.loads((out / SPEC).read_text())["runs"]
+        ids = [run["run_id"] for run in runs]
+    except (OSError, ValueError, KeyError, TypeError):
+        return 0, 0
+    return sum((out / "runs" / f"{run}.parquet").is_file() for run in ids), len(ids)
 
 
 # --- the output folder -----------------------------------------------------------------------------
@@ -328,13 +391,16 @@ def _spec(sweep: Sweep, points: list) -> dict:
 def _claim(out: Path, spec: dict, overwrite: bool) -> None:
     """Make ``out`` this sweep's folder and write its spec: with ``overwrite`` delete whatever results
     it holds; otherwise resume the same sweep, and refuse another sweep's results."""
-    if out.exists() and not out.is_dir():
-        raise SweepError(f"{out}: is a file, not a folder for the sweep's results")
-    out.mkdir(parents=True, exist_ok=True)
+    try:
+        output_folder(out, "sweep folder")
+    except OutputPathError as exc:
+        raise SweepError(str(exc)) from None
     spec_path = out / SPEC
     results = [*(out / "runs").glob("*.parquet"), *(out / "histories").glob("*.parquet"), out / RESULTS]
     if overwrite:
-        for path in [*results, *(out / "runs").glob("*.tmp"), *(out / "histories").glob("*.tmp"), spec_path]:
+        partial = [path for folder in (out / "runs", out / "histories") for pattern in ("*.tmp", f"*{PARTIAL}")
+                   for path in folder.glob(pattern)]
+        for path in [*results, *partial, spec_path]:
             path.unlink(missing_ok=True)
     elif spec_path.is_file():
         try:
@@ -355,9 +421,8 @@ def _refusal(out: Path, difference: str) -> str:
 
 
 def _write_spec(path: Path, spec: dict) -> None:
-    tmp = path.with_name(path.name + ".tmp")
-    tmp.write_text(json.dumps(spec, indent=1, default=str))
-    os.replace(tmp, path)
+    with replacing(path) as tmp:
+        tmp.write_text(json.dumps(spec, indent=1, default=str))
 
 
 def _difference(previous: dict | None, spec: dict) -> str:
@@ -401,7 +466,7 @@ def run_sweep(sweep: Sweep, out, *, workers: int | None = None, scheduler=None, 
               retry_failed: bool = False, overwrite: bool = False) -> pd.DataFrame:
     """Run every point of ``sweep`` not already finished in ``out`` and return the sweep's rows.
 
-    workers : processes on this machine (default: one per core); ignored with a scheduler.
+    workers : processes on this machine, at least 1 (default: one per core); ignored with a scheduler.
     scheduler : address of a running Dask scheduler, or a ``distributed.Client``.
     progress : a progress bar on stderr; None: only when stderr is a terminal (quiet in logs and CI).
     retry_failed : run again the points recorded as failed or unstable.
@@ -413,6 +478,8 @@ def run_sweep(sweep: Sweep, out, *, workers: int | None = None, scheduler=None, 
     0 for a point that could not be built.
     """
     out = Path(out)
+    if workers is not None and (isinstance(workers, bool) or not isinstance(workers, numbers.Integral) or workers < 1):
+        raise SweepError(f"workers must be a whole number of at least 1, got {workers!r}")
     points = _plan(sweep)
     _claim(out, _spec(sweep, points), overwrite)
     runs_dir = out / "runs"
@@ -466,13 +533,21 @@ def _run(points: list, history_dir, workers, scheduler):
 
 def collect(out, order=None) -> pd.DataFrame:
     """Gather the rows of ``out/runs/`` into one table and write ``out/results.parquet``: the runs of
-    ``order`` (run ids), in that order, or every run found."""
+    ``order`` (run ids), in that order, or every run found (a file that cannot be read is left out, with a
+    warning)."""
     out = Path(out)
     if order is None:
         paths = sorted((out / "runs").glob("*.parquet"))
     else:
         paths = [p for p in (out / "runs" / f"{run}.parquet" for run in order) if p.is_file()]
-    parts = [pd.read_parquet(p) for p in paths]
+    parts, unreadable = [], []
+    for path in paths:
+        row = _read_run(path)
+        if isinstance(row, str):
+            unreadable.append((path, row))
+        else:
+            parts.append(row)
+    _warn_unreadable(unreadable, f"left out of {RESULTS}; run the sweep again to redo them")
     if not parts:
         return pd.DataFrame()
     table = pd.concat(parts, ignore_index=True)

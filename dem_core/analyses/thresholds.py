@@ -299,8 +299,10 @@ def onset_under_ramp(scene: Scene, rate: float = 0.5, duration: float | None = N
     duration : s, default long enough to reach 1 g; peak : cap of the ramp (m/s^2), default none.
     The run goes on after the first overturn only if ``stop_at_overturn=False`` is given.
     """
-    if not rate > 0:
-        raise ValueError(f"rate must be positive, got {rate}")
+    if isinstance(rate, bool) or not isinstance(rate, (int, float, np.number)):
+        raise ValueError(f"ramp rate must be a number of m/s^2 per s, got {rate!r}")
+    if not 0 < rate < np.inf:
+        raise ValueError(f"ramp rate must be positive and finite, got {rate:g} m/s^2 per s")
     duration = duration if duration is not None else scene.gravity / rate
     simulate_options.setdefault("output_dt", 1e-3)
     result = simulate(scene, ramp(rate, peak), duration=duration, **simulate_options)

@@ -10,6 +10,7 @@ when the parent is gone, so killing the parent ends its workers too.
 """
 
 import multiprocessing
+import numbers
 import os
 import signal
 import threading
@@ -40,7 +41,10 @@ def run_tasks(tasks, workers: int, retries: int = 1):
         :class:`WorkerDied` if its worker died on each of ``1 + retries`` attempts.
     attempts : how many workers the task was started on (more than 1 after a worker died).
     Closing the generator (or an exception in the caller, Ctrl-C) stops every worker.
+    ``ValueError`` when ``workers`` is not a whole number of at least 1 (no task could ever start).
     """
+    if isinstance(workers, bool) or not isinstance(workers, numbers.Integral) or workers < 1:
+        raise ValueError(f"workers must be a whole number of at least 1, got {workers!r}")
     queue = deque(tasks)
     attempts = Counter()
     context = multiprocessing.get_context()

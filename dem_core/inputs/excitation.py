@@ -19,6 +19,15 @@ import numpy as np
 from . import records
 
 
+class ExcitationError(ValueError):
+    """A ground motion's arguments that do not go together; ``keys`` names them (as a scene file's
+    ``[excitation]`` keys), so that a caller that set one of them can say so."""
+
+    def __init__(self, message: str, keys=()):
+        super().__init__(message)
+        self.keys = tuple(keys)
+
+
 class Component:
     """One direction of ground motion.  Subclasses implement the three functions."""
 
@@ -61,8 +70,7 @@ class Harmonic(Component):
 
     def __post_init__(self):
         _finite(self.amplitude, "harmonic amplitude (m)")
-        if not _finite(self.frequency, "frequency (Hz)") > 0:
-            raise ValueError(f"frequency must be positive, got {self.frequency}")
+        _positive(self.frequency, "harmonic frequency", "Hz")
 
     @property
     def _omega(self):
@@ -95,11 +103,10 @@ class Pulse(Component):
     shape: str = "rectangular"
 
     def __post_init__(self):
-        _finite(self.amplitude, "pulse amplitude (m/s^2)")
-        if not _finite(self.duration, "pulse duration (s)") > 0:
-            raise ValueError(f"pulse duration must be positive, got {self.duration}")
         if self.shape not in ("rectangular", "sine", "cosine"):
             raise ValueError(f"unknown pulse shape {self.shape!r}")
+        _finite(self.amplitude, f"{self.shape} pulse amplitude (m/s^2)")
+        _positive(self.duration, f"{self.shape} pulse duration", "s")
 
     @property
     def end_time(self):
@@ -153,10 +160,10 @@ class Ramp(Component):
     peak: float | None = None
 
     def __post_init__(self):
-        if _finite(self.rate, "ramp rate (m/s^3)") == 0:
-            raise ValueError("ramp rate must not be zero")
+        if _finite(self.rate, "ramp rate (m/s^2 per s)") == 0:
+            raise ValueError("ramp rate must not be zero, got 0 m/s^2 per s")
         if self.peak is not None:
-            _finite(self.peak, "ramp peak (m/s^2)")
+            _positive(self.peak, "ramp peak", "m/s^2", "; the ramp's direction is the sign of its rate")
 
     def _t_hold(self):
         return np.inf if self.peak is None else abs(self.peak / self.rate)
@@ -309,12 +316,20 @@ def harmonic(amplitude: float | None = None, frequency: float = 1.0, *, pga: flo
     frequency : f in Hz.
     vertical_amplitude : m, a vertical component in phase with the horizontal.
     """
-    if not _finite(frequency, "frequency (Hz)") > 0:
-        raise ValueError(f"frequency must be positive, got {frequency}")
-    if (amplitude is None) == (pga is None):
-        raise ValueError("give exactly one of amplitude and pga")
+    _positive(frequency, "harmonic frequency", "Hz")
+    if amplitude is not None and pga is not None:
+        raise ExcitationError(f"harmonic: give exactly one of amplitude (m) and pga (m/s^2), got both: "
+                              f"amplitude = {amplitude!r} and pga = {pga!r}", keys=("amplitude", "pga"))
+    if amplitude is None and pga is None:
+        raise ExcitationError("harmonic: give exactly one of amplitude (m) and pga (m/s^2), got neither",
+                              keys=("amplitude", "pga"))
     if amplitude is None:
-        amplitude = _finite(pga, "pga (m/s^2)") / (2.0 * np.pi * frequency) ** 2
+        if _finite(pga, "harmonic pga (m/s^2)") < 0:
+            raise ValueError(f"harmonic pga must not be negative, got {pga!r} m/s^2 (the amplitude's sign sets "
+                             f"the phase)")
+        amplitude = pga / (2.0 * np.pi * frequency) ** 2
+    _finite(amplitude, "harmonic amplitude (m)")
+    _finite(vertical_amplitude, "harmonic vertical_amplitude (m)")
     vertical = Harmonic(vertical_amplitude, frequency) if vertical_amplitude else Still()
     return GroundMotion(Harmonic(amplitude, frequency), vertical, name=f"harmonic {amplitude:g} m at {frequency:g} Hz")
 
@@ -341,13 +356,14 @@ def ramp(rate: float, peak: float | None = None) -> GroundMotion:
 
 def record(source, dt: float | None = None, scale: float = 1.0, pga: float | None = None,
            vertical=None, *, units: str = "m/s^2", component: int | None = None,
-           baseline: bool = True) -> GroundMotion:
+           baseline: bool = True, resample: bool = False) -> GroundMotion:
     """A recorded accelerogram as ground motion.
 
     source : path of a PEER AT2 file or a column text file, the name of a
         bundled record (see :data:`dem_core.inputs.records.BUNDLED`), or an array of
         accelerations in m/s^2 (then ``dt`` is required).
-    dt : s, sampling interval; read from the file when it has a time column or header.
+    dt : s, sampling interval; read from the file when it has a time column or header (a ``dt`` given
+        must then agree with it, or the error names both) or from the bundled record's entry.
     scale : finite positive factor applied to both components; ignored when ``pga`` is given.
     pga : m/s^2, finite and positive: scale the horizontal component to this peak (the vertical by
         the same factor).
@@ -358,6 +374,12 @@ def record(source, dt: float | None = None, scale: float = 1.0, pga: float | Non
         or the bundled record's documented one).
     baseline : subtract the linear baseline that brings the ground back to rest at the end
         (see :func:`baseline_correct`).
+    resample : a text file whose time column is uneven is refused naming its largest gap, unless
+        ``resample`` is true: it is then interpolated linearly onto a uniform step, ``dt`` if given, else
+        the time column's median step (see :func:`dem_core.inputs.records.read_text_record`).
+
+    A sample that stands alone far above the others (:func:`dem_core.inputs.records.find_spike`) is
+    refused naming the record, the sample's line (or index) and time, and its value.
     """
     where = _source_name(source)
     scale = _positive_factor(scale, "scale", where)
@@ -365,7 +387,9 @@ def record(source, dt: float | None = None, scale: float = 1.0, pga: float | Non
         pga = _positive_factor(pga, "pga (m/s^2)", where)
     if dt is not None:
         dt = records.check_dt(dt, where)
-    horizontal, dt, name, bundled = _load(source, dt, units, component)
+    if not isinstance(resample, bool):
+        raise records.RecordError(f"{where}: resample must be true or false, got {resample!r}")
+    horizontal, dt, name, bundled = _load(source, dt, units, component, resample)
     if vertical is True:
         if bundled is None or bundled.vertical_component is None:
             raise ValueError(f"{name}: has no bundled vertical component")
@@ -373,9 +397,9 @@ def record(source, dt: float | None = None, scale: float = 1.0, pga: float | Non
     if vertical is None or vertical is False:
         vert = None
     elif isinstance(vertical, (int, np.integer)) and not isinstance(vertical, bool):
-        vert, vdt, _, _ = _load(source, dt, units, int(vertical))
+        vert, vdt, _, _ = _load(source, dt, units, int(vertical), resample)
     else:
-        vert, vdt, _, _ = _load(vertical, dt, units, None)
+        vert, vdt, _, _ = _load(vertical, dt, units, None, resample)
     if vert is not None:
         if abs(vdt - dt) > 1e-9 * dt:
             raise ValueError(f"{name}: vertical component is sampled every {vdt} s, horizontal every {dt} s")
@@ -398,16 +422,20 @@ def record(source, dt: float | None = None, scale: float = 1.0, pga: float | Non
     return GroundMotion(h, v, name=f"{name} x{scale:.4g}")
 
 
-def _load(source, dt, units, component):
+def _load(source, dt, units, component, resample=False):
     """Accelerations from any record source: ``(a m/s^2, dt, name, bundled entry or None)``."""
     if isinstance(source, (str, Path)) and str(source) in records.BUNDLED and not Path(source).exists():
         entry = records.BUNDLED[str(source)]
         path = records.bundled_path(str(source))
-        a, step = _read_file(path, entry.dt, entry.units, component or entry.component)
+        a, step = _read_file(path, entry.dt, entry.units, component or entry.component, False)
+        if dt is not None and abs(dt - step) > records.TIME_STEP_TOLERANCE * step:
+            raise records.RecordError(f"{source}: dt={dt:g} was given but the bundled record is sampled every "
+                                      f"{step:g} s: leave dt out (or read its file, records.bundled_path"
+                                      f"({str(source)!r}), at another step)")
         return a, step, str(source), entry
     if isinstance(source, (str, Path)):
         path = Path(source)
-        a, step = _read_file(path, dt, units, component or 1)
+        a, step = _read_file(path, dt, units, component or 1, resample)
         return a, step, path.stem, None
     name = "array record"
     try:
@@ -420,6 +448,7 @@ def _load(source, dt, units, component):
     _check_finite(a, name)
     if dt is None:
         raise records.RecordError(f"{name}: an array record needs dt (s)")
+    records.refuse_spike(a, np.arange(len(a)) * dt, "m/s^2", lambda k: f"{name}: sample {k}")
     return a, dt, name, None
 
 
@@ -427,6 +456,14 @@ def _finite(value, what: str) -> float:
     """``value`` as a float if it is a finite number; else ValueError naming ``what``."""
     if isinstance(value, bool) or not isinstance(value, numbers.Real) or not math.isfinite(value):
         raise ValueError(f"{what} must be a finite number, got {value!r}")
+    return float(value)
+
+
+def _positive(value, what: str, unit: str, note: str = "") -> float:
+    """``value`` as a float if it is a finite positive number; else ValueError naming ``what`` and the value
+    in ``unit``."""
+    if _finite(value, f"{what} ({unit})") <= 0:
+        raise ValueError(f"{what} must be positive, got {value!r} {unit}{note}")
     return float(value)
 
 
@@ -448,13 +485,16 @@ def _check_finite(a, name: str) -> None:
         raise records.RecordError(f"{name}: sample {bad[0]} is not finite ({a[bad[0]]}){others}")
 
 
-def _read_file(path, dt, units, component):
+def _read_file(path, dt, units, component, resample):
     if path.suffix.lower() == ".at2":
         a, step = records.read_at2(path)
         if component not in (None, 1):
             raise records.RecordError(f"{path}: an AT2 file holds one component, asked for component {component}")
+        if dt is not None and abs(dt - step) > records.TIME_STEP_TOLERANCE * step:
+            raise records.RecordError(f"{path}: dt={dt:g} was given but the file's header says DT={step:g} s: "
+                                      f"leave dt out to use the header's")
         return a, step
-    a, step, t0 = records.read_text_record(path, dt=dt, units=units, component=component)
+    a, step, t0 = records.read_text_record(path, dt=dt, units=units, component=component, resample=resample)
     lead = round(t0 / step)
     if lead > len(a):
         raise records.RecordError(f"{path}: the time column starts at {t0:g} s, later than the record lasts "

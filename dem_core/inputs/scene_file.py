@@ -17,6 +17,7 @@
     kind = "record"               #   sine_pulse | cosine_pulse | ramp | none
     source = "el_centro_1940"     # a bundled record or a path relative to this file
     pga = 3.0                     # every other key is that function's keyword argument
+    # resample = true             # a record whose time column is uneven: interpolate onto a uniform step
 
     [simulation]                  # optional: keyword arguments of dem_core.simulate
     duration = 20.0
@@ -35,7 +36,10 @@ for blocks meant to start out of contact (see :class:`~dem_core.inputs.scene.Sce
 Every key is checked for its type before it is used (:data:`SCENE_TYPES` and the
 other ``*_TYPES`` tables): numbers are numbers, not strings; integers are whole
 numbers (``3`` or ``3.0``), not booleans.  Errors name the file, the table, the
-key, the type expected and the value given.
+key, the type expected and the value given; an unknown key, table, builder or
+kind gets the nearest valid name suggested.  A ground motion that would peak
+above ``dem_core.simulation.EXTREME_PGA_G`` (50 g: beyond what a stone block can
+meet) is refused naming the keys that set its size.
 """
 
 import inspect
@@ -49,11 +53,17 @@ from . import excitation as excitation_module
 from . import scenes
 from ..engine.contact import ContactParameters
 from .scene import Block, Scene
-from .text_files import file_errors
+from .text_files import did_you_mean, file_errors
 
 
 class SceneFileError(ValueError):
-    """A scene file that cannot be read; the message names the file and the key or line."""
+    """A scene file that cannot be read; the message names the file and the key or line.  ``keys`` names
+    the ``[excitation]`` keys at fault where the error is about them (a key unknown to the kind, two keys
+    that do not go together, a size beyond reason), so that a caller that set one can say so."""
+
+    def __init__(self, message: str, keys=()):
+        super().__init__(message)
+        self.keys = tuple(keys)
 
 
 class ValueType(NamedTuple):
@@ -146,8 +156,8 @@ EXPLICIT_BLOCKS_KEYS = {"builder", "interface_friction", "slenderness", "allow_f
 CONTACT_TYPES = {**{f.name: NUMBER for f in fields(ContactParameters)}, "law": STRING}
 EXCITATION_TYPES = {
     "kind": STRING, "source": RECORD_SOURCE, "vertical": VERTICAL, "units": STRING, "component": INTEGER,
-    "baseline": BOOLEAN, "dt": NUMBER, "scale": NUMBER, "pga": NUMBER, "amplitude": NUMBER, "frequency": NUMBER,
-    "vertical_amplitude": NUMBER, "duration": NUMBER, "rate": NUMBER, "peak": NUMBER,
+    "baseline": BOOLEAN, "resample": BOOLEAN, "dt": NUMBER, "scale": NUMBER, "pga": NUMBER, "amplitude": NUMBER,
+    "frequency": NUMBER, "vertical_amplitude": NUMBER, "duration": NUMBER, "rate": NUMBER, "peak": NUMBER,
 }
 SIMULATION_TYPES = {"duration": NUMBER, "dt": NUMBER, "output_dt": NUMBER, "ground_motion": STRING,
                     "safety": NUMBER, "stop_at_overturn": BOOLEAN}
@@ -199,6 +209,7 @@ def from_dict(data: dict, path=Path("<scene>")) -> SceneFile:
         raise SceneFileError(f"{path}: [contact]: {exc}") from None
     scene = _scene(tables, path, contact)
     motion = _excitation(tables["excitation"], path)
+    _refuse_extreme(tables["excitation"], motion, tables["simulation"], path)
     if tables["output"].get("format", "csv") not in ("csv", "parquet"):
         raise SceneFileError(f"{path}: [output] format must be 'csv' or 'parquet', got {tables['output']['format']!r}")
     return SceneFile(path, scene, motion, tables["simulation"], tables["output"])
@@ -212,7 +223,8 @@ def check(data: dict, path=Path("<scene>")) -> dict:
     path = Path(path)
     unknown = set(data) - TOP_LEVEL
     if unknown:
-        raise SceneFileError(f"{path}: unknown table(s) {sorted(unknown)}; expected some of {sorted(TOP_LEVEL)}")
+        raise SceneFileError(f"{path}: unknown table(s) {sorted(unknown)}{did_you_mean(unknown, TOP_LEVEL)}; "
+                             f"expected some of {sorted(TOP_LEVEL)}")
     for name in TABLES:
         if not isinstance(data.get(name, {}), dict):
             raise SceneFileError(f"{path}: {name} must be a table (a [{name}] header with its keys below it), "
@@ -233,11 +245,13 @@ def check(data: dict, path=Path("<scene>")) -> dict:
         scene_keys = {"builder", "interface_friction",
                       *(set(inspect.signature(BUILDERS[builder]).parameters) - {"contact", "interface_friction"})}
     else:
-        raise SceneFileError(f"{path}: [scene] unknown builder {builder!r}; use one of "
-                             f"{', '.join([*BUILDERS, 'blocks'])}")
+        names = [*BUILDERS, "blocks"]
+        raise SceneFileError(f"{path}: [scene] unknown builder {builder!r}{did_you_mean(builder, names)}; "
+                             f"use one of {', '.join(names)}")
     unknown = set(scene) - scene_keys
     if unknown:
-        raise SceneFileError(f"{path}: [scene] builder {builder!r} has no parameter(s) {sorted(unknown)}; "
+        raise SceneFileError(f"{path}: [scene] builder {builder!r} has no parameter(s) {sorted(unknown)}"
+                             f"{did_you_mean(unknown, scene_keys - {'builder'})}; "
                              f"its parameters: {sorted(scene_keys - {'builder'})}")
     if builder in BUILDERS:
         _required(BUILDERS[builder], scene, f"[scene] builder {builder!r}", path)
@@ -262,7 +276,8 @@ def _checked(table: dict, where: str, path, types: dict, allowed=None) -> dict:
     allowed = set(types) if allowed is None else set(allowed)
     unknown = set(table) - allowed
     if unknown:
-        raise SceneFileError(f"{path}: {where} has unknown key(s) {sorted(unknown)}; allowed: {sorted(allowed)}")
+        raise SceneFileError(f"{path}: {where} has unknown key(s) {sorted(unknown)}{did_you_mean(unknown, allowed)}; "
+                             f"allowed: {sorted(allowed)}", keys=unknown if where == "[excitation]" else ())
     return {key: _typed(path, where, key, value, types[key]) for key, value in table.items()}
 
 
@@ -309,6 +324,12 @@ def _given(value) -> str:
     return f"{kind} {text if len(text) <= 60 else text[:57] + '...'}"
 
 
+def _short(value) -> str:
+    """``repr(value)``, cut to 60 characters."""
+    text = repr(value)
+    return text if len(text) <= 60 else text[:57] + "..."
+
+
 def _interface_friction(entries, path) -> dict:
     if not isinstance(entries, list):
         raise SceneFileError(f"{path}: [scene] interface_friction: expected an array of "
@@ -317,8 +338,9 @@ def _interface_friction(entries, path) -> dict:
     for k, entry in enumerate(entries, start=1):
         where = f"[scene] interface_friction entry {k}"
         if not isinstance(entry, dict) or set(entry) != {"between", "mu"}:
+            hint = did_you_mean(set(entry) - {"between", "mu"}, {"between", "mu"}) if isinstance(entry, dict) else ""
             raise SceneFileError(f"{path}: {where}: expected {{between = [name_a, name_b], mu = number}}, "
-                                 f"got {_given(entry)}")
+                                 f"got {_given(entry)}{hint}")
         between = entry["between"]
         if not (isinstance(between, list) and len(between) == 2 and all(isinstance(n, str) for n in between)):
             raise SceneFileError(f"{path}: {where} between: expected two block names [\"a\", \"b\"], "
@@ -331,17 +353,19 @@ def _checked_excitation(table: dict, path) -> dict:
     kind = _typed(path, "[excitation]", "kind", table["kind"], STRING) if "kind" in table else None
     if kind in (None, "none"):
         if set(table) - {"kind"}:
-            raise SceneFileError(f"{path}: [excitation] without a kind takes no other keys; "
-                                 f"give kind = {' | '.join(EXCITATIONS)}")
+            raise SceneFileError(f"{path}: [excitation] without a kind takes no other keys"
+                                 f"{did_you_mean(set(table) - {'kind'}, {'kind'})}; "
+                                 f"give kind = {' | '.join(EXCITATIONS)}", keys=set(table) - {"kind"})
         return {"kind": "none"}
     function = EXCITATIONS.get(kind)
     if function is None:
-        raise SceneFileError(f"{path}: [excitation] unknown kind {kind!r}; use one of {', '.join(EXCITATIONS)} or none")
+        raise SceneFileError(f"{path}: [excitation] unknown kind {kind!r}{did_you_mean(kind, [*EXCITATIONS, 'none'])}"
+                             f"; use one of {', '.join(EXCITATIONS)} or none")
     allowed = set(inspect.signature(function).parameters)
     unknown = set(table) - allowed - {"kind"}
     if unknown:
-        raise SceneFileError(f"{path}: [excitation] kind {kind!r} has no parameter(s) {sorted(unknown)}; "
-                             f"its parameters: {sorted(allowed)}")
+        raise SceneFileError(f"{path}: [excitation] kind {kind!r} has no parameter(s) {sorted(unknown)}"
+                             f"{did_you_mean(unknown, allowed)}; its parameters: {sorted(allowed)}", keys=unknown)
     _required(function, table, f"[excitation] kind {kind!r}", path)
     return _checked(table, "[excitation]", path, EXCITATION_TYPES, allowed | {"kind"})
 
@@ -393,4 +417,27 @@ def _excitation(spec, path) -> excitation_module.GroundMotion:
     try:
         return EXCITATIONS[kind](**spec)
     except ValueError as exc:
-        raise SceneFileError(f"{path}: [excitation]: {exc}") from None
+        raise SceneFileError(f"{path}: [excitation]: {exc}", keys=getattr(exc, "keys", ())) from None
+
+
+#: [excitation] keys that set the size of a ground motion, as an extreme one names them
+SIZE_KEYS = ("pga", "scale", "amplitude", "frequency", "vertical_amplitude", "peak", "rate", "units")
+
+
+def _refuse_extreme(spec: dict, motion, simulation: dict, path) -> None:
+    """Refuse a ground motion that would peak above ``EXTREME_PGA_G``, naming the keys that set its size (a
+    ramp without a peak: its rate times ``[simulation] duration``, when given)."""
+    from ..simulation import EXTREME_PGA_G  # here: the simulation module reads the inputs
+    from .records import G_STANDARD
+
+    peak = max(motion.horizontal.peak_acceleration, motion.vertical.peak_acceleration)
+    if peak == math.inf and isinstance(motion.horizontal, excitation_module.Ramp) and "duration" in simulation:
+        peak = abs(motion.horizontal.rate) * simulation["duration"]
+    if not EXTREME_PGA_G * G_STANDARD < peak < math.inf:
+        return
+    keys = [key for key in SIZE_KEYS if key in spec] or [key for key in ("source",) if key in spec]
+    given = ", ".join(f"{key} = {_short(spec[key])}" for key in keys)
+    raise SceneFileError(f"{path}: [excitation] {given}: the ground motion '{motion.name}' would peak at "
+                         f"{peak:.3g} m/s^2 ({peak / G_STANDARD:.3g} g), beyond the {EXTREME_PGA_G:g} g a stone "
+                         f"block can meet; check its size and units (pga, peak and a pulse's amplitude are in "
+                         f"m/s^2, a harmonic's amplitude in m, a ramp's rate in m/s^2 per s)", keys=keys)

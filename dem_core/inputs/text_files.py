@@ -1,5 +1,7 @@
-"""How the readers of text files (scene, sweep and record files) word a file they cannot read."""
+"""How the readers of text files (scene, sweep and record files) word a file they cannot read and a name they
+do not know."""
 
+import difflib
 from contextlib import contextmanager
 from typing import Callable
 
@@ -16,3 +18,24 @@ def file_errors(path, error: type[Exception], what: str, hint: Callable[[], str]
         raise error(f"{path}: is a folder, not a {what}") from None
     except UnicodeDecodeError as exc:
         raise error(f"{path}: not a text file ({exc.reason} at byte {exc.start})") from None
+
+
+def did_you_mean(names, allowed) -> str:
+    """How an error suggests the nearest of ``allowed`` for each of ``names`` that it does not hold (close
+    matches by :func:`difflib.get_close_matches`, ignoring case; a name of 3 letters or fewer may differ by one):
+    ``" (did you mean 'mode'?)"``, ``" (did you mean 'n_drums' for 'n_drum' and 'width' for 'widht'?)"``, or
+    ``""`` when none is close."""
+    names = [names] if isinstance(names, str) else sorted(names, key=str)
+    by_lower = {str(a).lower(): str(a) for a in sorted(allowed, key=str)}
+
+    def nearest(name):
+        name = str(name).lower()
+        close = difflib.get_close_matches(name, by_lower, n=1, cutoff=0.5 if len(name) <= 3 else 0.6)
+        return by_lower[close[0]] if close else None
+
+    pairs = [(name, match) for name in names if (match := nearest(name)) is not None]
+    if not pairs:
+        return ""
+    if len(names) == 1:
+        return f" (did you mean {pairs[0][1]!r}?)"
+    return f" (did you mean {' and '.join(f'{match!r} for {name!r}' for name, match in pairs)}?)"

@@ -32,6 +32,7 @@ from tqdm import tqdm
 
 from ..engine.geometry import transform
 from ..inputs.records import G_STANDARD
+from ..output_files import replacing
 
 STONE = "#d9cbb0"
 EDGE = "#5b4a36"
@@ -223,7 +224,10 @@ class _GifFrames:
 
     def close(self):
         first, *rest = self.frames
-        first.save(self.path, save_all=True, append_images=rest, duration=1000.0 / self.fps, loop=0)
+        first.save(self.path, format="GIF", save_all=True, append_images=rest, duration=1000.0 / self.fps, loop=0)
+
+    def abort(self):
+        self.frames = []
 
 
 class _Mp4Frames:
@@ -234,7 +238,7 @@ class _Mp4Frames:
         command = [ffmpeg, "-y", "-loglevel", "error", "-f", "rawvideo", "-pix_fmt", "rgb24",
                    "-s", f"{width}x{height}", "-r", str(fps), "-i", "-",
                    "-vf", "pad=ceil(iw/2)*2:ceil(ih/2)*2",  # H.264 in yuv420p needs even sides
-                   "-c:v", "libx264", "-pix_fmt", "yuv420p", "-movflags", "+faststart", str(path)]
+                   "-c:v", "libx264", "-pix_fmt", "yuv420p", "-movflags", "+faststart", "-f", "mp4", str(path)]
         self.process = subprocess.Popen(command, stdin=subprocess.PIPE, stderr=subprocess.PIPE)
 
     def add(self, image):
@@ -244,6 +248,10 @@ class _Mp4Frames:
         _, errors = self.process.communicate()
         if self.process.returncode != 0:
             raise RuntimeError(f"ffmpeg failed ({self.process.returncode}): {errors.decode(errors='replace')}")
+
+    def abort(self):
+        self.process.kill()
+        self.process.communicate()
 
 
 def animate(scene, result, path, *, excitation=None, fps: int = 25, speed: float = 1.0, title: str = "",
@@ -255,7 +263,8 @@ def animate(scene, result, path, *, excitation=None, fps: int = 25, speed: float
     exaggerate : rotations and displacements relative to the start, measured from the moving base,
         are drawn this many times larger (each frame says so when it is not 1).
     progress : show a progress bar of the frames rendered (on stderr).
-    Returns the path written.
+    Returns the path written.  The file is written under a temporary name and renamed when complete: an
+    error or Ctrl-C leaves no partial animation.
     """
     path = Path(path)
     suffix = path.suffix.lower()
@@ -293,14 +302,17 @@ def animate(scene, result, path, *, excitation=None, fps: int = 25, speed: float
 
     frames = frame_indices(result, fps, speed)
     path.parent.mkdir(parents=True, exist_ok=True)
-    if suffix == ".gif":
-        writer = _GifFrames(path, fps, [render(frames[0]), render(frames[-1])])
-    else:
-        writer = _Mp4Frames(path, fps, canvas.get_width_height(), ffmpeg)
-    try:
-        for k in tqdm(frames, desc="frames", unit="frame", disable=not progress):
-            writer.add(render(k))
-    finally:
+    with replacing(path) as tmp:  # the file appears whole or not at all
+        if suffix == ".gif":
+            writer = _GifFrames(tmp, fps, [render(frames[0]), render(frames[-1])])
+        else:
+            writer = _Mp4Frames(tmp, fps, canvas.get_width_height(), ffmpeg)
+        try:
+            for k in tqdm(frames, desc="frames", unit="frame", disable=not progress):
+                writer.add(render(k))
+        except BaseException:
+            writer.abort()
+            raise
         writer.close()
     return path
 

@@ -17,6 +17,7 @@ import numpy as np
 
 from ..analyses.thresholds import SLIP_THRESHOLD
 from ..inputs.records import G_STANDARD
+from ..output_files import replacing
 
 #: drums within this fraction of their column's peak |value| of each other at all times share a line
 DRUM_AGREEMENT = 0.05
@@ -260,9 +261,11 @@ def sliding(result, excitation=None, title="Sliding at the interfaces", *, thres
 
 def save_run_figures(result, out_dir, excitation=None, title="", *, relative_rotations: bool = False):
     """Write rotations.png, displacements.png, sliding.png (when the result has a slip history) and
-    epistyles.png (when the scene has epistyles) into ``out_dir``; returns their paths.
+    epistyles.png (when the scene has epistyles) into ``out_dir`` (created if need be); returns their
+    paths.  Each file is written whole or not at all (:func:`dem_core.output_files.replacing`).
     relative_rotations : rotations as theta / alpha (see :func:`rotations`)."""
     out_dir = Path(out_dir)
+    out_dir.mkdir(parents=True, exist_ok=True)
     paths = []
 
     def rotation_figure(result, excitation, title):
@@ -277,7 +280,10 @@ def save_run_figures(result, out_dir, excitation=None, title="", *, relative_rot
     for name, make, what in figures:
         fig = make(result, excitation, title=f"{title}: {what}" if title else what.capitalize())
         path = out_dir / name
-        fig.savefig(path, dpi=130)
-        plt.close(fig)
+        try:
+            with replacing(path) as tmp:
+                fig.savefig(tmp, dpi=130, format="png")
+        finally:
+            plt.close(fig)
         paths.append(path)
     return paths
