@@ -1,8 +1,12 @@
 """``python -m comparisons report [--quick] [--out reports]``: run the harness, the ensembles, the overturning
-spectra and the stress tests, write the report, and print how long it all took.  The other subcommands are
-the timings and calibrations of comparisons/benchmarks/ (``python -m comparisons SUBCOMMAND --help``)."""
+spectra and the stress tests, write the report, take a 1280-pixel screenshot of its first screen
+(``first_screen.png``, with headless Chromium where it is installed) and print how long it all took.  The other
+subcommands are the timings and calibrations of comparisons/benchmarks/ (``python -m comparisons SUBCOMMAND
+--help``)."""
 
 import argparse
+import shutil
+import subprocess
 import sys
 import time
 from pathlib import Path
@@ -33,9 +37,38 @@ BENCHMARKS = {
 }
 
 
-def make_report(quick: bool, out: Path, progress: bool = True) -> tuple[Path, dict]:
-    """Run every part and write the report into ``out``: ``(index.html, {part: tidy table})``; prints the
-    time each part took."""
+#: the browsers tried, in turn, for the screenshot of the first screen
+CHROMIUM = ("chromium", "chromium-browser", "google-chrome", "google-chrome-stable")
+#: the window the first screen is taken in (pixels)
+SCREEN = (1280, 900)
+
+
+def screenshot(index: Path, png: Path | None = None, size=SCREEN, timeout_s: float = 60.0) -> Path | None:
+    """A screenshot of the first screen of ``index`` (an HTML file) at ``size`` pixels, written to ``png``
+    (default: ``first_screen.png`` beside it) with headless Chromium; returns its path, or None, having printed
+    why, where no Chromium is installed or it fails (the report never fails for want of a screenshot)."""
+    index = Path(index).resolve()
+    png = (index.parent / "first_screen.png") if png is None else Path(png).resolve()
+    browser = next((found for name in CHROMIUM if (found := shutil.which(name))), None)
+    if browser is None:
+        print("screenshot skipped: no Chromium found (apt-get install chromium)", flush=True)
+        return None
+    command = [browser, "--headless", "--no-sandbox", "--disable-gpu", "--hide-scrollbars",
+               f"--window-size={size[0]},{size[1]}", f"--screenshot={png}", index.as_uri()]
+    try:
+        subprocess.run(command, capture_output=True, timeout=timeout_s, check=False)
+    except (OSError, subprocess.SubprocessError) as error:
+        print(f"screenshot skipped: {browser} failed ({error})", flush=True)
+        return None
+    if not png.is_file():
+        print(f"screenshot skipped: {browser} wrote no {png.name}", flush=True)
+        return None
+    return png
+
+
+def make_report(quick: bool, out: Path, progress: bool = True, shot: bool = True) -> tuple[Path, dict]:
+    """Run every part and write the report into ``out``: ``(index.html, {part: tidy table})``, with a screenshot
+    of its first screen (unless ``shot`` is False); prints the time each part took."""
     start = time.perf_counter()
     made = provenance()  # the code the numbers come from: the checkout may move while the report runs
     parts = {}
@@ -47,12 +80,14 @@ def make_report(quick: bool, out: Path, progress: bool = True) -> tuple[Path, di
     index = write_report(parts["cases"], parts["stress tests"], Path(out), quick=quick,
                          run_time_s=time.perf_counter() - start, ensemble_table=parts["ensembles"],
                          spectra_table=parts["spectra"], made=made)
+    if shot:
+        screenshot(index)
     return index, parts
 
 
 def _report(args) -> None:
     start = time.perf_counter()
-    index, _ = make_report(args.quick, Path(args.out), progress=not args.no_progress)
+    index, _ = make_report(args.quick, Path(args.out), progress=not args.no_progress, shot=not args.no_screenshot)
     print(f"report written to {index} ({time.perf_counter() - start:.0f} s)")
 
 
@@ -66,6 +101,8 @@ def parser() -> argparse.ArgumentParser:
     report.add_argument("--quick", action="store_true", help="the reduced set (under 3 minutes; what CI runs)")
     report.add_argument("--out", default="reports", help="output folder (default: reports)")
     report.add_argument("--no-progress", action="store_true")
+    report.add_argument("--no-screenshot", action="store_true",
+                        help="skip first_screen.png (a 1280 x 900 screenshot taken with headless Chromium)")
     report.set_defaults(run=_report)
     for name, module in BENCHMARKS.items():
         command = sub.add_parser(name, help=module.__doc__.splitlines()[0], description=module.__doc__,

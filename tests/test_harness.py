@@ -1,10 +1,11 @@
 """The comparison report on its quick set (what ``python -m comparisons report --quick`` runs): each engine
 within the bands its cases, ensembles and spectra declare, the native core ahead where :data:`AHEAD`
 says it is, a consensus that leaves the judged engine out, and a page whose figures and links are whole, whose
-headers are plain words, and which states its commit."""
+headers are plain words, which states its commit and its sources digest, and which opens with the scoreboard."""
 
 import html.parser
 import re
+import shutil
 
 import matplotlib.pyplot as plt
 import numpy as np
@@ -16,7 +17,7 @@ from comparisons.cases import catalogue as cases
 from comparisons.cases.case import ENGINES, EXACT_RELATIVE
 from comparisons.harness import consensus, ensembles, overturning_spectra
 from comparisons.harness.engines import USUAL_STEP, step_label
-from comparisons.report import figures, verdicts
+from comparisons.report import figures, provenance, verdicts
 
 pytestmark = pytest.mark.slow  # the whole module
 
@@ -199,3 +200,22 @@ def test_report_page_and_its_figures_are_whole(quick_report):
     assert "Glossary" in page and "auto/N" in page and "Stability map" in page
     assert re.search(r"commit <code>[0-9a-f]{40}</code>", page)
     assert any("studies/" in link for link in parser.links)
+
+
+def test_report_opens_with_its_provenance_and_the_scoreboard(quick_report):
+    """Title, one line naming the commit and the sources digest (written to digest.json), then the scoreboard;
+    errors in percent, never an infinite uncertainty; a screenshot of the first screen where Chromium is."""
+    index, _ = quick_report
+    page = index.read_text()
+    body = page[page.index("<body>"):]
+    assert re.match(r'<body>\s*<h1>[^<]+</h1>\s*<p class="prov">', body)
+    assert body.index('<section id="scoreboard">') < body.index('<section id="verdicts">')
+    assert body.index('<section id="scoreboard">') < body.index("Five engines")
+    recorded = provenance.recorded_digest(index.parent)
+    assert recorded and f"sources digest <code>{recorded[:12]}</code>" in body
+    board = body[body.index('<table class="score">'):body.index("</table>")]
+    assert board.count("<tr>") == 1 + len(ENGINES) and all(f"<td>{e}</td>" in board for e in ENGINES)
+    assert re.search(r"\d+ of \d+", board) and "%" in board
+    assert "inf%" not in page and "nan%" not in page
+    if shutil.which("chromium"):
+        assert (index.parent / "first_screen.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"

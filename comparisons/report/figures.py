@@ -2,9 +2,12 @@
 
 :func:`save` draws a figure and refuses it (:class:`FigureTextCut`) if any drawn artist reaches past
 the figure's edge (a title cut mid-word) or a text placed in a tile runs out of it; titles are
-wrapped to the figure's width first.  Errors below the exact floor are drawn on the floor line.
+wrapped to the figure's width first.  Errors below the exact floor are drawn on the floor line.  Relative
+errors are drawn in percent (the tables' unit), axes say what they plot, legends use plain words, and point
+labels that would overlap another label, a point or the legend are left out (:func:`label_points`).
 """
 
+import json
 import textwrap
 
 import matplotlib
@@ -15,7 +18,7 @@ import numpy as np
 
 from comparisons.cases.case import exact_floor, metric_kind
 from comparisons.harness.engines import USUAL_STEP, step_label
-from comparisons.report.glossary import METRICS
+from comparisons.report.glossary import AXIS_NAMES
 from comparisons.report.verdicts import observed_order
 
 COLOURS = {"dem": "#1b9e77", "dem-overlap": "#66a61e", "pymunk": "#d95f02", "pybullet": "#7570b3",
@@ -74,6 +77,70 @@ def _outside_text(fig, renderer) -> str:
     return "a drawn artist"
 
 
+def is_relative_error(metric: str) -> bool:
+    """Whether ``metric`` is a relative error (drawn and printed in percent); ``*_s`` stress-test values and
+    ``*_m``, ``*_rad``, ``*_J`` errors are not."""
+    return metric_kind(metric) == "relative" and not metric.endswith("_s")
+
+
+def error_label(metric: str) -> str:
+    """The axis label of the |error| of ``metric``: ``peak rotation |error| (%)``, ``horizontal drift |error| (m)``."""
+    name = AXIS_NAMES.get(metric, metric.replace("_", " "))
+    if is_relative_error(metric):
+        return f"{name} |error| (%)"
+    unit = metric.rsplit("_", 1)[-1]
+    return f"{name.removesuffix(f' ({unit})')} |error| ({unit})"
+
+
+def spectrum_label(spec) -> str:
+    """A spectrum in a few plain words: ``sine pulse, 1.5 x 6 m block``."""
+    width, height = spec.block
+    return f"{spec.pulse} pulse, {width:g} x {height:g} m block"
+
+
+def run_label(step: str, settings: str = "{}") -> str:
+    """A run as its point's label: its step, and the solver iterations where it was run with more."""
+    iterations = json.loads(settings or "{}").get("iterations")
+    return step if iterations is None else f"{step}, {iterations} iterations"
+
+
+#: offsets (points) tried in turn for a point's label: right above, right below, left above, left below
+LABEL_OFFSETS = ((4, 2), (4, -8), (-4, 2), (-4, -8))
+
+
+def label_points(ax, xs, ys, labels, fontsize: float = 6) -> int:
+    """Write each label beside its point where it overlaps no label already placed, no point and not the legend,
+    and stays inside the axes; try :data:`LABEL_OFFSETS` in turn and leave the label out where none fits. Call
+    it once the figure is laid out (after ``tight_layout``; save with ``layout=False``). Returns how many were
+    placed."""
+    fig = ax.figure
+    fig.canvas.draw()
+    renderer = fig.canvas.get_renderer()
+    frame = ax.get_window_extent(renderer)
+    points = [(x, y) for x, y in zip(xs, ys, strict=True) if np.isfinite(x) and np.isfinite(y) and x > 0 and y > 0]
+    centres = ax.transData.transform(np.array(points, float)) if points else np.empty((0, 2))
+    half = 2.5  # pixels around a marker kept free of labels
+    taken = [matplotlib.transforms.Bbox([[cx - half, cy - half], [cx + half, cy + half]]) for cx, cy in centres]
+    legend = ax.get_legend()
+    if legend is not None:
+        taken.append(legend.get_window_extent(renderer))
+    placed = 0
+    for x, y, label in zip(xs, ys, labels, strict=True):
+        if not (np.isfinite(x) and np.isfinite(y) and x > 0 and y > 0):
+            continue
+        for dx, dy in LABEL_OFFSETS:
+            text = ax.annotate(label, (x, y), xytext=(dx, dy), textcoords="offset points", fontsize=fontsize,
+                               alpha=0.8, ha="left" if dx > 0 else "right")
+            box = text.get_window_extent(renderer).padded(1.5)  # a gap between neighbouring labels
+            inside = frame.x0 <= box.x0 and box.x1 <= frame.x1 and frame.y0 <= box.y0 and box.y1 <= frame.y1
+            if inside and not any(box.overlaps(other) for other in taken):
+                taken.append(box)
+                placed += 1
+                break
+            text.remove()
+    return placed
+
+
 def plain_log(ax, axes="xy") -> None:
     """Log scale on ``axes`` with major ticks as plain numbers and no minor tick labels (which overlap)."""
     for name in axes:
@@ -99,81 +166,97 @@ def _log_axes(ax, xlabel, ylabel, metric=None):
         ax.legend(fontsize=7)
 
 
+def _scale(metric) -> float:
+    """What an error of ``metric`` is multiplied by to be drawn: 100 (percent) for a relative error, else 1."""
+    return 100.0 if is_relative_error(metric) else 1.0
+
+
 def _on_floor(errors, metric):
-    """|errors| raised to the exact floor (a mismatch as it is: 0 or 1)."""
+    """|errors| raised to the exact floor (a mismatch as it is: 0 or 1), in the drawn unit (percent for a
+    relative error), and the floor in that unit."""
     if metric_kind(metric) == "mismatch":
         return np.abs(np.asarray(errors, float)), 0.0
     floor = exact_floor(metric)
-    return np.maximum(np.abs(np.asarray(errors, float)), floor), floor
+    scale = _scale(metric)
+    return scale * np.maximum(np.abs(np.asarray(errors, float)), floor), scale * floor
 
 
 def _floor_line(ax, errors, metric) -> None:
     """The exact floor as a dashed line, where some error comes within a factor 100 of it."""
     floor = exact_floor(metric)
     if floor and len(errors) and np.nanmin(np.abs(np.asarray(errors, float))) < 100 * floor:
-        ax.axhline(floor, color="0.5", ls="--", lw=0.8, label="exact below this")
+        ax.axhline(_scale(metric) * floor, color="0.5", ls="--", lw=0.8, label="exact below this")
 
 
-def pareto_figure(runs, case_name, metric, path) -> None:
-    """|error| of ``metric`` against wall time, a point per run labelled by its step (``runs``: the case's
-    rows of that metric that finished); errors below the exact floor sit on the dashed floor line."""
+def pareto_figure(runs, case_name, metric, path, case_title: str | None = None) -> None:
+    """|error| of ``metric`` against wall time, a point per run labelled by its step where the label fits
+    (``runs``: the case's rows of that metric that finished); errors below the exact floor sit on the dashed
+    floor line."""
     fig, ax = plt.subplots(figsize=(6.4, 4.2))
+    xs, ys, labels = [], [], []
     for engine, mine in runs.groupby("engine", sort=False):
         y, _ = _on_floor(mine.error, metric)
         ax.scatter(mine.wall_time_s, y, color=COLOURS.get(engine), label=engine, s=18)
-        for x, yy, label in zip(mine.wall_time_s, y, mine.step, strict=True):
-            ax.annotate(label, (x, yy), fontsize=6, alpha=0.7, xytext=(3, 2), textcoords="offset points")
+        xs += list(mine.wall_time_s)
+        ys += list(y)
+        labels += [run_label(step, settings) for step, settings in zip(mine.step, mine.settings, strict=True)]
     _floor_line(ax, runs.error, metric)
-    title(ax, f"{case_name}: |error| of the {METRICS.get(metric, metric)} against run time")
-    _log_axes(ax, "wall time of the run (s)", f"|{metric}|", metric)
-    save(fig, path)
+    title(ax, f"{case_title or case_name}: |error| against run time")
+    _log_axes(ax, "wall time of the run (s)", error_label(metric), metric)
+    fig.tight_layout()
+    label_points(ax, xs, ys, labels)
+    save(fig, path, layout=False)
 
 
-def convergence_figure(runs, case_name, metric, path) -> None:
+def convergence_figure(runs, case_name, metric, path, case_title: str | None = None) -> None:
     """|error| of ``metric`` against dt per engine (default settings), the observed order in the legend."""
     fig, ax = plt.subplots(figsize=(6.4, 4.2))
     plain = runs[runs.settings == "{}"]
     for engine, mine in plain.groupby("engine", sort=False):
         mine = mine.sort_values("dt")
-        y, floor = _on_floor(mine.error, metric)
-        order = observed_order(mine["dt"], np.where(np.abs(mine.error) < floor, np.nan, mine.error))
+        y, _ = _on_floor(mine.error, metric)
+        order = observed_order(mine["dt"], np.where(np.abs(mine.error) < exact_floor(metric), np.nan, mine.error))
         ax.plot(mine["dt"], y, "o-", color=COLOURS.get(engine), label=f"{engine} (order {order:.2g})", ms=4)
     _floor_line(ax, plain.error, metric)
-    title(ax, f"{case_name}: convergence in dt of the {METRICS.get(metric, metric)}")
-    _log_axes(ax, "time step dt (s)", f"|{metric}|", metric)
+    title(ax, f"{case_title or case_name}: convergence in dt")
+    _log_axes(ax, "time step dt (s)", error_label(metric), metric)
     save(fig, path)
 
 
-def ensemble_pareto_figure(summary, name, path, overturning: bool = True) -> None:
+def ensemble_pareto_figure(summary, name, path, overturning: bool = True, ensemble_title: str | None = None) -> None:
     """Median |peak error| (point) to its 90th percentile (bar) against the median run time, and (with
-    ``overturning``) the agreement on overturning against the median run time; a point per engine and step."""
+    ``overturning``) the agreement on overturning against the median run time; a point per engine and step,
+    labelled by its step where the label fits."""
     if overturning:
         fig, (ax, ax_agree) = plt.subplots(1, 2, figsize=(11, 4.2))
     else:
         fig, ax = plt.subplots(figsize=(6.4, 4.2))
         ax_agree = None
+    floor = 1e-4  # percent: a median of 0 is drawn here
     for engine, mine in summary.groupby("engine", sort=False):
         colour = COLOURS.get(engine)
-        ax.errorbar(mine.median_wall_time_s, np.maximum(mine.median_error, 1e-6),
-                    yerr=[np.zeros(len(mine)), np.maximum(mine.p90_error - mine.median_error, 0.0)],
+        median = np.maximum(100 * mine.median_error, floor)
+        ax.errorbar(mine.median_wall_time_s, median,
+                    yerr=[np.zeros(len(mine)), np.maximum(100 * mine.p90_error - median, 0.0)],
                     fmt="o", color=colour, label=engine, capsize=2, ms=5)
-        for _, r in mine.iterrows():
-            ax.annotate(r.step, (r.median_wall_time_s, max(r.median_error, 1e-6)), fontsize=6, alpha=0.7,
-                        xytext=(3, 2), textcoords="offset points")
         if ax_agree is not None:
             ax_agree.plot(mine.median_wall_time_s, 100 * mine.overturn_agreement, "o", color=colour, label=engine)
-            for _, r in mine.iterrows():
-                ax_agree.annotate(r.step, (r.median_wall_time_s, 100 * r.overturn_agreement), fontsize=6,
-                                  alpha=0.7, xytext=(3, 2), textcoords="offset points")
+    name = ensemble_title or name
     title(ax, f"{name}: median |peak error| (point) and 90th percentile (bar top) against run time")
-    _log_axes(ax, "median wall time of a run (s)", "|peak error|")
+    _log_axes(ax, "median wall time of a run (s)", "median |peak error| (%)")
     if ax_agree is not None:
         plain_log(ax_agree, "x")
         ax_agree.set(xlabel="median wall time of a run (s)", ylabel="runs agreeing on overturning (%)")
         ax_agree.set_ylim(min(80.0, 100 * summary.overturn_agreement.min() - 2), 101)
         ax_agree.grid(alpha=0.3, which="both")
-        title(ax_agree, f"{name}: agreement on overturning against run time")
-    save(fig, path)
+        title(ax_agree, "Agreement on overturning against run time")
+    fig.tight_layout()
+    label_points(ax, list(summary.median_wall_time_s), list(np.maximum(100 * summary.median_error, floor)),
+                 list(summary.step))
+    if ax_agree is not None:
+        label_points(ax_agree, list(summary.median_wall_time_s), list(100 * summary.overturn_agreement),
+                     list(summary.step))
+    save(fig, path, layout=False)
 
 
 def ensemble_members_figure(table, name, unit, path) -> None:
@@ -254,20 +337,38 @@ def spectrum_figure(table, spec, closed_form, path) -> None:
     save(fig, path, layout=False)
 
 
-def spectra_overview_figure(summary, path) -> None:
-    """Agreement with the reference's overturning spectra against the median run time, per engine and
-    spectrum (the full spectra)."""
-    fig, ax = plt.subplots(figsize=(6.4, 4.2))
-    markers = dict(zip(dict.fromkeys(summary.spectrum), "osD^v<>", strict=False))
+def spectra_overview_figure(summary, path, labels: dict | None = None) -> None:
+    """Agreement with the reference's overturning spectra against the median run time, a point per engine
+    (colour), spectrum (marker) and step; two short legends, one per engine and one per spectrum.
+
+    labels : ``{spectrum name: plain words}`` (default: the name)."""
+    labels = labels or {}
+    fig, ax = plt.subplots(figsize=(7.4, 4.2))
+    markers = dict(zip(dict.fromkeys(summary.spectrum), "osD^v<>p*", strict=False))
     for (engine, spectrum), mine in summary.groupby(["engine", "spectrum"], sort=False):
         ax.plot(mine.median_wall_time_s, 100 * mine.agreement, markers[spectrum], color=COLOURS.get(engine),
-                label=f"{engine}, {spectrum.removeprefix('spectrum_')}", ms=5)
+                ms=5, alpha=0.85)
     plain_log(ax, "x")
     ax.set(xlabel="median wall time of a run (s)", ylabel="points agreeing with the reference (%)")
     ax.grid(alpha=0.3, which="both")
-    ax.legend(fontsize=5, ncol=2)
+    line = matplotlib.lines.Line2D
+    engines = [line([], [], ls="", marker="o", color=COLOURS.get(e), label=e) for e in dict.fromkeys(summary.engine)]
+    spectra = [line([], [], ls="", marker=m, color="0.35", label=labels.get(s, s)) for s, m in markers.items()]
+    first = ax.legend(handles=engines, title="engine", fontsize=7, title_fontsize=7, loc="upper left",
+                      bbox_to_anchor=(1.02, 1.0), frameon=False)
+    ax.add_artist(first)
+    ax.legend(handles=spectra, title="spectrum", fontsize=7, title_fontsize=7, loc="lower left",
+              bbox_to_anchor=(1.02, 0.0), frameon=False)
     title(ax, "Overturning spectra: agreement against run time")
     save(fig, path)
+
+
+def stress_value(metric: str, value: float) -> str:
+    """A stress-test value as a tile shows it: a relative error in percent, anything else in its unit."""
+    name = AXIS_NAMES.get(metric, metric.replace("_", " "))
+    if is_relative_error(metric):
+        return f"{name} error {100 * abs(value):.3g}%"
+    return f"{name} {value:.3g}"
 
 
 def _outcome(status: str) -> str:
@@ -286,7 +387,7 @@ def stability_map_figure(rows, test_name, wrong, path) -> None:
         for col, setting in enumerate(dict.fromkeys(mine.setting)):
             here = mine[mine.setting == setting]
             outcome = _outcome(here.status.iloc[0])
-            values = [f"{m} {v:.3g}" for m, v in zip(here.metric, here.value, strict=True) if np.isfinite(v)]
+            values = [stress_value(m, v) for m, v in zip(here.metric, here.value, strict=True) if np.isfinite(v)]
             patch = plt.Rectangle((col, row), 0.95, 0.9, color=STATUS_COLOURS.get(outcome, "0.6"))
             ax.add_patch(patch)
             text = ax.text(col + 0.47, row + 0.45, "\n".join([f"{setting}: {outcome}", *values]), ha="center",
@@ -307,12 +408,12 @@ def stiffness_figure(rows, path) -> None:
     fig, (ax, ax_dt) = plt.subplots(1, 2, figsize=(9, 3.5))
     for metric in ("quarter_period", "peak_decay"):
         pick = rows.metric == metric
-        ax.loglog(kn[pick], np.abs(rows.value[pick]), "o-", label=metric)
+        ax.loglog(kn[pick], 100 * np.abs(rows.value[pick]), "o-", label=AXIS_NAMES.get(metric, metric))
     pick = rows.metric == "dt_s"
     ax_dt.loglog(kn[pick], rows.value[pick], "s-", color="0.3")
     plain_log(ax)
     plain_log(ax_dt)
-    ax.set(xlabel="K_n (N/m^2)", ylabel="|relative error|")
+    ax.set(xlabel="K_n (N/m^2)", ylabel="|error| (%)")
     title(ax, "Free rocking, native core: errors against contact stiffness")
     ax_dt.set(xlabel="K_n (N/m^2)", ylabel="automatic dt (s)")
     title(ax_dt, "Its automatic time step")

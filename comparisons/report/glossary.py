@@ -74,6 +74,28 @@ METRICS = {
     "none": "(run stopped)",
 }
 
+#: metrics in the few words of an axis label or a figure's tile
+AXIS_NAMES = {
+    "quarter_period": "quarter period",
+    "peak_decay": "peak after impacts",
+    "max_slip": "largest slip",
+    "residual_slip": "final slip",
+    "rms_slip": "RMS slip",
+    "peak_rotation": "peak rotation",
+    "rms_rotation": "RMS rotation",
+    "onset_acceleration": "onset acceleration",
+    "impact_time": "first impact time",
+    "rms_lower": "RMS rotation, lower block",
+    "rms_upper": "RMS rotation, upper block",
+    "drift_m": "horizontal drift (m)",
+    "settled_drift_m": "vertical drift (m)",
+    "rotation_rad": "largest rotation (rad)",
+    "horizontal_drift_m": "horizontal drift (m)",
+    "potential_energy_change_J": "potential energy change (J)",
+    "overturn_time_s": "overturn time (s)",
+    "dt_s": "automatic dt (s)",
+}
+
 
 def glossary() -> list:
     """``(term, explanation)`` pairs, in the order the page lists them."""
@@ -92,7 +114,8 @@ def glossary() -> list:
         ("iterations",
          "solver settings of pymunk (30 instead of 10), PyBullet and MuJoCo (200 instead of 50 and 100), tried "
          "at 1e-3 s."),
-        ("|error|", "relative to the reference (0.01 is 1%), unless the measure names a unit (m, rad, J)."),
+        ("|error|", "relative to the reference and written in percent on this page and in its figures, unless the "
+         "measure names a unit (m, rad, J); results.csv keeps fractions (0.01 is 1%)."),
         ("exact",
          f"a relative error below {EXACT_RELATIVE:g} or an absolute one below {EXACT_ABSOLUTE:g} m or rad: below "
          "the accuracy of the references and of round-off, so such errors are not ranked."),
@@ -110,6 +133,10 @@ def glossary() -> list:
          f"an engine whose run comes within the case's accuracy ({ACCURACY:.0%} on relative measures unless the "
          "case says otherwise) or within the reference's own uncertainty where that is larger, and agrees on every "
          "mismatch measure."),
+        ("No reference",
+         "a scene judged by consensus where the consensus cannot be formed for some engine that ran it (too few "
+         "other engines converged, they disagree about overturning, or they spread too far): no engine is called "
+         "right or fastest on it, and the scoreboard leaves it out."),
         ("Consensus",
          f"the reference of a scene without a closed form: the median of the finest answers of the engines whose "
          f"finest and next-finest runs agree within {CONVERGED:.0%}, leaving out the engine judged (and, for the "

@@ -5,8 +5,10 @@
 (:mod:`comparisons.harness.overturning_spectra`) and the stability stress tests (:mod:`comparisons.harness.stress`),
 then writes into the output folder the tidy tables (``results.csv``, ``ensembles.csv``,
 ``spectra.csv``, ``stability.csv``), one PNG per figure (:mod:`comparisons.report.figures`, each checked for
-cut text) and ``index.html``, which states the commit and versions it was made from, heads its
-tables in plain words and explains its terms in a glossary (:mod:`comparisons.report.glossary`).
+cut text), ``digest.json`` (the digest of the sources the numbers come from,
+:func:`comparisons.report.provenance.source_digest`) and ``index.html``, which opens with a line of provenance (the
+commit and the digest) and a scoreboard per engine (:mod:`comparisons.report.scoreboard`), heads its tables in plain
+words and explains its terms in a glossary (:mod:`comparisons.report.glossary`).
 """
 
 import html
@@ -17,17 +19,29 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from comparisons.cases.case import REFERENCE_KINDS, exact_floor
+from comparisons.cases.case import ENGINES, REFERENCE_KINDS, exact_floor
 from comparisons.cases.catalogue import all_cases
 from comparisons.harness import consensus, ensembles, overturning_spectra
 from comparisons.harness.stress import WRONG
 from comparisons.report import figures, verdicts
 from comparisons.report.glossary import HEADERS, METRICS, glossary
-from comparisons.report.provenance import REPOSITORY, provenance
+from comparisons.report.provenance import DIGEST_FILE, REPOSITORY, provenance, source_digest, write_digest
+from comparisons.report.scoreboard import scoreboard, usual_steps
 
 STUDIES = REPOSITORY / "reports" / "studies"
 ENSEMBLE_SHARES = ("median_error", "p90_error", "overturn_agreement")
-STYLE = """body{font-family:sans-serif;max-width:1150px;margin:2em auto;color:#222;line-height:1.4}
+STYLE = """body{font-family:sans-serif;max-width:1150px;margin:1em auto;padding:0 1em;color:#222;line-height:1.4}
+h1{margin:0.2em 0 0.1em;font-size:1.7em}
+p.prov{font-size:13px;color:#444;margin:0 0 0.6em}
+table.score{border-collapse:collapse;font-size:15px;margin:0.3em 0}
+table.score th,table.score td{border-bottom:1px solid #ddd;padding:4px 12px;white-space:nowrap}
+table.score th{background:#f0f0f0;text-align:right;font-weight:600}table.score th:first-child{text-align:left}
+table.score td{text-align:right;font-variant-numeric:tabular-nums}table.score td:first-child{text-align:left;
+font-weight:600}
+p.caption{font-size:12px;color:#555;margin:0.2em 0 1em;max-width:1100px}
+table.matrix td.e{text-align:center;white-space:nowrap}table.matrix th{white-space:nowrap}
+td.right{background:#e3f2e1}td.fastest{background:#bfe3bb;font-weight:bold}td.no{color:#a33}
+td.none{color:#777;font-style:italic}
 img{max-width:49%;vertical-align:top}
 img.wide{max-width:100%}
 table.t{border-collapse:collapse;font-size:12px;margin:0.5em 0}table.t td,table.t th{border:1px solid #ccc;
@@ -58,13 +72,24 @@ def _img(src, alt, wide=False) -> str:
     return f'<img src="{html.escape(src)}" alt="{html.escape(alt)}"' + (' class="wide">' if wide else ">")
 
 
+def _provenance_line(made, quick: bool, when: str) -> str:
+    """The one line under the title: which run, when, the commit and the digest of the sources."""
+    modified = (f" <b>with uncommitted changes to {len(made['modified'])} file(s)</b>" if made["modified"] else "")
+    return (f'{"Quick" if quick else "Full"} run of {when} from commit <code>{html.escape(made["commit"])}</code>'
+            f"{modified}; sources digest <code>{html.escape(made['digest'][:12])}</code> "
+            f'(<a href="{DIGEST_FILE}">{DIGEST_FILE}</a>).')
+
+
 def _provenance_html(made) -> str:
     versions = ", ".join(f"{k} {v}" for k, v in made["versions"].items())
     modified = (f" <b>with uncommitted changes to {html.escape(', '.join(made['modified']))}</b>"
                 if made["modified"] else "")
     return (f"Made from commit <code>{html.escape(made['commit'])}</code> (branch {html.escape(made['branch'])})"
             f"{modified}, with Python {made['python']} and {html.escape(versions)}, on {made['machine']} "
-            f"with {made['cores']} cores.")
+            f"with {made['cores']} cores. The sources digest {made['digest'][:12]} covers the "
+            f"{len(made['digest_files'])} files that decide the numbers (listed in {DIGEST_FILE}: the engine, its "
+            "inputs, the adapters, the cases, the references and the harness); "
+            "<code>pytest tests/test_report.py</code> fails when the committed report's digest is no longer that of the checkout.")
 
 
 # --- cases ------------------------------------------------------------------------------------------
@@ -73,8 +98,9 @@ def _case_section(table, case, out: Path) -> tuple[str, dict]:
     metric = verdicts.primary_metric(case, table)
     rows = table[(table.case == case.name) & (table.metric == metric) & (table.status == "ok")]
     pareto, convergence = f"pareto_{case.name}.png", f"convergence_{case.name}.png"
-    figures.pareto_figure(rows[np.isfinite(rows.error)], case.name, metric, out / pareto)
-    figures.convergence_figure(rows[np.isfinite(rows.error)], case.name, metric, out / convergence)
+    figures.pareto_figure(rows[np.isfinite(rows.error)], case.name, metric, out / pareto, case_title=case.title)
+    figures.convergence_figure(rows[np.isfinite(rows.error)], case.name, metric, out / convergence,
+                               case_title=case.title)
     verdict = verdicts.case_verdict(table, case)
     summary = verdicts.case_summary(table, case)
     parts = [f'<section id="{case.name}"><h3>{html.escape(case.title)}</h3>',
@@ -109,7 +135,8 @@ def _ensemble_section(table, ens, out: Path) -> tuple[str, dict]:
     mine = table[table.ensemble == ens.name]
     summary = ensembles.summarise(mine)
     pareto, members = f"ensemble_{ens.name}.png", f"ensemble_members_{ens.name}.png"
-    figures.ensemble_pareto_figure(summary, ens.name, out / pareto, overturning=ens.kind == "rocking")
+    figures.ensemble_pareto_figure(summary, ens.name, out / pareto, overturning=ens.kind == "rocking",
+                                   ensemble_title=f"{ens.kind.capitalize()} ensemble")
     figures.ensemble_members_figure(mine, ens.name, "alpha" if ens.kind == "rocking" else "mm", out / members)
     verdict = verdicts.ensemble_verdict(summary, overturning=ens.kind == "rocking")
     n = len(ens.members())
@@ -173,86 +200,207 @@ def _studies_html(out: Path) -> str:
             "table and a README stating the trends found):</p><ul>" + "".join(items) + "</ul>")
 
 
-def _overview_row(kind, name, title, reference, verdict, note=""):
+def _verdict_record(kind, name, title, reference, verdict, engines, note="") -> dict:
+    """One row of the verdict table: what was judged, its reference, who ran it, who is right and fastest."""
     fastest = verdict.get("fastest")
     if fastest is None:
-        quickest = "-"
+        quickest = ""
     elif "wall_time_s" in fastest:
         quickest = f"{fastest.engine} at {fastest.step} ({fastest.wall_time_s:.3g} s)"
     else:
         quickest = f"{fastest.engine} at {fastest.step} ({fastest.median_wall_time_s:.3g} s a run)"
-    return {"Kind": kind, "Case": f'<a href="#{name}">{html.escape(title)}</a>', "Reference": html.escape(reference),
-            "Right": html.escape(", ".join(verdict["right"]) or "none"), "Fastest of them": html.escape(quickest),
-            "Note": html.escape(note)}
+    return {"kind": kind, "name": name, "title": title, "reference": reference,
+            "has_reference": bool(verdict.get("has_reference", True)), "engines": tuple(engines),
+            "right": tuple(verdict["right"]), "fastest": None if fastest is None else fastest.engine,
+            "fastest_run": quickest, "note": note}
 
 
-def write_report(table: pd.DataFrame, stability: pd.DataFrame, out: Path, *, quick: bool, run_time_s: float,
-                 ensemble_table: pd.DataFrame | None = None, spectra_table: pd.DataFrame | None = None,
-                 made: dict | None = None) -> Path:
-    """Write figures, CSV tables and index.html into ``out``; returns the path of index.html.
+def _verdict_matrix(records: pd.DataFrame, engines) -> str:
+    """The verdict table: a row per case, ensemble and spectrum, a column per engine (right, fastest, no)."""
+    head = "".join(f"<th>{html.escape(e)}</th>" for e in engines)
+    rows = []
+    for r in records.itertuples():
+        note = f' <span title="{html.escape(r.note)}">(note)</span>' if r.note else ""
+        cells = []
+        for engine in engines:
+            if engine not in r.engines:
+                cells.append('<td class="e"></td>')
+            elif not r.has_reference:
+                cells.append('<td class="e none">-</td>')
+            elif r.fastest == engine:
+                cells.append('<td class="e fastest">fastest</td>')
+            elif engine in r.right:
+                cells.append('<td class="e right">right</td>')
+            else:
+                cells.append('<td class="e no">no</td>')
+        reference = ('<td class="none">no reference</td>' if not r.has_reference
+                     else f"<td>{html.escape(r.reference)}</td>")
+        rows.append(f'<tr><td>{html.escape(r.kind)}</td><td><a href="#{r.name}">{html.escape(r.title)}</a>{note}'
+                    f"</td>{reference}{''.join(cells)}<td>{html.escape(r.fastest_run)}</td></tr>")
+    return (f'<table class="t matrix"><thead><tr><th>Kind</th><th>Case</th><th>Reference</th>{head}'
+            f"<th>Fastest right run</th></tr></thead><tbody>{''.join(rows)}</tbody></table>")
 
-    made : :func:`~comparisons.report.provenance.provenance` taken when the runs started (default: now)."""
-    out.mkdir(parents=True, exist_ok=True)
-    ensemble_table = pd.DataFrame() if ensemble_table is None else ensemble_table
-    spectra_table = pd.DataFrame() if spectra_table is None else spectra_table
-    table.to_csv(out / "results.csv", index=False)
-    stability.to_csv(out / "stability.csv", index=False)
-    ensemble_table.to_csv(out / "ensembles.csv", index=False)
-    spectra_table.drop(columns=["transitions"], errors="ignore").to_csv(out / "spectra.csv", index=False)
-    overview, case_parts, ensemble_parts, spectrum_parts = [], [], [], []
+
+def _percent_text(value: float, digits: str = ".2g") -> str:
+    return f"{100 * value:{digits}}%" if np.isfinite(value) else "-"
+
+
+def _scoreboard_html(board: pd.DataFrame, records: pd.DataFrame, usual: dict) -> str:
+    """The scoreboard as a table whose best value in each column is bold, with a caption defining it."""
+    def best(column, largest):
+        values = board[column].to_numpy(dtype=float)
+        if not np.isfinite(values).any():
+            return np.nan
+        return np.nanmax(values) if largest else np.nanmin(values)
+
+    tops = {"right": best("right", True), "fastest": best("fastest", True),
+            "rocking_median": best("rocking_median", False), "sliding_median": best("sliding_median", False),
+            "overturn_agreement": best("overturn_agreement", True),
+            "median_wall_time_s": best("median_wall_time_s", False)}
+
+    def cell(column, value, text):
+        bold = np.isfinite(value) and np.isfinite(tops[column]) and np.isclose(value, tops[column])
+        return f"<td><b>{text}</b></td>" if bold else f"<td>{text}</td>"
+
+    rows = []
+    for r in board.itertuples():
+        rows.append(
+            f"<tr><td>{html.escape(r.engine)}</td>"
+            + cell("right", r.right, f"{r.right} of {r.judged}")
+            + cell("fastest", r.fastest, f"{r.fastest}")
+            + cell("rocking_median", r.rocking_median, _percent_text(r.rocking_median))
+            + cell("sliding_median", r.sliding_median, _percent_text(r.sliding_median))
+            + cell("overturn_agreement", r.overturn_agreement,
+                   f"{_percent_text(r.overturn_agreement, '.3g')} of {r.overturn_points}")
+            + cell("median_wall_time_s", r.median_wall_time_s,
+                   f"{r.median_wall_time_s:.3g}" if np.isfinite(r.median_wall_time_s) else "-")
+            + "</tr>")
+    heads = ("Engine", "Right", "Fastest", "Rocking error", "Sliding error", "Overturning agrees", "Run time (s)")
+    table = ('<table class="score"><thead><tr>' + "".join(f"<th>{h}</th>" for h in heads) + "</tr></thead><tbody>"
+             + "".join(rows) + "</tbody></table>")
+    unreferenced = records[~records.has_reference]
+    left_out = ("" if unreferenced.empty else
+                f" Left out, having no reference: {html.escape(', '.join(unreferenced.title))}.")
+    steps = ", ".join(sorted(set(usual.values())))
+    caption = (f"<b>Right</b>: the cases, ensembles and spectra of the <a href=\"#verdicts\">verdicts</a> on which "
+               f"the engine is right, out of those with a reference that it ran.{left_out} <b>Fastest</b>: on how many "
+               "of them it is the fastest right engine. <b>Rocking</b> and <b>sliding error</b>: the median "
+               "|peak error| of the rocking and of the sliding ensemble. <b>Overturning agrees</b>: the share of the "
+               "overturning spectra's points where the engine overturns exactly when the rocking equation does. "
+               f"<b>Run time</b>: the median wall time of a case run. Ensembles, spectra and run times at each "
+               f"engine's usual step ({html.escape(steps)}); best of each column in bold.")
+    return f'<section id="scoreboard">{table}<p class="caption">{caption}</p></section>'
+
+
+def _stress_table(stability: pd.DataFrame) -> pd.DataFrame:
+    """The stress-test rows with relative errors in percent (the other values in their units)."""
+    values = [f"{100 * v:.3g}%" if figures.is_relative_error(m) and np.isfinite(v) else
+              (f"{v:.3g}" if np.isfinite(v) else "-") for m, v in zip(stability.metric, stability.value, strict=True)]
+    return _metric_names(stability.assign(value=values))
+
+
+def _sections(table, ensemble_table, spectra_table, out: Path) -> tuple:
+    """The page's sections of ensembles, spectra and cases, and one verdict record per section:
+    ``(records, ensemble_parts, spectrum_parts, case_parts, ensemble kinds, spectrum labels)``."""
+    records, case_parts, ensemble_parts, spectrum_parts = [], [], [], []
+    kinds = {}
     for ens in ensembles.all_ensembles():
+        kinds[ens.name] = ens.kind
         if len(ensemble_table) and ens.name in set(ensemble_table.ensemble):
             section, verdict = _ensemble_section(ensemble_table, ens, out)
             ensemble_parts.append(section)
             reference = "rocking equation" if ens.kind == "rocking" else "rigid-plastic sliding"
-            overview.append(_overview_row("ensemble", ens.name, ens.title, f"{reference}, run by run", verdict))
+            ran = dict.fromkeys(ensemble_table.engine[ensemble_table.ensemble == ens.name])
+            records.append(_verdict_record("ensemble", ens.name, ens.title, f"{reference}, run by run", verdict, ran))
+    spectrum_labels = {}
     for spec in overturning_spectra.all_spectra():
+        spectrum_labels[spec.name] = figures.spectrum_label(spec)
         if len(spectra_table) and spec.name in set(spectra_table.spectrum):
             section, verdict = _spectrum_section(spectra_table, spec, out)
             spectrum_parts.append(section)
-            overview.append(_overview_row("spectrum", spec.name, spec.title, "rocking equation", verdict))
+            ran = dict.fromkeys(spectra_table.engine[spectra_table.spectrum == spec.name])
+            records.append(_verdict_record("spectrum", spec.name, spec.title, "rocking equation", verdict, ran))
     for case in all_cases():
         if case.name in set(table.case):
             section, verdict = _case_section(table, case, out)
             case_parts.append(section)
-            overview.append(_overview_row("case", case.name, case.title, verdict["reference"], verdict, case.note))
+            ran = dict.fromkeys(table.engine[table.case == case.name])
+            records.append(_verdict_record("case", case.name, case.title, verdict["short_reference"], verdict, ran,
+                                           case.note))
+    return records, ensemble_parts, spectrum_parts, case_parts, kinds, spectrum_labels
+
+
+def _overview_images(ensemble_table, spectra_table, spectrum_labels, out: Path) -> str:
+    """The verdicts' overview figures: the first ensemble's statistics and the spectra's agreement."""
     overview_images = ""
     if len(ensemble_table):
         first = next(e.name for e in ensembles.all_ensembles() if e.name in set(ensemble_table.ensemble))
         overview_images += _img(f"ensemble_{first}.png", f"ensemble statistics of {first}", wide=True)
     if len(spectra_table):
-        figures.spectra_overview_figure(overturning_spectra.summarise(spectra_table), out / "spectra_overview.png")
+        figures.spectra_overview_figure(overturning_spectra.summarise(spectra_table), out / "spectra_overview.png",
+                                        labels=spectrum_labels)
         overview_images += _img("spectra_overview.png", "overturning-spectrum agreement against run time")
+    return overview_images
+
+
+def write_report(table: pd.DataFrame, stability: pd.DataFrame, out: Path, *, quick: bool, run_time_s: float,
+                 ensemble_table: pd.DataFrame | None = None, spectra_table: pd.DataFrame | None = None,
+                 made: dict | None = None) -> Path:
+    """Write figures, CSV tables, ``digest.json`` and index.html into ``out``; returns the path of index.html.
+
+    made : :func:`~comparisons.report.provenance.provenance` taken when the runs started (default: now)."""
+    out.mkdir(parents=True, exist_ok=True)
+    ensemble_table = pd.DataFrame() if ensemble_table is None else ensemble_table
+    spectra_table = pd.DataFrame() if spectra_table is None else spectra_table
+    made = provenance() if made is None else made
+    if "digest" not in made:
+        made = {**made, **dict(zip(("digest", "digest_files"), source_digest(), strict=True))}
+    table.to_csv(out / "results.csv", index=False)
+    stability.to_csv(out / "stability.csv", index=False)
+    ensemble_table.to_csv(out / "ensembles.csv", index=False)
+    spectra_table.drop(columns=["transitions"], errors="ignore").to_csv(out / "spectra.csv", index=False)
+    write_digest(out, made)
+    records, ensemble_parts, spectrum_parts, case_parts, kinds, spectrum_labels = _sections(
+        table, ensemble_table, spectra_table, out)
+    records = pd.DataFrame(records, columns=["kind", "name", "title", "reference", "has_reference", "engines",
+                                             "right", "fastest", "fastest_run", "note"])
+    engines = [e for e in ENGINES if e in set(table.engine)] + sorted(set(table.engine) - set(ENGINES))
+    usual = usual_steps([e for e in engines if e in ENGINES])
+    board = scoreboard(records, ensemble_table, spectra_table, table, ensemble_kinds=kinds, engines=engines,
+                       usual=usual)
+    overview_images = _overview_images(ensemble_table, spectra_table, spectrum_labels, out)
     simulations = (len(table.drop_duplicates(["case", "engine", "step", "settings"])) + len(ensemble_table)
                    + len(spectra_table))
-    made = provenance() if made is None else made
     terms = "".join(f"<dt>{html.escape(t)}</dt><dd>{html.escape(d)}</dd>" for t, d in glossary())
-    overview_table = pd.DataFrame(overview).to_html(index=False, escape=False, border=0, classes="t")
-    stability_html = (_stability_sections(stability, out) + _table(_metric_names(stability))) if len(stability) else ""
+    stability_html = (_stability_sections(stability, out) + _table(_stress_table(stability))) if len(stability) else ""
+    when = time.strftime("%Y-%m-%d %H:%M")
     page = f"""<!DOCTYPE html>
 <html lang="en"><head><meta charset="utf-8"><title>Engine comparison: rocking and sliding of stone blocks</title>
 <style>{STYLE}</style></head><body>
 <h1>Engine comparison: rocking and sliding of stone blocks</h1>
+<p class="prov">{_provenance_line(made, quick, when)}</p>
+{_scoreboard_html(board, records, usual)}
 <p>{"Quick" if quick else "Full"} run of {simulations} simulations ({table.case.nunique()} cases,
 {ensemble_table.ensemble.nunique() if len(ensemble_table) else 0} ensembles,
 {spectra_table.spectrum.nunique() if len(spectra_table) else 0} overturning spectra) in {run_time_s:.0f} s of wall
-time, {time.strftime("%Y-%m-%d %H:%M")}. {_provenance_html(made)}</p>
+time, {when}. {_provenance_html(made)}</p>
 <p>Five engines: the native core under its corner contact law (<b>dem</b>) and under the thesis' overlap-area law
 (<b>dem-overlap</b>), pymunk, PyBullet and MuJoCo. Each is judged against an exact reference where one exists
 (docs/method.md section 4), and against the consensus of the other engines on the multi-block scenes, where none
 does. Errors below {exact_floor("peak_rotation"):g} (relative) or {exact_floor("drift_m"):g} m or rad count as
-exact and are not ranked. Wall times exclude compiling and building. The terms are explained in the
+exact and are not ranked. Errors are in percent of the reference unless a unit is named. Wall times exclude
+compiling and building. The terms are explained in the
 <a href="#glossary">glossary</a>; the thesis' parametric studies are <a href="#studies">linked below</a>.
 Tables: <a href="results.csv">results.csv</a>, <a href="ensembles.csv">ensembles.csv</a>,
 <a href="spectra.csv">spectra.csv</a>, <a href="stability.csv">stability.csv</a>.</p>
-<ul><li><a href="#verdicts">Verdicts</a></li><li><a href="#ensembles">Ensembles under records</a></li>
-<li><a href="#spectra">Overturning spectra</a></li><li><a href="#cases">Cases</a></li>
-<li><a href="#stability">Stability map</a></li><li><a href="#studies">Studies</a></li>
-<li><a href="#glossary">Glossary</a></li></ul>
+<p>Contents: <a href="#verdicts">Verdicts</a> | <a href="#ensembles">Ensembles under records</a> |
+<a href="#spectra">Overturning spectra</a> | <a href="#cases">Cases</a> | <a href="#stability">Stability map</a> |
+<a href="#studies">Studies</a> | <a href="#glossary">Glossary</a></p>
 <section id="verdicts"><h2>Verdicts</h2>
 <p>Per case, the engines that are right (within the case's accuracy, or the reference's uncertainty where that is
-larger) and the fastest of them. Single runs of rocking under records are luck; the ensembles judge accuracy.</p>
-{overview_images}{overview_table}</section>
+larger), and the fastest of them; "-" where the case has no reference, blank where the engine did not run it.
+Single runs of rocking under records are luck; the ensembles judge accuracy.</p>
+{_verdict_matrix(records, engines)}{overview_images}</section>
 <section id="ensembles"><h2>Ensembles under records</h2>{"".join(ensemble_parts) or "<p>Not run.</p>"}</section>
 <section id="spectra"><h2>Overturning spectra</h2>{"".join(spectrum_parts) or "<p>Not run.</p>"}</section>
 <section id="cases"><h2>Cases</h2>{"".join(case_parts)}</section>

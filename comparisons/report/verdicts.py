@@ -72,8 +72,8 @@ def _runs(table, case):
     keys = list(zip(primary.engine, primary.step, primary.settings, strict=True))
     agrees = np.array([key not in bad.index for key in keys], dtype=bool)
     level = case.verdict_level(metric)
-    if case.by_consensus:
-        level = np.maximum(level, primary.reference_uncertainty.fillna(np.inf).to_numpy())
+    if case.by_consensus:  # no consensus (NaN uncertainty): no level, so never right
+        level = np.maximum(level, primary.reference_uncertainty.to_numpy(dtype=float))
     primary["right"] = (primary.error.abs() <= np.maximum(level, exact_floor(metric))) & agrees
     primary["level"] = level
     return metric, primary
@@ -112,25 +112,55 @@ def _fastest_right(runs):
     return right.loc[right.wall_time_s.idxmin()] if len(right) else None
 
 
+def missing_consensus(table, case, metric) -> dict:
+    """``{engine: why}`` for each engine of a consensus case that no consensus judges on ``metric`` (empty
+    for a case with a closed-form reference, or where every engine that ran has a consensus)."""
+    if not case.by_consensus:
+        return {}
+    rows = table[(table.case == case.name) & (table.metric == metric)]
+    missing = {}
+    for engine, mine in rows.groupby("engine", sort=False):
+        reasons = {r for r in mine.get("no_reference", pd.Series(dtype=object)).dropna() if r}
+        uncertain = mine.reference_uncertainty.to_numpy(dtype=float) if "reference_uncertainty" in mine else []
+        if reasons or not np.isfinite(uncertain).any():
+            missing[engine] = "; ".join(sorted(reasons)) or "no consensus"
+    return missing
+
+
 def case_verdict(table, case) -> dict:
-    """``{"reference", "right", "fastest", "text"}``: the reference, the engines that are right, the fastest
-    right run, and the whole verdict as a sentence."""
+    """``{"reference", "short_reference", "has_reference", "right", "fastest", "text"}``: the reference (in
+    full and in a few words), whether one exists, the engines that are right, the fastest right run, and the
+    whole verdict as a sentence.
+
+    A consensus case has a reference only where every engine that ran is judged by one: where the consensus
+    cannot be formed for some engine (too few other engines converged, they disagree about overturning or
+    spread too far), the case has no reference, and no engine is called right or fastest on it."""
     metric, runs = _runs(table, case)
     level = case.verdict_level(metric)
     if case.by_consensus:
-        missing = table[(table.case == case.name) & (table.metric == metric)].no_reference.dropna()
-        reasons = sorted({r for r in missing if r})
+        missing = missing_consensus(table, case, metric)
         finite = runs[np.isfinite(runs.error)]
-        if not len(finite):
-            text = f"No reference exists: {'; '.join(reasons) or 'no engine converged'}. No engine is ranked."
-            return {"reference": "none", "right": [], "fastest": None, "text": text}
+        if missing or not len(finite):
+            why = "; ".join(f"{e}: {r}" for e, r in missing.items()) or "no engine converged"
+            text = f"No reference: the consensus cannot be formed ({why}). No engine is ranked."
+            if len(finite):
+                text += (" The errors shown below are against the consensus of the engines that converged, where "
+                         "one formed, for information only.")
+            return {"reference": "none", "short_reference": "no reference", "has_reference": False, "right": [],
+                    "fastest": None, "text": text}
         some = finite.iloc[0]
         reference = (f"consensus of the converged engines, {some.reference:.3g} rad +-{some.reference_uncertainty:.0%} "
                      f"when judging {some.engine} (from {some.reference_members})")
+        spread = finite.drop_duplicates("engine").reference_uncertainty
+        low, high = spread.min(), spread.max()
+        short = (f"consensus, +-{high:.0%}" if f"{low:.0%}" == f"{high:.0%}"
+                 else f"consensus, +-{low:.0%} to {high:.0%}")
     else:
         reference = f"{case.reference_kind} (uncertainty {case.reference_uncertainty:g})"
+        short = case.reference_kind
     if runs.empty:
-        return {"reference": reference, "right": [], "fastest": None, "text": "No engine completed this case."}
+        return {"reference": reference, "short_reference": short, "has_reference": True, "right": [],
+                "fastest": None, "text": "No engine completed this case."}
     right = [e for e, mine in runs.groupby("engine", sort=False) if mine.right.any()]
     from_step = {e: mine[mine.right].sort_values("wall_time_s").step.iloc[0]
                  for e, mine in runs.groupby("engine", sort=False) if mine.right.any()}
@@ -161,7 +191,8 @@ def case_verdict(table, case) -> dict:
     exact = sorted(runs[runs.error.abs() < exact_floor(metric)].engine.unique()) if kind != "mismatch" else []
     if exact:
         text += f" Exact (error below {exact_floor(metric):g}, not ranked): {', '.join(exact)}."
-    return {"reference": reference, "right": right, "fastest": fastest, "text": text}
+    return {"reference": reference, "short_reference": short, "has_reference": True, "right": right,
+            "fastest": fastest, "text": text}
 
 
 def _leaders(summary, column, largest=True) -> str:
@@ -176,11 +207,11 @@ def ensemble_verdict(summary: pd.DataFrame, overturning: bool = True, median_lev
     """The engines whose median |peak error| is within ``median_level`` (and, with ``overturning``, who agree
     on overturning in at least ``agreement_level`` of the runs) at some step, and the fastest of them."""
     if summary.empty:
-        return {"right": [], "fastest": None, "text": "No engine completed this ensemble."}
+        return {"right": [], "fastest": None, "has_reference": True, "text": "No engine completed this ensemble."}
     ok = summary[summary.median_error <= median_level]
     best = summary.loc[summary.median_error.idxmin()]
-    text = f"Lowest median |peak error|: {best.engine} at {best.step} ({best.median_error:.2g} of the peak, "
-    text += f"90th percentile {best.p90_error:.2g}). "
+    text = f"Lowest median |peak error|: {best.engine} at {best.step} ({100 * best.median_error:.2g}% of the peak, "
+    text += f"90th percentile {100 * best.p90_error:.2g}%). "
     condition = f"median within {median_level:.0%}"
     if overturning:
         ok = ok[ok.overturn_agreement >= agreement_level]
@@ -190,13 +221,13 @@ def ensemble_verdict(summary: pd.DataFrame, overturning: bool = True, median_lev
     right, fastest = _right_and_fastest(ok)
     text += (f"Right ({condition}): {', '.join(right)}; fastest of them: {fastest.engine} at {fastest.step} "
              f"({fastest.median_wall_time_s:.3g} s a run)." if right else f"No engine is right ({condition}).")
-    return {"right": right, "fastest": fastest, "text": text}
+    return {"right": right, "fastest": fastest, "has_reference": True, "text": text}
 
 
 def spectrum_verdict(summary: pd.DataFrame, agreement_level: float = 0.95) -> dict:
     """The engines agreeing with the reference on at least ``agreement_level`` of the points, the fastest."""
     if summary.empty:
-        return {"right": [], "fastest": None, "text": "No engine completed this spectrum."}
+        return {"right": [], "fastest": None, "has_reference": True, "text": "No engine completed this spectrum."}
     ok = summary[summary.agreement >= agreement_level]
     best = summary.agreement.max()
     text = (f"Best agreement ({best:.0%} of {summary.points.iloc[0]} points): "
@@ -205,7 +236,7 @@ def spectrum_verdict(summary: pd.DataFrame, agreement_level: float = 0.95) -> di
     text += (f"Right (agreeing on {agreement_level:.0%} of the points or more): {', '.join(right)}; fastest of "
              f"them: {fastest.engine} ({fastest.median_wall_time_s:.3g} s a run)." if right
              else f"No engine agrees on {agreement_level:.0%} of the points.")
-    return {"right": right, "fastest": fastest, "text": text}
+    return {"right": right, "fastest": fastest, "has_reference": True, "text": text}
 
 
 def _right_and_fastest(ok: pd.DataFrame) -> tuple[list, pd.Series | None]:
