@@ -175,10 +175,11 @@ class Simulation:
                         self.impact)
         self.state: State = initial_state(self.model)
         b = self.model.bodies
-        self.state.tracking.ledger[0] = mechanical_energy(self.state.pos, self.state.vel, b.mass, b.inv_inertia,
-                                                           self.model.gravity)
         if ground_motion == "moving_base":  # the blocks start at rest relative to the ground
             self.state.vel[1:, :2] = np.array(excitation.velocity(np.array([-0.5 * dt])))[:, 0]
+        # the energy balance starts from the blocks' energy as they start, moving with the ground
+        self.state.tracking.ledger[0] = mechanical_energy(self.state.pos, self.state.vel, b.mass, b.inv_inertia,
+                                                           self.model.gravity)
         self.settings = RunSettings(
             dt=float(dt), stride=int(stride), last_step=int(n_steps),
             speed_limit=_speed_limit(self.model, excitation, duration),

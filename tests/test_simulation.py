@@ -21,9 +21,12 @@ def _mode_difference(scene, motion, duration, refine=1):
 @pytest.mark.parametrize("make_scene, motion, duration", [
     (lambda: scenes.block(1.0, 0.5, friction=0.2, base_width=20.0), excitation.record("el_centro_1940"), 12.0),
     (lambda: scenes.column(3), excitation.harmonic(0.02, 1.5), 2.0),
+    (lambda: scenes.column(2), excitation.harmonic(pga=10.0, frequency=1.0), 0.5),
 ])
 def test_moving_base_and_inertial_load_give_the_same_relative_response(make_scene, motion, duration):
-    """docs/method.md 2: both ways must agree, up to the error of sampling the ground motion at step times."""
+    """docs/method.md 2: both ways must agree, up to the error of sampling the ground motion at step times.
+    A harmonic's ground starts at 1.6 m/s (the last case): the blocks start moving with it, and the energy
+    balance counts that kinetic energy from the start instead of taking it for energy from nowhere."""
     assert _mode_difference(make_scene(), motion, duration) < 0.01
 
 
