@@ -4,28 +4,50 @@
   under the 1940 El Centro record), write results and plots (below);
   ``--animate run.gif`` adds an animation and a snapshot strip;
 * ``sweep SPEC.toml --out DIR``: a parametric sweep (:mod:`dem_core.analyses.sweep`) on
-  this machine's cores or, with ``--scheduler ADDRESS``, on a Dask cluster;
+  this machine's cores or, with ``--scheduler ADDRESS``, on a Dask cluster; ``--duration``
+  sets every run's simulated time (part of what identifies a run, so a resumed sweep never
+  mixes durations); a resumed sweep says how many runs were already done, and the end
+  counts the runs in words ("16 runs: 15 ok, 1 failed");
 * ``threshold SCENE.toml``: the smallest PGA (or other excitation parameter)
-  that overturns the scene, or starts it rocking or sliding;
+  that overturns the scene, or starts it rocking or sliding, by the search of
+  :mod:`dem_core.analyses.thresholds` with its defaults (a scan in steps of 2%, ``--step``, capped
+  at ``--absolute-step``, or ``--scan N`` evenly spaced values; each change refined to 0.5%,
+  ``--tolerance``);
 * ``ramp SCENE.toml --rate 0.5``: rocking, sliding and overturning
-  accelerations under a monotonic ramp;
+  accelerations under a monotonic ramp, each with its criterion (rocking: a rotation above
+  theta_cr/30), and for a single block or column its static uplift acceleration g b/h;
 * ``animate SCENE.toml --out run.gif``: run and animate (GIF or MP4, at most 5000 frames);
+  ``--exaggerate K`` draws each block's motion on what it rests on K times larger, so that a
+  block rocking on a corner still stands on it;
 * ``spectrum RECORD ... --out spectra.png``: elastic response spectra;
 * ``stiffness SCENE.toml``: the run again at 10 and 100 times the contact stiffness, to see
-  whether the answer depends on it;
-* ``records``: the bundled accelerograms.
+  whether the answer depends on it: each measure named, its value at each stiffness and a
+  verdict (converged when it changes by at most 5% from the stiffest run, or by less than
+  1 mm of sliding, 0.001 rad of rotation, 0.1 s of overturn time; otherwise what to do);
+* ``records``: the bundled accelerograms, with where each one's sampling interval comes from.
+
+Every command that runs a scene compiles the engine first; that takes about half a minute the
+first time (numba caches it for later runs) and is announced on stderr when it takes more than
+2 s ("compiling the engine (once; cached for later runs) ...", then "done in N s").  ``run`` and
+``animate`` print the time simulated and the wall time it took ("simulated 53.72 s in 8.96 s").
+``--help`` of every command shows every option's default.
 
 ``run`` writes into the output folder:
 
 * ``time_history.csv`` (or ``.parquet``): one row per output time and block
   (t, block, x, y, theta, x_rel, base_x, base_y);
-* ``metrics.csv``: per block peak |theta|, residual displacement, sliding,
-  mean |theta|, overturn;
+* ``metrics.csv``: per block peak |theta|, residual displacement, ``sliding_at_its_joints_m`` (the
+  slip accumulated at the block's interfaces, below and above it, added: each interface counts for
+  both its blocks, so adding this column over the blocks counts every joint twice), mean |theta|,
+  overturn;
+* ``interfaces.csv``: per interface ("drum1/drum2", "base/drum1") the slip accumulated there over the
+  run, ``sliding_m``; the column adds up to the total sliding;
 * ``summary.json``: the scene file (``scene``), whether the run is whole (``status``: "complete";
   "stopped" when the run lost stability, with ``stop_reason``, the files then holding the run up to
   ``end_time_s``; "incomplete" while the files are written, so a folder left by Ctrl-C or a full
   disk says so), the files written (``files``), scene-level measures and run facts (time step and
-  stability limit, steps, compile and run wall times);
+  stability limit, steps, ``compile_time_s``: the seconds this run took to set up and compile its
+  engine or load it from numba's cache, and the run's wall time ``run_time_s``);
 * ``rotations.png``, ``displacements.png``, ``sliding.png`` (and ``epistyles.png`` for colonnades).
 
 A folder that holds an earlier run of the same scene file has it replaced whole (its files are
@@ -46,8 +68,9 @@ command resumes).  No error prints a traceback: an unexpected one is a line endi
 please report"; ``DEM_CORE_DEBUG=1`` shows its traceback.
 
 Accelerations are printed in m/s^2 with g in brackets, ``PGA 2.75 m/s^2 (0.281 g)``; every other
-quantity in SI units.  Long work (frames, the runs of a search) shows a progress bar with an
-estimate of the time left when stderr is a terminal, and nothing otherwise (CI, logs).
+quantity in SI units (sliding in mm where the stiffness command compares small values).  Long work
+(frames, the runs of a search) shows a progress bar with an estimate of the time left when stderr is
+a terminal, and nothing otherwise (CI, logs).
 """
 
 import argparse
@@ -67,7 +90,7 @@ from .inputs import records
 from .inputs.records import G_STANDARD
 from .inputs.scene_file import SceneFileError, load, read_toml
 from .output_files import OutputPathError, OutputWriteError, output_file, output_folder, reason, replacing
-from .simulation import SimulationUnstable, run_duration, simulate
+from .simulation import SimulationUnstable, run_duration
 
 DEFAULT_SCENE = "column_el_centro.toml"
 
@@ -98,7 +121,11 @@ def _simulate_options(settings: dict, *, progress: bool = True) -> dict:
     left for each long run, shown only on a terminal (commands that run many short runs have their
     own bar over the runs and pass False).  The progress callback is always given: between a run's
     chunks it raises a Ctrl-C that came while the compiled kernel ran (see :class:`_Interrupts`)."""
-    options = dict(settings)
+    return {**settings, "progress": _progress_callback(progress)}
+
+
+def _progress_callback(progress: bool = True):
+    """``simulate``'s ``progress``: a bar on a terminal (when ``progress``), and the check for a held-back Ctrl-C."""
     bar = _StepProgress() if progress and sys.stderr.isatty() else None
 
     def report(done: int, total: int):
@@ -106,8 +133,69 @@ def _simulate_options(settings: dict, *, progress: bool = True) -> dict:
         if bar is not None:
             bar(done, total)
 
-    options["progress"] = report
-    return options
+    return report
+
+
+#: s: setting a run up (compiling the engine, or loading it from numba's cache) that takes longer than this is
+#: announced while it goes on, and its time printed when it ends (a first run compiles for about half a minute)
+COMPILE_NOTICE_S = 2.0
+COMPILING = "compiling the engine (once; cached for later runs) ..."
+
+
+class _CompileNotice:
+    """A context that prints :data:`COMPILING` on stderr once what it holds has taken :data:`COMPILE_NOTICE_S`,
+    and then, at its end, how long it took; ``seconds`` is that time (whether announced or not)."""
+
+    def __init__(self):
+        self.seconds = 0.0
+        self.shown = False
+
+    def __enter__(self):
+        import threading
+
+        self.started = time.perf_counter()
+        self.timer = threading.Timer(COMPILE_NOTICE_S, self._show)
+        self.timer.daemon = True
+        self.timer.start()
+        return self
+
+    def _show(self):
+        self.shown = True
+        print(COMPILING, file=sys.stderr, flush=True)
+
+    def __exit__(self, *exc):
+        self.timer.cancel()
+        self.timer.join()
+        self.seconds = time.perf_counter() - self.started
+        if self.shown and exc[0] is None:
+            print(f"done in {self.seconds:.0f} s", file=sys.stderr, flush=True)
+        return False
+
+
+def _prepared_run(scene, excitation, settings: dict):
+    """``(dem_core.Simulation, seconds)``: the run of ``simulate(scene, excitation, **settings)`` set up and its
+    engine compiled (announced when that takes long, :class:`_CompileNotice`), and the seconds that took."""
+    from .simulation import Simulation
+
+    with _CompileNotice() as notice:
+        run = Simulation(scene, excitation, **{k: v for k, v in settings.items() if k != "progress"})
+    return run, notice.seconds
+
+
+def _compile_first(scene, excitation, settings: dict) -> None:
+    """Compile the engine (or load it from numba's cache) before a command's runs, announced when that takes
+    long: a one-step run of ``scene`` is set up.  Whatever it meets (a bad setting, a warning) is left for the
+    runs themselves to report."""
+    from .simulation import Simulation
+
+    options = {k: v for k, v in settings.items() if k not in ("duration", "output_dt", "progress")}
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            with _CompileNotice():
+                Simulation(scene, excitation, duration=1e-9, **options)
+    except Exception:  # noqa: BLE001 - the runs report it
+        pass
 
 
 class _Interrupts:
@@ -181,9 +269,29 @@ class _ArgumentError(Exception):
     """A command line argparse refuses; ``main`` prints it as one line and returns 2."""
 
 
+class _HelpFormatter(argparse.HelpFormatter):
+    """argparse's help with every option's default shown: "(default: X)" is added to the help of an option
+    that has a default and whose help does not already say it (an option without one says in its help
+    what it falls back to: the scene file, the record)."""
+
+    def _get_help_string(self, action):
+        text = action.help or ""
+        default = action.default
+        if ("default" in text or default is None or default is False or default is argparse.SUPPRESS
+                or action.nargs == 0 or not (action.option_strings or action.nargs in ("?", "*"))):
+            return text
+        shown = " ".join(f"{v:g}" if isinstance(v, float) else str(v) for v in default) \
+            if isinstance(default, (list, tuple)) else (f"{default:g}" if isinstance(default, float) else default)
+        return f"{text} (default: {shown})".lstrip()
+
+
 class _Parser(argparse.ArgumentParser):
     """argparse, with an error as one line naming the option (no usage block) returned by ``main`` as 2
-    rather than a ``SystemExit`` (``--help`` still exits)."""
+    rather than a ``SystemExit`` (``--help`` still exits), and every default shown in ``--help``."""
+
+    def __init__(self, *args, **kwargs):
+        kwargs.setdefault("formatter_class", _HelpFormatter)
+        super().__init__(*args, **kwargs)
 
     def error(self, message):
         raise _ArgumentError(f"{message} (see {self.prog} --help)")
@@ -221,8 +329,8 @@ DAMPING = _number(float, lambda v: 0 <= v < 1, "a damping ratio from 0 up to (no
 #: most frames an animation may have (at 25 frames/s, 200 s of playback): each is held in memory for a GIF
 MOST_FRAMES = 5000
 #: the files a run writes into its folder (an animation's name is recorded in summary.json)
-RUN_FILES = ("summary.json", "time_history.csv", "time_history.parquet", "metrics.csv", "rotations.png",
-             "displacements.png", "sliding.png", "epistyles.png", "snapshots.png")
+RUN_FILES = ("summary.json", "time_history.csv", "time_history.parquet", "metrics.csv", "interfaces.csv",
+             "rotations.png", "displacements.png", "sliding.png", "epistyles.png", "snapshots.png")
 #: exit status of a command stopped by Ctrl-C (128 + SIGINT, as shells report it)
 INTERRUPTED = 130
 #: environment variable that lets an unexpected error show its traceback
@@ -285,8 +393,8 @@ class _Refused(Exception):
 def _parser() -> argparse.ArgumentParser:
     parser = _Parser(prog="dem-core", description="Seismic response of stone columns and colonnades (native "
                      "soft-contact DEM).", epilog="Exit status: 0 done, 1 failed, 2 refused input, 3 a run that "
-                     "stopped unstable, 130 interrupted (Ctrl-C).  No error shows a traceback; set "
-                     f"{DEBUG}=1 to see that of an unexpected one.")
+                     "stopped unstable, 130 interrupted (Ctrl-C).  Each command's --help shows its options and "
+                     f"their defaults.  No error shows a traceback; set {DEBUG}=1 to see that of an unexpected one.")
     sub = parser.add_subparsers(dest="command", required=True)
     _add_run(sub)
     _add_sweep(sub)
@@ -296,15 +404,22 @@ def _parser() -> argparse.ArgumentParser:
     spectrum = sub.add_parser("spectrum", help="elastic response spectra of records")
     spectrum.add_argument("records", nargs="+", help="bundled record names or record files")
     spectrum.add_argument("--damping", type=DAMPING, default=0.05, help="damping ratio, 0 <= damping < 1 "
-                          "(default 0.05)")
+                          "(default: 0.05)")
     spectrum.add_argument("--out", default="spectra.png", help="figure to write; a .csv beside it holds the values")
-    stiffness = sub.add_parser("stiffness", help="rerun a scene file at stiffer contacts and compare the measures")
+    stiffness = sub.add_parser("stiffness", help="rerun a scene file at stiffer contacts and judge whether each "
+                               "measure converged",
+                               description="Run the scene at each multiple of its contact stiffness K_n and print "
+                               "the measures (peak rotation, total sliding, mean rocking, overturn time) at each, "
+                               "with a verdict for each: converged when the smallest multiple is within 5% of the "
+                               "stiffest, or within 1 mm of sliding, 0.001 rad of rotation, 0.1 s of overturn time; "
+                               "otherwise from which multiple it agrees, and what to do.")
     stiffness.add_argument("scene", nargs="?", help=f"scene file; default the bundled {DEFAULT_SCENE}")
     stiffness.add_argument("--factors", type=POSITIVE, nargs="+", default=[1.0, 10.0, 100.0],
-                           help="multiples of the scene's K_n, each positive (default 1 10 100)")
-    stiffness.add_argument("--duration", type=SECONDS, help="simulated time in s (default from the file or the "
+                           help="multiples of the scene's K_n, each positive (default: 1 10 100)")
+    stiffness.add_argument("--duration", type=SECONDS, help="simulated time in s (default: from the file or the "
                            "record)")
-    sub.add_parser("records", help="list the bundled accelerograms")
+    sub.add_parser("records", help="list the bundled accelerograms: PGA, length, sampling interval and where it "
+                   "comes from")
     return parser
 
 
@@ -316,19 +431,25 @@ def _add_run(sub):
                          "command says so); a folder that holds the run of another scene is refused, naming it, "
                          "unless --overwrite.  Each file is written whole "
                          "or not at all; summary.json says whether the run is complete, stopped (unstable: the "
-                         "files hold the run up to there, and why) or incomplete (interrupted while writing).")
+                         "files hold the run up to there, and why) or incomplete (interrupted while writing).  "
+                         "Files: time_history.csv (or .parquet); metrics.csv, one row per block, whose "
+                         "sliding_at_its_joints_m adds the slip of the block's interfaces below and above it (so "
+                         "its sum over the blocks counts every joint twice); interfaces.csv, the slip of each "
+                         "interface (sliding_m, adding up to the total sliding); summary.json; the figures.")
     run.add_argument("scene", nargs="?", help=f"scene file (TOML); default: the bundled {DEFAULT_SCENE}")
     run.add_argument("--out", help="output folder (default: results/<scene name>), created if need be")
     run.add_argument("--overwrite", action="store_true", help="replace the results of another scene's run in "
                      "--out (its files are deleted before this run's are written); without it such a folder is "
                      "refused")
-    run.add_argument("--format", choices=("csv", "parquet"), help="time-history format (default from the file, csv)")
-    run.add_argument("--duration", type=SECONDS, help="simulated time in s (default from the file or the record)")
+    run.add_argument("--format", choices=("csv", "parquet"), help="time-history format (default: the file's [output] "
+                     "format, else csv)")
+    run.add_argument("--duration", type=SECONDS, help="simulated time in s (default: from the file or the record)")
     run.add_argument("--no-plots", action="store_true", help="skip the figures")
     run.add_argument("--animate", metavar="FILE", help="also write an animation (.gif or .mp4, relative to --out) "
-                     "and snapshots.png")
+                     "and snapshots.png (default: none)")
     run.add_argument("--exaggerate", type=POSITIVE, default=1.0, metavar="K",
-                     help="draw rotations and displacements K times larger in the animation (K > 0, default 1)")
+                     help="draw each block's rotation and displacement on what it rests on K times larger in the "
+                     "animation, K > 0 (default: 1); a block rocking on a corner still stands on it")
     run.add_argument("--relative-rotations", action="store_true",
                      help="plot rotations as theta / alpha, alpha the critical angle (column's for drums)")
 
@@ -342,35 +463,63 @@ def _add_sweep(sub):
     sweep.add_argument("--out", required=True, help="output folder (results.parquet, runs/, histories/)")
     sweep.add_argument("--workers", type=WORKERS, help="processes on this machine, at least 1 (default: one per "
                        "core)")
-    sweep.add_argument("--scheduler", help="address of a running Dask scheduler, e.g. tcp://10.0.0.5:8786")
+    sweep.add_argument("--scheduler", help="address of a running Dask scheduler, e.g. tcp://10.0.0.5:8786 "
+                       "(default: none, the runs go to processes on this machine)")
     sweep.add_argument("--retry-failed", action="store_true", help="run again the points that failed before")
     sweep.add_argument("--overwrite", action="store_true", help="delete the results already in --out and run every "
                        "point (without it, another sweep's results there are refused)")
-    sweep.add_argument("--no-progress", action="store_true")
+    sweep.add_argument("--duration", type=SECONDS, help="simulated time of every run in s, replacing the file's "
+                       "[simulation] duration; part of what identifies a run, so a folder of runs of another "
+                       "duration is refused, not mixed (default: the file's, or each record's length)")
+    sweep.add_argument("--no-progress", action="store_true", help="no progress bar (there is one only when "
+                       "stderr is a terminal anyway)")
 
 
 def _add_threshold(sub):
-    threshold = sub.add_parser("threshold", help="smallest excitation scale that overturns the scene (or starts "
-                               "rocking or sliding), by a scan and bisection")
+    from .analyses.thresholds import SCAN_STEP, TOLERANCE
+
+    threshold = sub.add_parser(
+        "threshold", help="smallest excitation value that overturns the scene (or starts it rocking or sliding), "
+        "by a fine scan and bisection",
+        description="The smallest value of an [excitation] key (the PGA by default) at which the scene overturns, "
+        "or starts rocking or sliding: the search of dem_core.analyses.thresholds with its defaults.  Every "
+        "value of a scan from --low to --high is run (each the last plus --step of it, the increase capped at "
+        "--absolute-step; or --scan evenly spaced values), then every change between neighbouring values "
+        "(standing to overturned, and back: the response is not monotonic) is bisected until its bracket is "
+        "narrower than --tolerance of its upper end.")
     threshold.add_argument("scene", help="scene file whose [excitation] is scaled")
-    threshold.add_argument("--parameter", default="pga", help="the [excitation] key that is varied (default pga); "
-                           "the scene file must not give a key that excludes it (amplitude for pga)")
+    threshold.add_argument("--parameter", default="pga", help="the [excitation] key that is varied (default: pga); the "
+                           "scene file must not give a key that excludes it (amplitude for pga)")
     threshold.add_argument("--low", type=POSITIVE, required=True, help="lowest value scanned (> 0)")
     threshold.add_argument("--high", type=POSITIVE, required=True, help="highest value scanned (> --low)")
-    threshold.add_argument("--criterion", choices=("overturning", "rocking", "sliding"), default="overturning")
-    threshold.add_argument("--tolerance", type=FRACTION, default=0.02, help="relative width of the final "
-                           "bracket, between 0 and 1 (default 0.02)")
-    threshold.add_argument("--scan", type=SCALES, default=6, help="scales tried before bisecting, 2 to 1000 "
-                           "(default 6)")
-    threshold.add_argument("--duration", type=SECONDS, help="simulated time of each run in s (default from the "
+    threshold.add_argument("--criterion", choices=("overturning", "rocking", "sliding"), default="overturning",
+                           help="what is searched for (default: overturning): a block overturning; rocking, a "
+                           "rotation above theta_cr/30; sliding, an interface slipping more than 0.1 mm")
+    threshold.add_argument("--step", type=FRACTION, help="relative step of the scan: each value is the last "
+                           f"times (1 + STEP), between 0 and 1 (default: {SCAN_STEP:g})")
+    threshold.add_argument("--absolute-step", type=POSITIVE, metavar="STEP", help="largest step of the scan, in "
+                           "the unit of --parameter (m/s^2 for pga), positive (default: none, the relative step "
+                           "alone)")
+    threshold.add_argument("--scan", type=SCALES, metavar="N", help="scan N evenly spaced values instead, 2 to "
+                           "1000 (default: none, the steps above); not with --step or --absolute-step")
+    threshold.add_argument("--tolerance", type=FRACTION, default=TOLERANCE, help="relative width to which each "
+                           "change is refined, between 0 and 1")
+    threshold.add_argument("--duration", type=SECONDS, help="simulated time of each run in s (default: from the "
                            "file or the record)")
 
 
 def _add_ramp(sub):
-    ramp = sub.add_parser("ramp", help="rocking, sliding and overturning accelerations under a monotonic ramp")
+    ramp = sub.add_parser("ramp", help="rocking, sliding and overturning accelerations under a monotonic ramp, each "
+                          "with its criterion",
+                          description="Run the scene under a ground acceleration growing at --rate and print the "
+                          "accelerations at which it starts rocking (a block's rotation passes theta_cr/30, "
+                          "theta_cr the scene's slenderness), starts sliding (an interface slips more than 0.1 mm) "
+                          "and overturns, each with its criterion, and, for a single block or column, its static "
+                          "uplift acceleration g b/h.")
     ramp.add_argument("scene", help="scene file (its [excitation] is ignored)")
-    ramp.add_argument("--rate", type=RATE, default=0.5, help="m/s^2 per s, positive (default 0.5)")
-    ramp.add_argument("--duration", type=SECONDS, help="s (default: until the ramp reaches 1 g)")
+    ramp.add_argument("--rate", type=RATE, default=0.5, help="rate at which the ground acceleration grows, m/s^2 per "
+                      "s, positive (default: 0.5)")
+    ramp.add_argument("--duration", type=SECONDS, help="simulated time in s (default: until the ramp reaches 1 g)")
 
 
 def _add_animate(sub):
@@ -378,13 +527,14 @@ def _add_animate(sub):
     anim.add_argument("scene", nargs="?", help=f"scene file; default the bundled {DEFAULT_SCENE}")
     anim.add_argument("--out", default="animation.gif", help="file to write (.gif or .mp4); snapshots go to "
                       "<name>_snapshots.png beside it.  Both are written whole or not at all")
-    anim.add_argument("--duration", type=SECONDS, help="simulated time in s (default from the file or the record)")
-    anim.add_argument("--fps", type=FPS, default=25, help="frames per second, 1 to 100 (default 25)")
+    anim.add_argument("--duration", type=SECONDS, help="simulated time in s (default: from the file or the record)")
+    anim.add_argument("--fps", type=FPS, default=25, help="frames per second, 1 to 100 (default: 25)")
     anim.add_argument("--speed", type=POSITIVE, default=1.0, help="simulated seconds per second of playback, "
-                      f"positive (default 1); the animation may have at most {MOST_FRAMES} frames")
+                      f"positive (default: 1); the animation may have at most {MOST_FRAMES} frames")
     anim.add_argument("--exaggerate", type=POSITIVE, default=1.0, metavar="K",
-                      help="draw rotations and displacements relative to the start K times larger (K > 0, "
-                      "default 1)")
+                      help="draw each block's rotation and displacement since the start, on what it rests on (the "
+                      "base or the block below), K times larger, K > 0 (default: 1); a block rocking on a corner "
+                      "still stands on it")
 
 
 def _show_warning(message, category, filename, lineno, file=None, line=None):
@@ -399,8 +549,20 @@ def _records(args=None) -> int:
         horizontal = record(name).horizontal
         what = re.sub(r"\s*\(PGA [^)]*\)", "", entry.description)
         print(f"{name:18s} PGA {acceleration_text(horizontal.peak_acceleration)}, {horizontal.end_time:.4g} s "
-              f"every {horizontal.dt:.3g} s: {what}")
+              f"every {horizontal.dt:.3g} s ({_sampling_source(entry, horizontal.dt)}): {what}")
     return 0
+
+
+def _sampling_source(entry, dt: float) -> str:
+    """Where a bundled record's sampling interval comes from, in words: the AT2 header, the time column, or (for a
+    file without either) dem_core's table of bundled records, with the interval the file's name gives if other."""
+    if entry.dt is None:
+        return "stated in the file's header" if entry.file.lower().endswith(".at2") else "from its time column"
+    named = re.search(r"dt[_=]?(\d+(?:\.\d+)?)", entry.file, re.IGNORECASE)
+    other = (f"; the file's name says {float(named.group(1)):g} s" if named and
+             not math.isclose(float(named.group(1)), dt, rel_tol=1e-6) else "")
+    return (f"not stated in the file, which has no time column: dem_core's reading{other}, see "
+            f"dem_core/data/records/SOURCES.md")
 
 
 def _motion_text(motion) -> str:
@@ -427,13 +589,12 @@ def _run(args) -> int:
     fmt = args.format or spec.output.get("format", "csv")
     print(f"scene {path} ({len(spec.scene.blocks)} blocks), ground motion: {_motion_text(spec.excitation)}")
     args.on_interrupt = lambda: f"the run was stopped before its results were written: {out}/ is as it was"
-    started = time.perf_counter()
     stopped = ""
     try:
-        result = simulate(spec.scene, spec.excitation, **_simulate_options(settings))
+        result, setup = _simulated(spec, settings)
     except SimulationUnstable as exc:
         INTERRUPTS.check()
-        result, stopped = exc.partial, _stopped_text(exc)
+        result, stopped, setup = exc.partial, _stopped_text(exc), getattr(exc, "setup_s", None)
         if result is None or len(result.t) == 0:
             print(f"error: {stopped}; nothing was written", file=sys.stderr)
             return 3
@@ -441,11 +602,6 @@ def _run(args) -> int:
         print(f"error: {path}: {exc}", file=sys.stderr)
         return 2
     INTERRUPTS.check()
-    wall = time.perf_counter() - started
-    info = result.info
-    print(f"{info.get('contact_law', '?')} contact law, K_n = {info.get('kn', float('nan')):.3g} N/m^2; dt = "
-          f"{result.dt:.3g} s (stability limit {info.get('stability_limit_s', float('nan')):.3g} s), "
-          f"{info.get('steps')} steps, run {info.get('run_time_s', 0):.2f} s, total {wall:.2f} s")
     print(f"peak |theta| {np.max(result.peak_theta):.4g} rad, total sliding {result.total_sliding:.4g} m, "
           f"overturned: {f'yes at t = {result.time_of_overturn:.3f} s' if result.overturned else 'no'}")
     args.on_interrupt = lambda: (f"writing the results into {out}/ was stopped: they are incomplete (summary.json "
@@ -453,7 +609,7 @@ def _run(args) -> int:
     args.after_write_error = lambda: f"the results in {out}/ are incomplete"
     for old in previous:
         old.unlink(missing_ok=True)
-    summary = _summary(result, path, stopped)
+    summary = _summary(result, path, stopped, setup)
     written = _write(result, out, fmt, summary)
     if not args.no_plots and spec.output.get("plots", True) and len(result.t) > 1:
         from .pictures.plots import save_run_figures  # matplotlib loads only when figures are written
@@ -479,6 +635,47 @@ def _run(args) -> int:
 def _stopped_text(exc: SimulationUnstable) -> str:
     """Why a run stopped, without the sentence addressed to Python callers (the result in ``.partial``)."""
     return re.sub(r"\.?\s*The result up to t = \S+ s is in this error's \.partial\.?$", "", str(exc)).strip()
+
+
+def _failed_run(exc: Exception, culprit: str | None = None) -> int:
+    """Print why a run that wrote nothing failed and return the exit status: 3 for a run that lost stability,
+    2 for input the engine refused (``TypeError``/``ValueError``, prefixed with ``culprit`` where given)."""
+    if isinstance(exc, SimulationUnstable):
+        print(f"error: {_stopped_text(exc)}", file=sys.stderr)
+        return 3
+    print(f"error: {culprit + ': ' if culprit else ''}{exc}", file=sys.stderr)
+    return 2
+
+
+def _simulated(spec, settings: dict):
+    """``(result, setup seconds)`` of the scene file ``spec`` run with ``settings``: the engine compiled first
+    (announced when that takes long), then the run with a progress bar on a terminal, then what was simulated
+    (:func:`_print_run`).  A run that loses stability raises :class:`SimulationUnstable`, with ``setup_s``
+    set, after printing what it reached."""
+    run, setup = _prepared_run(spec.scene, spec.excitation, settings)
+    try:
+        result = run.run(_progress_callback()).result()
+    except SimulationUnstable as exc:
+        exc.setup_s = setup
+        if exc.partial is not None and len(exc.partial.t):
+            _print_run(run, exc.partial, setup)
+        raise
+    _print_run(run, result, setup)
+    return result, setup
+
+
+def _print_run(run, result, setup: float) -> None:
+    """Two lines: the contact law and time step of ``run``; the time simulated (and of how much, when the run
+    ended early), the wall time it took and the time the engine took to set up and compile."""
+    info = result.info
+    planned = run.settings.last_step * run.dt
+    end = float(result.t[-1])
+    early = f" of {planned:.4g} s" if end < planned - 1.5 * run.dt else ""
+    print(f"{info.get('contact_law', '?')} contact law, K_n = {info.get('kn', float('nan')):.3g} N/m^2; dt = "
+          f"{result.dt:.3g} s (stability limit {info.get('stability_limit_s', float('nan')):.3g} s), "
+          f"{info.get('steps')} steps")
+    print(f"simulated {end:.4g} s{early} in {run.run_time:.2f} s (setting up and compiling the engine: "
+          f"{setup:.2f} s)")
 
 
 def _previous_run(out: Path, scene: Path, overwrite: bool) -> list:
@@ -523,10 +720,14 @@ def _same_file(recorded: str, scene: Path) -> bool:
         return False
 
 
-def _summary(result, scene: Path, stopped: str) -> dict:
+def _summary(result, scene: Path, stopped: str, setup: float | None = None) -> dict:
     """What summary.json holds: the scene file, whether the run is complete (``status``: "incomplete" until
-    every file is written, then "complete", or "stopped" with ``stop_reason``), its measures and run facts."""
+    every file is written, then "complete", or "stopped" with ``stop_reason``), its measures and run facts;
+    ``compile_time_s`` is ``setup``, the seconds this run took to set up and compile its engine (or load it
+    from numba's cache), when given."""
     measures = {k: (v.item() if isinstance(v, np.generic) else v) for k, v in result.summary().items()}
+    if setup is not None:
+        measures["compile_time_s"] = float(setup)
     summary = {"scene": str(scene.resolve()), "status": "incomplete", "stop_reason": stopped or None,
                "end_time_s": float(result.t[-1]), **measures, "blocks": list(result.names)}
     return {k: (None if isinstance(v, float) and not np.isfinite(v) else v) for k, v in summary.items()}
@@ -549,8 +750,37 @@ def _write(result, out: Path, fmt: str, summary: dict) -> list:
         else:
             frame.to_csv(tmp, index=False)
     with replacing(out / "metrics.csv") as tmp:
-        result.metrics().to_csv(tmp, index=False)
-    return ["summary.json", history, "metrics.csv"]
+        block_metrics(result).to_csv(tmp, index=False)
+    with replacing(out / "interfaces.csv") as tmp:
+        interface_sliding(result).to_csv(tmp, index=False)
+    return ["summary.json", history, "metrics.csv", "interfaces.csv"]
+
+
+#: the column of metrics.csv that holds the slip summed over a block's interfaces: each interface is counted
+#: once for each of its two blocks, so adding the column over the blocks counts every joint twice
+#: (``Result.metrics()`` calls it ``sliding_m``)
+JOINT_SLIDING = "sliding_at_its_joints_m"
+
+
+def block_metrics(result):
+    """metrics.csv: ``Result.metrics()`` with its per-block sliding named for what it is (:data:`JOINT_SLIDING`:
+    the slip accumulated at the block's joints, below and above it, added; the sliding of each joint is in
+    interfaces.csv)."""
+    return result.metrics().rename(columns={"sliding_m": JOINT_SLIDING})
+
+
+def interface_sliding(result):
+    """interfaces.csv: one row per interface, ``interface`` ("drum1/drum2": its two bodies in the scene's order,
+    "base" for the ground) and ``sliding_m``, the slip accumulated there over the run (m; 0 where it did not
+    slide, NaN when the engine does not measure it).  The interfaces touching at the start come first, in the
+    scene's order, then those that met later and slid; the column adds up to the run's total sliding."""
+    import pandas as pd
+
+    slips = result.interface_slip
+    pairs = list(dict.fromkeys([*map(tuple, result.interfaces), *(slips or {})]))
+    return pd.DataFrame({"interface": [f"{a}/{b}" for a, b in pairs],
+                         "sliding_m": [float("nan") if slips is None else float(slips.get(pair, 0.0))
+                                       for pair in pairs]}, columns=["interface", "sliding_m"])
 
 
 def _write_animation(spec, result, movie, strip, title, fps=25, speed=1.0, exaggerate=1.0):
@@ -562,7 +792,8 @@ def _write_animation(spec, result, movie, strip, title, fps=25, speed=1.0, exagg
     with replacing(strip) as tmp:
         figure.savefig(tmp, dpi=110, format="png")
     frames = len(frame_indices(result, fps, speed))
-    shown = f", rotations and displacements x {exaggerate:g}" if exaggerate != 1 else ""
+    shown = (f", rotations and displacements x {exaggerate:g}, each block's on what it rests on"
+             if exaggerate != 1 else "")
     print(f"animation written to {movie} ({frames} frames, {frames / fps:.1f} s at {fps} frames/s{shown}), "
           f"snapshots to {strip}")
     if exaggerate != 1 and result.overturned:
@@ -578,35 +809,66 @@ def _load_or_fail(path):
 
 
 def _sweep(args) -> int:
-    from .analyses.sweep import SweepError, load_sweep, run_sweep, saved_runs
+    from .analyses.sweep import SweepError, load_sweep, run_sweep, saved_runs, with_simulation
 
     try:
         sweep = load_sweep(args.spec)
+        if args.duration is not None:
+            sweep = with_simulation(sweep, duration=args.duration)
     except SweepError as exc:
-        print(f"error: {exc}", file=sys.stderr)
+        print(f"error: {args.spec}: {exc}" if str(args.spec) not in str(exc) else f"error: {exc}", file=sys.stderr)
         return 2
     out = output_folder(args.out, "--out")
     points = len(sweep.points())
     where = f"Dask scheduler {args.scheduler}" if args.scheduler else f"{args.workers or 'all'} local worker(s)"
-    print(f"sweep {args.spec}: {points} runs over {', '.join(sweep.parameters)} on {where}")
+    each = f", each run for {args.duration:g} s (--duration)" if args.duration is not None else ""
+    print(f"sweep {args.spec}: {points} runs over {', '.join(sweep.parameters)} on {where}{each}")
 
     def saved():
         done, total = saved_runs(out)
         return f"{done} of {total or points} runs saved in {out}; run the same command again to resume"
 
+    def on_start(done, total):
+        if done == total:
+            print(f"all {total} runs already done in {out}; nothing to run")
+        elif done:
+            again = " (failed ones run again: --retry-failed)" if args.retry_failed else ""
+            print(f"{done} of {total} runs already done in {out}{again}; running {total - done}")
+        if done < total and args.scheduler is None:
+            _compile_first_point(sweep)
+
     args.on_interrupt = args.after_write_error = saved
     try:
         table = run_sweep(sweep, out, workers=args.workers, scheduler=args.scheduler,
                           progress=False if args.no_progress else None, retry_failed=args.retry_failed,
-                          overwrite=args.overwrite)
+                          overwrite=args.overwrite, on_start=on_start)
     except SweepError as exc:
         print(f"error: {exc}", file=sys.stderr)
         return 2
-    counts = table.status.value_counts().to_dict()
-    print(f"{len(table)} runs in {out}/results.parquet: {counts}")
-    for _, row in table[table.status != "ok"].head(5).iterrows():
+    counts = table.status.value_counts().to_dict() if len(table) else {}
+    print(f"{_run_counts(len(table), counts)}; results in {out}/results.parquet")
+    for _, row in (table[table.status != "ok"].head(5).iterrows() if len(table) else ()):
         print(f"  {row.run_id} {row.status}: {row.error.splitlines()[0] if row.error else ''}")
     return 0 if counts.get("failed", 0) == 0 else 1
+
+
+def _run_counts(runs: int, counts: dict) -> str:
+    """"16 runs: 15 ok, 1 failed": the runs of a sweep by status (ok first, then unstable, failed, others)."""
+    order = ["ok", "unstable", "failed", *sorted(set(counts) - {"ok", "unstable", "failed"})]
+    parts = [f"{counts[status]} {status}" for status in order if counts.get(status)]
+    return f"{runs} run{'s' if runs != 1 else ''}: {', '.join(parts) or 'none'}"
+
+
+def _compile_first_point(sweep) -> None:
+    """Compile the engine in this process before the workers start (they then load it from numba's cache
+    rather than each compiling it), with the first point that builds."""
+    for params in sweep.points():
+        try:
+            spec = sweep.build(params)
+        except Exception:  # noqa: BLE001 - a point that cannot be built is a failed run of the sweep
+            continue
+        _compile_first(spec.scene, spec.excitation, spec.simulation)
+        return
 
 
 #: excitation kinds whose ``amplitude`` is an acceleration (a harmonic's is a displacement, m)
@@ -638,10 +900,15 @@ def _bisections(width, above, tolerance) -> int:
 
 
 def _threshold(args) -> int:
-    from .analyses.thresholds import onset_threshold, overturning_threshold
+    from .analyses.thresholds import SCAN_STEP, onset_threshold, overturning_threshold, scan_grid
 
     if not args.low < args.high:
         print(f"error: --low {args.low:g} must be below --high {args.high:g}", file=sys.stderr)
+        return 2
+    if args.scan is not None and (args.step is not None or args.absolute_step is not None):
+        given = "--step" if args.step is not None else "--absolute-step"
+        print(f"error: --scan {args.scan} gives evenly spaced values: leave out {given}, or --scan",
+              file=sys.stderr)
         return 2
     loaded = _threshold_scene(args)
     if loaded is None:
@@ -651,20 +918,33 @@ def _threshold(args) -> int:
     settings = dict(spec.simulation)
     if args.duration is not None:
         settings["duration"] = args.duration
-    scan_step = (args.high - args.low) / max(args.scan - 1, 1)
-    bar = _progress(total=args.scan + _bisections(scan_step, args.high, args.tolerance), desc="runs", unit="run")
+    step = SCAN_STEP if args.step is None else args.step
+    search = {"step": step, "absolute_step": args.absolute_step, "scan": args.scan, "tolerance": args.tolerance}
+    grid = scan_grid(args.low, args.high, step=step, absolute_step=args.absolute_step, scan=args.scan)
+    print(f"searching for {args.criterion}: {args.parameter} from {_parameter_text(args.low, unit)} to "
+          f"{_parameter_text(args.high, unit)}: {_scan_text(args, step, unit, len(grid))}, then each change "
+          f"refined to {_percent(args.tolerance)} of its value")
+    _compile_first(spec.scene, spec.excitation, settings)
+
+    def gap(value):
+        """The scan's step near ``value``: the bracket each change starts from."""
+        if args.scan is not None:
+            return (args.high - args.low) / (args.scan - 1)
+        return min(step * value, args.absolute_step or math.inf)
+
+    bar = _progress(total=len(grid) + _bisections(gap(args.high), args.high, args.tolerance), desc="runs",
+                    unit="run")
 
     def on_run(value, happened):
         if happened and not any(h for _, h in runs_so_far):
-            bar.total = len(runs_so_far) + 1 + _bisections(scan_step, value, args.tolerance)
+            bar.total = len(grid) + _bisections(gap(value), value, args.tolerance)
         runs_so_far.append((value, happened))
         bar.set_postfix_str(f"{args.parameter} = {value:.4g} {unit}".rstrip())
         bar.update()
 
     runs_so_far = []
     args.on_interrupt = lambda: f"the search was stopped after {len(runs_so_far)} run(s); nothing was written"
-    options = {"tolerance": args.tolerance, "scan": args.scan, "on_run": on_run,
-               **_simulate_options(settings, progress=False)}
+    options = {**search, "on_run": on_run, **_simulate_options(settings, progress=False)}
     try:
         if args.criterion == "overturning":
             found = overturning_threshold(spec.scene, motion_at, args.low, args.high, **options)
@@ -676,9 +956,12 @@ def _threshold(args) -> int:
     finally:
         bar.total = bar.n
         bar.close()
-    for value, happened in found.runs:
-        print(f"  {args.parameter} = {_parameter_text(value, unit)}: "
-              f"{args.criterion if happened else 'no ' + args.criterion}")
+    for first, last, count, happened in _outcome_ranges(found.runs):
+        values = _parameter_text(first, unit) if count == 1 else \
+            f"{_parameter_text(first, unit)} to {_parameter_text(last, unit)} ({count} runs)"
+        print(f"  {args.parameter} = {values}: {args.criterion if happened else 'no ' + args.criterion}")
+    for value, message in found.failures:
+        print(f"  {args.parameter} = {_parameter_text(value, unit)}: failed ({message.splitlines()[0]})")
     if np.isfinite(found.value):
         bracket = f"{found.below:.4g} and {found.above:.4g} {unit}".rstrip()
         print(f"{args.criterion} threshold: {args.parameter} = {_parameter_text(found.value, unit)}, between "
@@ -688,6 +971,31 @@ def _threshold(args) -> int:
     else:
         print(f"{args.criterion} already at {args.parameter} = {_parameter_text(args.low, unit)}: lower --low")
     return 0
+
+
+def _scan_text(args, step, unit, runs) -> str:
+    """How the threshold command scans, in words: "a scan of 91 runs, each 2% above the last"."""
+    if args.scan is not None:
+        return f"a scan of {runs} evenly spaced runs"
+    cap = f", at most {_parameter_text(args.absolute_step, unit, 3)}" if args.absolute_step is not None else ""
+    return f"a scan of {runs} runs, each {_percent(step)} above the last{cap}"
+
+
+def _percent(fraction: float) -> str:
+    """0.02 as "2%", 0.005 as "0.5%"."""
+    return f"{100 * fraction:.3g}%"
+
+
+def _outcome_ranges(runs) -> list:
+    """``(first, last, count, happened)`` of each range of consecutive values (sorted) with one outcome."""
+    ranges = []
+    for value, happened in sorted(runs):
+        if ranges and ranges[-1][3] == happened:
+            first, _, count, _ = ranges[-1]
+            ranges[-1] = (first, value, count + 1, happened)
+        else:
+            ranges.append((value, value, 1, happened))
+    return ranges
 
 
 def _threshold_scene(args):
@@ -738,26 +1046,47 @@ def _parameter_hint(data: dict, path, parameter: str, value) -> str:
 
 
 def _ramp(args) -> int:
-    from .analyses.thresholds import onset_under_ramp
+    from .analyses.thresholds import ROCKING_FRACTION, SLIP_THRESHOLD, onset_under_ramp
 
     spec = _load_or_fail(args.scene)
     if spec is None:
         return 2
     settings = {k: v for k, v in spec.simulation.items() if k not in ("duration", "output_dt")}
+    _compile_first(spec.scene, None, settings)
     try:
         found = onset_under_ramp(spec.scene, args.rate, args.duration, **_simulate_options(settings))
-    except SimulationUnstable as exc:
-        print(f"error: {_stopped_text(exc)}", file=sys.stderr)
-        return 3
-    except (TypeError, ValueError) as exc:
-        print(f"error: {args.scene}: {exc}", file=sys.stderr)
-        return 2
+    except (SimulationUnstable, TypeError, ValueError) as exc:
+        return _failed_run(exc, args.scene)
+    theta_cr = spec.scene.rocking_slenderness
+    criteria = {
+        "starts rocking": f"a block's rotation passes theta_cr/{1 / ROCKING_FRACTION:.0f} = "
+                          f"{ROCKING_FRACTION * theta_cr:.3g} rad (theta_cr = {theta_cr:.3g} rad, the scene's "
+                          f"slenderness)",
+        "starts sliding": f"an interface slips more than {SLIP_THRESHOLD:g} m",
+        "overturns": "a block passes its critical angle or falls half its size, or a column tips past its base"}
     print(f"ramp of {args.rate:g} m/s^2 per s, run for {found.result.t[-1]:.4g} s; the ground acceleration when "
           "the scene")
     for what, value in (("starts rocking", found.rocking), ("starts sliding", found.sliding),
                         ("overturns", found.overturning)):
-        print(f"  {what:15s} {acceleration_text(value, 4) if np.isfinite(value) else 'not reached'}")
+        shown = acceleration_text(value, 4) if np.isfinite(value) else "not reached"
+        print(f"  {what:15s} {shown:24s} criterion: {criteria[what]}")
+    uplift = _static_uplift(spec.scene, found.result)
+    if uplift:
+        print(uplift)
     return 0
+
+
+def _static_uplift(scene, result) -> str:
+    """For a scene that is one block, or one stack of blocks (a column), the line giving its static uplift
+    acceleration g b/h (b/h = tan of the critical angle: the stack as one rigid body), to set the rocking onset
+    against; '' for other scenes."""
+    stacks = [c for c in result.columns if set(c.blocks) == set(result.names)]
+    if not stacks:
+        return ""
+    what = "the block" if len(result.names) == 1 else "the column as one rigid block"
+    ratio = math.tan(stacks[0].critical_angle)
+    return (f"for comparison, the static uplift acceleration g b/h = {acceleration_text(scene.gravity * ratio, 3)} "
+            f"({what}, b/h = {ratio:.3g}): a corner starts to lift there; rocking counts from the rotation above")
 
 
 def _scene_and_settings(args):
@@ -797,7 +1126,7 @@ def _animate(args) -> int:
     args.on_interrupt = lambda: f"nothing was written ({movie} is written whole or not at all)"
     status = 0
     try:
-        result = simulate(spec.scene, spec.excitation, **_simulate_options(settings))
+        result, _ = _simulated(spec, settings)
     except SimulationUnstable as exc:
         INTERRUPTS.check()
         result, status = exc.partial, 3
@@ -876,6 +1205,7 @@ def _stiffness(args) -> int:
         return 2
     _, spec, settings = loaded
     settings.pop("dt", None)  # each stiffness takes its own automatic step
+    _compile_first(spec.scene, spec.excitation, settings)
     # a run's length grows as the square root of the stiffness (the step shrinks so): the bar counts that
     bar = _progress(total=sum(math.sqrt(max(f, 0.0)) for f in args.factors), desc="runs",
                     bar_format="{desc}: {percentage:3.0f}%|{bar}| [{elapsed}<{remaining}{postfix}]")
@@ -887,20 +1217,71 @@ def _stiffness(args) -> int:
     try:
         table = stiffness_convergence(spec.scene, spec.excitation, factors=args.factors, on_run=on_run,
                                       **_simulate_options(settings))
-    except SimulationUnstable as exc:
-        print(f"error: {_stopped_text(exc)}", file=sys.stderr)
-        return 2
-    except (TypeError, ValueError) as exc:
-        print(f"error: {exc}", file=sys.stderr)
-        return 2
+    except (SimulationUnstable, TypeError, ValueError) as exc:
+        return _failed_run(exc)
     finally:
         bar.close()
     shown = table[["factor", "kn", "dt_s", "run_time_s", *MEASURES]].rename(columns={"kn": "kn_N/m^2"})
     print(shown.to_string(index=False, float_format="%.4g"))
-    worst = table.iloc[0][[f"change:{m}" for m in MEASURES[:3]]].abs().max()
-    print(f"largest relative change of the first three measures from K_n x {table.factor.iloc[0]:g} to "
-          f"x {table.factor.iloc[-1]:g}: {worst:.1%}")
+    for line in _stiffness_verdicts(table):
+        print(line)
     return 0
+
+
+def _stiffness_verdicts(table) -> list:
+    """The lines that judge each measure of a stiffness table: its name, its value at each factor, and whether it
+    converged (:func:`dem_core.analyses.convergence.verdicts`), with what to do when it did not."""
+    from .analyses.convergence import FLOORS, RELATIVE_TOLERANCE, verdicts
+
+    found = verdicts(table)
+    if len(table) < 2:
+        return ["one stiffness only: nothing to compare (give two --factors or more)"]
+    lowest, stiffest = found[0].factors[0], found[0].factors[-1]
+    floors = ", ".join(f"{_measure_text(value, unit)} of {what}" for what, value, unit in (
+        ("rotation", FLOORS["max_peak_abs_theta_rad"], "rad"), ("sliding", FLOORS["total_sliding_m"], "m"),
+        ("overturn time", FLOORS["overturn_time_s"], "s")))
+    lines = [f"each measure at K_n x {lowest:g} against x {stiffest:g}, the stiffest: converged when it changes by "
+             f"at most {_percent(RELATIVE_TOLERANCE)}, or by less than {floors}"]
+    kn = dict(zip(table.factor, table.kn))
+    for v in found:
+        values = ", ".join(f"{_measure_text(value, v.unit)} at x {factor:g}" for factor, value in
+                           zip(v.factors, v.values))
+        lines.append(f"  {v.label}: {values}")
+        if all(np.isnan(value) for value in v.values):
+            lines.append("    converged: " + ("no overturn at any stiffness" if v.measure == "overturn_time_s" else
+                                             "not measured"))
+            continue
+        if np.isnan(v.values[0]) != np.isnan(v.values[-1]):
+            change = "an overturn at one stiffness and none at the other"
+        else:
+            relative = f"{v.change:+.1%}, " if np.isfinite(v.change) else ""
+            change = f"{relative}{_measure_text(v.difference, v.unit, signed=True)}"
+        if v.converged and np.isfinite(v.change) and abs(v.change) > RELATIVE_TOLERANCE:
+            floor = _measure_text(FLOORS[v.measure], v.unit)
+            lines.append(f"    converged: x {lowest:g} differs from x {stiffest:g} by {v.change:+.1%}, but only by "
+                         f"{_measure_text(v.difference, v.unit, signed=True)}, less than the {floor} floor")
+        elif v.converged:
+            within = _percent(RELATIVE_TOLERANCE) if np.isfinite(v.change) else "the floor"
+            lines.append(f"    converged: x {lowest:g} within {within} of x {stiffest:g} ({change})")
+        elif v.agrees_from < stiffest:
+            lines.append(f"    not converged at x {lowest:g} ({change}); it agrees from x {v.agrees_from:g}: rerun at "
+                         f"a stiffer K_n ([contact] kn = {kn[v.agrees_from]:.3g}) or treat this measure as uncertain")
+        else:
+            lines.append(f"    not converged ({change} at x {lowest:g}), and the two stiffest runs disagree too: treat "
+                         f"this measure as uncertain, or rerun stiffer still ([contact] kn)")
+    return lines
+
+
+def _measure_text(value: float, unit: str, signed: bool = False) -> str:
+    """A measure as the stiffness command prints it: lengths in mm below 1 m, "none" for NaN (no overturn)."""
+    if not np.isfinite(value):
+        return "none"
+    sign = "+" if signed else ""
+    if unit == "m" and abs(value) < 1.0:
+        return f"{1e3 * value:{sign}.3g} mm"
+    return f"{value:{sign}.4g} {unit}"
+
+
 
 
 if __name__ == "__main__":

@@ -44,6 +44,15 @@ def test_run_writes_tables_summary_and_figures(tmp_path, capsys):
     assert list(metrics["block"]) == ["drum1", "drum2", "drum3"]
     summary = json.loads((out / "summary.json").read_text())
     assert summary["dt_s"] < summary["stability_limit_s"]
+    assert re.search(r"simulated 3 s in [\d.]+ s \(setting up and compiling the engine: [\d.]+ s\)", printed)
+    # each interface's sliding once in interfaces.csv; metrics.csv's per-block column adds a block's joints
+    interfaces = pd.read_csv(out / "interfaces.csv")
+    assert list(interfaces.interface) == ["base/drum1", "drum1/drum2", "drum2/drum3"]
+    assert interfaces.sliding_m.sum() == pytest.approx(summary["total_sliding_m"], rel=1e-12, abs=1e-15)
+    assert "sliding_m" not in metrics and "sliding_at_its_joints_m" in metrics
+    joint = dict(zip(interfaces.interface, interfaces.sliding_m))
+    assert metrics.sliding_at_its_joints_m[1] == pytest.approx(joint["drum1/drum2"] + joint["drum2/drum3"])
+    assert "interfaces.csv" in summary["files"]
     for name in ("rotations.png", "displacements.png", "sliding.png"):
         assert (out / name).read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
 
@@ -83,13 +92,20 @@ def test_threshold_and_ramp_commands_print_their_findings(tmp_path, capsys):
     scene = tmp_path / "column.toml"
     scene.write_text(COLUMN)
     assert main(["threshold", str(scene), "--parameter", "amplitude", "--low", "1", "--high", "12",
-                 "--tolerance", "0.05"]) == 0
+                 "--scan", "6", "--tolerance", "0.05"]) == 0
     out = capsys.readouterr().out
     assert re.search(f"overturning threshold: amplitude = {ACCELERATION}, between [\\d.]+ and [\\d.]+ m/s\\^2", out)
-    assert re.search(f"  amplitude = {ACCELERATION}: overturning", out)
+    assert re.search(f"  amplitude = {ACCELERATION}( to {ACCELERATION} \\(\\d+ runs\\))?: overturning", out)
     assert main(["ramp", str(scene), "--duration", "8"]) == 0
     out = capsys.readouterr().out
-    assert re.search(f"starts rocking +{ACCELERATION}", out)
+    # each onset with its criterion, and the static uplift of the column as one block to set it against
+    assert re.search(f"starts rocking +{ACCELERATION} +criterion: a block's rotation passes theta_cr/30 = "
+                     r"0.0055 rad \(theta_cr = 0.165 rad, the scene's slenderness\)", out)
+    assert re.search(r"starts sliding .* criterion: an interface slips more than 0.0001 m", out)
+    assert re.search(f"static uplift acceleration g b/h = {ACCELERATION} \\(the column as one rigid block, "
+                     r"b/h = 0.167\)", out)
+    uplift = float(re.search(r"g b/h = ([\d.]+) m/s\^2", out).group(1))
+    assert uplift == pytest.approx(dem_core.scenes.column(2).gravity * 0.5 / 3.0, rel=5e-3)  # 1 m by 6 m
     assert main(["threshold", str(scene), "--parameter", "amplitdue", "--low", "1", "--high", "2"]) == 2
     assert "amplitdue" in capsys.readouterr().err
 
@@ -111,7 +127,7 @@ def test_threshold_units_follow_the_varied_parameter_and_duration_overrides_the_
     assert re.search(f"overturning threshold: pga = {ACCELERATION}, between", capsys.readouterr().out)
     assert main(["threshold", str(scene), "--parameter", "frequency", "--low", "0.5", "--high", "3"]) == 0
     assert durations[-1] == 4.0  # the file's duration
-    assert re.search(r"frequency = [\d.]+ Hz: ", capsys.readouterr().out)
+    assert re.search(r"frequency = [\d.]+ Hz to [\d.]+ Hz \(\d+ runs\): no overturning", capsys.readouterr().out)
 
 
 def test_animate_and_spectrum_commands_write_their_files(tmp_path, capsys):
@@ -123,7 +139,9 @@ def test_animate_and_spectrum_commands_write_their_files(tmp_path, capsys):
     assert movie.read_bytes()[:6] == b"GIF89a"
     assert (tmp_path / "column_snapshots.png").is_file()
     printed = capsys.readouterr()
-    assert "(11 frames, 1.1 s at 10 frames/s, rotations and displacements x 20)" in printed.out
+    assert ("(11 frames, 1.1 s at 10 frames/s, rotations and displacements x 20, each block's on what it rests on)"
+            in printed.out)
+    assert re.search(r"simulated 1 s in [\d.]+ s", printed.out)
     assert printed.err == ""  # no progress bar when stderr is not a terminal
     assert main(["animate", str(scene), "--out", str(movie), "--exaggerate", "0"]) == 2
     figure = tmp_path / "spectra.png"
@@ -170,7 +188,7 @@ def test_an_animation_name_without_gif_or_mp4_is_refused_before_the_run(argv, tm
     """An animation name without .gif or .mp4 is refused (exit status 2, the reason on stderr) before the
     simulation starts."""
     monkeypatch.chdir(tmp_path)
-    monkeypatch.setattr(cli, "simulate", lambda *a, **k: pytest.fail("the run started"))
+    monkeypatch.setattr(cli, "_prepared_run", lambda *a, **k: pytest.fail("the run started"))
     assert main(argv) == 2
     assert "must end in .gif or .mp4" in capsys.readouterr().err
 
@@ -180,6 +198,108 @@ def test_mp4_without_ffmpeg_is_refused_before_the_run(tmp_path, capsys, monkeypa
 
     monkeypatch.chdir(tmp_path)
     monkeypatch.setattr(animation, "can_write_mp4", lambda: False)
-    monkeypatch.setattr(cli, "simulate", lambda *a, **k: pytest.fail("the run started"))
+    monkeypatch.setattr(cli, "_prepared_run", lambda *a, **k: pytest.fail("the run started"))
     assert main(["animate", "--out", "run.mp4"]) == 2
     assert "writing MP4 needs ffmpeg" in capsys.readouterr().err
+
+
+def parsers():
+    """(name, parser) of dem-core and of each of its commands."""
+    import argparse
+
+    parser = cli._parser()
+    commands = next(a for a in parser._actions if isinstance(a, argparse._SubParsersAction))
+    return [("dem-core", parser), *commands.choices.items()]
+
+
+@pytest.mark.parametrize("name, parser", parsers())
+def test_every_option_says_its_default_in_help(name, parser):
+    """Every option that takes a value and may be left out says in --help what it is then: its default, or what it
+    falls back to ("default: from the file or the record")."""
+    import argparse
+
+    formatter = parser._get_formatter()
+    for action in parser._actions:
+        if isinstance(action, (argparse._HelpAction, argparse._SubParsersAction)) or action.nargs == 0:
+            continue
+        if action.required or (not action.option_strings and action.nargs not in ("?", "*")):
+            continue
+        text = formatter._expand_help(action)
+        assert "default" in text, f"{name} {action.option_strings or action.dest}: {text!r}"
+    assert parser.format_help()  # every help string formats (a stray % would raise)
+
+
+def test_threshold_searches_as_the_library_does_by_default(tmp_path, capsys, monkeypatch):
+    """Left to its defaults the command runs the scales the library runs by default (a scan in steps of 2%, each
+    change refined to 0.5%); --absolute-step is the library's absolute_step; --scan excludes --step."""
+    scene = tmp_path / "harmonic.toml"
+    scene.write_text(COLUMN.replace('kind = "sine_pulse"\namplitude = 4.0\nduration = 0.8',
+                                    'kind = "harmonic"\npga = 2.0\nfrequency = 1.0'))
+    ran = []
+
+    def overturns_above_3_m_s2(scene, motion, **options):
+        ran.append(motion.horizontal.peak_acceleration)
+        return type("Run", (), {"overturned": motion.horizontal.peak_acceleration > 3.0})()
+
+    monkeypatch.setattr(thresholds, "simulate", overturns_above_3_m_s2)
+    monkeypatch.setattr(cli, "_compile_first", lambda *args: None)
+
+    def library(**options):
+        ran.clear()
+        thresholds.overturning_threshold(dem_core.scenes.column(2), lambda pga: dem_core.excitation.harmonic(
+            pga=pga, frequency=1.0), 1.0, 6.0, **options)
+        return list(ran)
+
+    for argv, options in (([], {}), (["--absolute-step", "0.05"], {"absolute_step": 0.05})):
+        expected = library(**options)
+        ran.clear()
+        assert main(["threshold", str(scene), "--low", "1", "--high", "6", *argv]) == 0
+        assert ran == pytest.approx(expected, rel=1e-12)
+    assert len(expected) > 90  # from 1 to 6 in steps of at most 2% and 0.05 m/s^2
+    out = capsys.readouterr().out
+    assert "runs, each 2% above the last, at most 0.05 m/s^2 (0.0051 g), then each change refined to 0.5%" in out
+    below, above = map(float, re.search(r"overturning threshold: pga = .*, between ([\d.]+) and ([\d.]+) m/s\^2",
+                                        out).groups())
+    assert below <= 3.0 < above and above - below <= 0.005 * above  # refined to the library's 0.5%
+    assert main(["threshold", str(scene), "--low", "1", "--high", "6", "--scan", "5", "--step", "0.1"]) == 2
+    assert "--scan 5 gives evenly spaced values: leave out --step" in capsys.readouterr().err
+
+
+def test_records_say_where_each_sampling_interval_comes_from(capsys):
+    assert main(["records"]) == 0
+    lines = {line.split()[0]: line for line in capsys.readouterr().out.splitlines()}
+    assert "every 0.01 s (stated in the file's header)" in lines["el_centro_1940"]
+    assert "every 0.02 s (from its time column)" in lines["northridge_1994"]
+    assert ("every 0.01 s (not stated in the file, which has no time column: dem_core's reading; the file's name "
+            "says 0.02 s, see dem_core/data/records/SOURCES.md)") in lines["kalamata_1986"]
+
+
+def test_a_slow_engine_setup_is_announced_timed_and_recorded(tmp_path, capsys, monkeypatch):
+    """Compiling the engine (half a minute the first time) says so while it goes on and how long it took, and
+    summary.json's compile_time_s is that run's setup, not the kernel's cached load alone."""
+    import time
+
+    from dem_core.simulation import Simulation
+
+    scene = tmp_path / "column.toml"
+    scene.write_text(COLUMN.replace("duration = 4.0", "duration = 0.5"))
+    real = Simulation.__init__
+
+    def slow(self, *args, **options):
+        time.sleep(0.5)  # as a first compilation would, slower
+        real(self, *args, **options)
+
+    monkeypatch.setattr(Simulation, "__init__", slow)
+    monkeypatch.setattr(cli, "COMPILE_NOTICE_S", 0.2)
+    assert main(["run", str(scene), "--out", str(tmp_path / "out"), "--no-plots"]) == 0
+    printed = capsys.readouterr()
+    assert printed.err.splitlines()[:2] == [cli.COMPILING, "done in 1 s"] or \
+        printed.err.splitlines()[:2] == [cli.COMPILING, "done in 0 s"]
+    summary = json.loads((tmp_path / "out" / "summary.json").read_text())
+    assert summary["compile_time_s"] >= 0.5
+    assert re.search(r"simulated 0.5 s in [\d.]+ s \(setting up and compiling the engine: 0.[5-9]\d s\)",
+                     printed.out)
+    monkeypatch.setattr(Simulation, "__init__", real)
+    monkeypatch.setattr(cli, "COMPILE_NOTICE_S", 60.0)
+    assert main(["run", str(scene), "--out", str(tmp_path / "out"), "--no-plots"]) == 0
+    assert cli.COMPILING not in capsys.readouterr().err  # a quick setup says nothing

@@ -3,7 +3,7 @@ subprocess and expects its exit status, one line naming the input at fault, and 
 
 Faults of the file system that a test run as root cannot make (a read-only file system, a full disk) are made by a
 prelude that patches the operating-system calls (``os.mkdir``, ``os.open``, ``open``) for one folder before the
-entry point runs; an unstable run by a prelude that has ``simulate`` raise after a real run."""
+entry point runs; an unstable run by a prelude that has ``Simulation.result`` raise after a real run."""
 
 import json
 import os
@@ -116,18 +116,17 @@ FULL_DISK = textwrap.dedent("""
 
 #: the run goes to its end and then stops as unstable at its last output, the result up to there kept
 UNSTABLE = textwrap.dedent("""
-    import dem_core.cli as cli
-    from dem_core.simulation import SimulationUnstable
-    real_simulate = cli.simulate
+    from dem_core.simulation import Simulation, SimulationUnstable
+    real_result = Simulation.result
 
-    def simulate(*args, **options):
-        result = real_simulate(*args, **options)
+    def result(self):
+        result = real_result(self)
         raise SimulationUnstable(
             f"simulation stopped at t = {result.t[-1]:.6g} s (step 9, dt = 1e-05 s): the blocks gained energy that "
             "neither gravity nor the ground supplied; reduce dt below 1e-05 s or check the contact parameters. "
             f"The result up to t = {result.t[-1]:.6g} s is in this error's .partial", result)
 
-    cli.simulate = simulate
+    Simulation.result = result
 """) + RUN_MODULE
 
 #: an error nobody foresaw, in the ``records`` command
@@ -186,7 +185,8 @@ def test_a_run_into_the_folder_of_another_scene_is_refused_naming_it(tmp_path, s
     replaced = command_line("run", other, "--out", out, "--no-plots", "--format", "parquet", "--overwrite",
                             cwd=tmp_path)
     assert replaced.returncode == 0, replaced.stderr
-    assert sorted(p.name for p in out.iterdir()) == ["metrics.csv", "summary.json", "time_history.parquet"]
+    assert sorted(p.name for p in out.iterdir()) == ["interfaces.csv", "metrics.csv", "summary.json",
+                                                     "time_history.parquet"]
     summary = json.loads((out / "summary.json").read_text())
     assert summary["scene"] == str(other.resolve()) and summary["status"] == "complete"
 
@@ -199,9 +199,10 @@ def test_rerunning_a_scene_into_its_folder_replaces_its_results_whole(tmp_path, 
     again = command_line("run", scene, "--out", out, "--no-plots", "--format", "parquet", cwd=tmp_path)
     assert again.returncode == 0 and "Traceback" not in again.stderr
     assert "replaced whole" in again.stderr
-    assert sorted(p.name for p in out.iterdir()) == ["metrics.csv", "summary.json", "time_history.parquet"]
+    assert sorted(p.name for p in out.iterdir()) == ["interfaces.csv", "metrics.csv", "summary.json",
+                                                     "time_history.parquet"]
     assert json.loads((out / "summary.json").read_text())["files"] == ["summary.json", "time_history.parquet",
-                                                                       "metrics.csv"]
+                                                                       "metrics.csv", "interfaces.csv"]
 
 
 @pytest.mark.parametrize("argv", [["run", "{scene}", "--out", "taken"],
@@ -288,6 +289,14 @@ def test_an_unstable_run_writes_what_it_reached_marked_stopped(tmp_path, scene):
     assert summary["status"] == "stopped" and "gained energy" in summary["stop_reason"]
     assert ".partial" not in summary["stop_reason"]
     assert (out / "time_history.csv").is_file()
+
+
+@pytest.mark.parametrize("command", [("stiffness", "--factors", "1"), ("ramp", "--rate", "20")])
+def test_a_run_that_stops_unstable_inside_a_study_command_exits_3(command, tmp_path, scene):
+    """``stiffness`` and ``ramp`` write nothing of a run that lost stability: exit status 3 (as ``run``), one line
+    saying why."""
+    done = command_line(command[0], scene, *command[1:], cwd=tmp_path, prelude=UNSTABLE)
+    assert ".partial" not in error_line(done, 3, "gained energy")
 
 
 def test_an_extreme_ground_motion_is_blamed_and_nothing_written(tmp_path, scene):
@@ -440,8 +449,10 @@ def test_every_number_is_checked_before_any_run(argv, option, tmp_path, scene, c
     def no_run(*args, **options):
         pytest.fail("a run started")
 
-    for module in (cli, thresholds, convergence):
+    for module in (thresholds, convergence):
         monkeypatch.setattr(module, "simulate", no_run)
+    monkeypatch.setattr(cli, "_prepared_run", no_run)
+    monkeypatch.setattr(cli, "_compile_first", no_run)
     monkeypatch.setattr(spectra, "response_spectrum", no_run)
     monkeypatch.chdir(tmp_path)
     assert cli.main([a.format(scene=scene) for a in argv]) == 2

@@ -1,11 +1,14 @@
-"""Rerunning a scene at stiffer contacts: the table, and the convergence it shows on a record."""
+"""Rerunning a scene at stiffer contacts: the table, the convergence it shows on a record, and the verdict on
+each measure (within 5%, or an absolute floor for tiny values)."""
 
+import numpy as np
+import pandas as pd
 import pytest
 
 import dem_core
 from dem_core import excitation, scenes
 from dem_core.cli import main
-from dem_core.analyses.convergence import stiffness_convergence
+from dem_core.analyses.convergence import LABELS, agree, stiffness_convergence, verdicts
 
 
 def test_table_matches_direct_runs_and_shows_the_peak_settling():
@@ -27,5 +30,51 @@ def test_stiffness_command(tmp_path, capsys):
     scene.write_text('[scene]\nbuilder = "block"\nwidth = 1.0\nheight = 6.0\n'
                      '[excitation]\nkind = "sine_pulse"\namplitude = 4.0\nduration = 0.6\n')
     assert main(["stiffness", str(scene), "--factors", "1", "4", "--duration", "3"]) == 0
-    assert "largest relative change" in capsys.readouterr().out
+    out = capsys.readouterr().out
+    assert "each measure at K_n x 1 against x 4, the stiffest: converged when it changes by at most 5%" in out
+    for label in LABELS.values():
+        assert f"  {label}: " in out
+    assert "largest relative change" not in out
     assert main(["stiffness", str(scene), "--factors", "0"]) == 2
+
+
+def issue_table():
+    """The table of issue 22: total sliding 3.91 mm at K_n, 1.29 mm at 100 K_n (2.0 mm at 10 K_n)."""
+    return pd.DataFrame({"factor": [1.0, 10.0, 100.0], "kn": [2e11, 2e12, 2e13],
+                         "max_peak_abs_theta_rad": [0.0346, 0.0350, 0.0351],
+                         "total_sliding_m": [3.91e-3, 2.0e-3, 1.29e-3],
+                         "mean_rocking_rad": [2.0e-4, 5.0e-4, 9.0e-4],
+                         "overturn_time_s": [np.nan, np.nan, np.nan]})
+
+
+def test_each_measure_gets_a_verdict_with_an_absolute_floor():
+    found = {v.measure: v for v in verdicts(issue_table())}
+    sliding = found["total_sliding_m"]
+    assert sliding.change == pytest.approx(2.031, abs=1e-3) and not sliding.converged
+    assert sliding.agrees_from == 10.0  # 2.0 mm against 1.29 mm: 0.71 mm apart, under the 1 mm floor
+    assert found["max_peak_abs_theta_rad"].converged  # 1.4%
+    rocking = found["mean_rocking_rad"]
+    assert abs(rocking.change) > 0.5 and rocking.converged  # +350% of a tiny value, but 0.0007 rad: the floor
+    assert found["overturn_time_s"].converged  # no overturn at any stiffness
+    assert agree("overturn_time_s", 5.0, 5.08) and not agree("overturn_time_s", np.nan, 5.0)
+
+
+def test_stiffness_verdicts_name_the_measure_its_values_and_what_to_do():
+    from dem_core.cli import _stiffness_verdicts
+
+    lines = _stiffness_verdicts(issue_table())
+    text = "\n".join(lines)
+    assert lines[0] == ("each measure at K_n x 1 against x 100, the stiffest: converged when it changes by at most 5%, "
+                        "or by less than 0.001 rad of rotation, 1 mm of sliding, 0.1 s of overturn time")
+    assert ("  total sliding (summed over the interfaces): 3.91 mm at x 1, 2 mm at x 10, 1.29 mm at x 100\n"
+            "    not converged at x 1 (+203.1%, +2.62 mm); it agrees from x 10: rerun at a stiffer K_n ([contact] "
+            "kn = 2e+12) or treat this measure as uncertain") in text
+    assert "  peak rotation (the largest peak |theta| of any block): 0.0346 rad at x 1" in text
+    assert "    converged: x 1 within 5% of x 100 (-1.4%, -0.0005 rad)" in text
+    assert ("    converged: x 1 differs from x 100 by -77.8%, but only by -0.0007 rad, less than the 0.001 rad floor"
+            in text)
+    assert ("  overturn time: none at x 1, none at x 10, none at x 100\n"
+            "    converged: no overturn at any stiffness") in text
+    stiff = issue_table().assign(total_sliding_m=[3.91e-3, 2.9e-3, 1.29e-3])
+    lines = _stiffness_verdicts(stiff)
+    assert any("the two stiffest runs disagree too: treat this measure as uncertain" in line for line in lines)

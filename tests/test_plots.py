@@ -45,7 +45,7 @@ def test_drums_that_agree_are_one_line_with_their_spread():
     result = hand_result(rocking(1.0, 1.01, 1.02))  # within 2% of the column's peak of each other
     fig = plots.rotations(result)
     ax = fig.axes[0]
-    assert data_lines(ax) == ["drum1\u2013drum3"]
+    assert data_lines(ax) == ["drum1\u2013drum3,\nwithin 0.001 rad of each other"]
     assert sum(isinstance(c, PolyCollection) for c in ax.collections) == 1  # the band
     np.testing.assert_allclose(ax.get_lines()[0].get_ydata(), result.theta.mean(axis=1))
 
@@ -60,12 +60,41 @@ def test_drums_that_differ_get_a_line_each():
 def test_only_the_drum_that_differs_is_drawn_apart():
     result = hand_result(rocking(0.5, 1.0, 1.02))
     assert plots.block_groups(result, result.theta) == [(0,), (1, 2)]
-    assert data_lines(plots.rotations(result).axes[0]) == ["drum1", "drum2\u2013drum3"]
+    ax = plots.rotations(result).axes[0]
+    assert data_lines(ax) == ["drum1", "drum2\u2013drum3,\nwithin 0.001 rad of each other"]
+    single, group = (line for line in ax.get_lines() if len(line.get_xdata()) == len(T))
+    assert single.get_zorder() > group.get_zorder()  # the lone drum is drawn over the group, never hidden
+
+
+def test_a_drum_that_stays_near_the_others_joins_them_and_the_axis_fits_the_response():
+    """The default run's rotations.png: drum 1 within 0.0027 rad of drums 2 to 8 (7.8% of their 0.035 rad peak)
+    was a line of its own hidden under theirs, on an axis of +-0.17 rad (the critical angle) where the response
+    filled a fifth of the height.  Now one line says how close they are, and the axis fits the response, the
+    critical angle named in the legend, off the axis."""
+    theta = rocking(1.0, 1.078, 1.078)
+    result = hand_result(theta)
+    ax = plots.rotations(result).axes[0]
+    spread = np.max(theta.max(axis=1) - theta.min(axis=1))
+    assert data_lines(ax) == [f"drum1\u2013drum3,\nwithin {spread:.2g} rad of each other"]
+    peak = np.max(np.abs(theta))
+    assert ax.get_ylim() == pytest.approx((-1.1 * peak, 1.1 * peak))
+    assert not [line for line in ax.get_lines() if len(line.get_xdata()) == 2]  # no critical-angle line
+    legend = [text.get_text() for text in ax.get_legend().get_texts()]
+    assert any(t.startswith(f"critical angle $\\pm\\alpha$ = {COLUMN_ALPHA:g} rad (column):\noff the axis (3.7")
+               for t in legend), legend
+
+
+def test_a_critical_angle_within_twice_the_peak_is_drawn_and_in_view():
+    result = hand_result(rocking(3.0, 3.0, 3.0))  # peak 0.15 rad, critical angle 0.2 rad
+    ax = plots.rotations(result).axes[0]
+    levels = {round(float(line.get_ydata()[0]), 6) for line in ax.get_lines() if len(line.get_xdata()) == 2}
+    assert levels == {COLUMN_ALPHA, -COLUMN_ALPHA}
+    assert ax.get_ylim() == pytest.approx((-1.1 * COLUMN_ALPHA, 1.1 * COLUMN_ALPHA))
 
 
 def test_critical_angles_are_the_columns_for_drums_and_their_own_for_other_blocks():
     names = ("drum1", "drum2", "drum3", "epistyle1")
-    result = hand_result(rocking(1.0, 1.0, 1.0, 0.2), names,
+    result = hand_result(rocking(3.0, 3.0, 3.0, 0.2), names,
                          critical=[DRUM_ALPHA, DRUM_ALPHA, DRUM_ALPHA, EPISTYLE_ALPHA])
     np.testing.assert_allclose(plots.critical_angles(result), [COLUMN_ALPHA] * 3 + [EPISTYLE_ALPHA])
     ax = plots.rotations(result).axes[0]
@@ -75,11 +104,14 @@ def test_critical_angles_are_the_columns_for_drums_and_their_own_for_other_block
 
 
 def test_relative_rotations_are_theta_over_alpha_with_lines_at_one():
-    result = hand_result(rocking(1.0, 1.0, 1.0))
+    result = hand_result(rocking(3.0, 3.0, 3.0))
     ax = plots.rotations(result, relative=True).axes[0]
     np.testing.assert_allclose(ax.get_lines()[0].get_ydata(), result.theta[:, 0] / COLUMN_ALPHA)
     levels = {float(line.get_ydata()[0]) for line in ax.get_lines() if len(line.get_xdata()) == 2}
     assert levels == {1.0, -1.0}
+    small = plots.rotations(hand_result(rocking(1.0, 1.0, 1.0)), relative=True).axes[0]  # a quarter of alpha
+    assert not [line for line in small.get_lines() if len(line.get_xdata()) == 2]
+    assert small.get_ylim() == pytest.approx((-1.1 * 0.25, 1.1 * 0.25))
 
 
 def test_sliding_has_a_line_per_interface_that_slid_and_one_grey_line_for_the_rest():

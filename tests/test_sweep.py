@@ -223,6 +223,43 @@ def test_cli_refuses_a_folder_of_another_sweep(tmp_path, capsys):
     assert len(pd.read_parquet(tmp_path / "out" / "results.parquet")) == 2
 
 
+def test_cli_duration_sets_every_run_and_is_part_of_their_identity(tmp_path, capsys):
+    """--duration replaces the file's [simulation] duration at every point; a resumed sweep says how many runs
+    were already done; the end counts the runs in words; a rerun with another --duration is refused, not mixed."""
+    from dem_core.cli import main
+
+    path = tmp_path / "spec.toml"
+    path.write_text(QUIET_SPEC)
+    out = tmp_path / "out"
+    command = ["sweep", str(path), "--out", str(out), "--workers", "1", "--no-progress", "--duration", "0.5"]
+    assert main(command) == 0
+    printed = capsys.readouterr().out
+    assert "4 runs over excitation.frequency, excitation.pga on 1 local worker(s), each run for 0.5 s" in printed
+    assert f"4 runs: 4 ok; results in {out}/results.parquet" in printed
+    assert "already done" not in printed
+    assert pd.read_parquet(out / "results.parquet").end_time_s.round(3).tolist() == [0.5] * 4
+    assert json.loads((out / "sweep.json").read_text())["tables"]["simulation"]["duration"] == 0.5
+    next((out / "runs").glob("*.parquet")).unlink()  # as if the sweep had been stopped before its last run
+    assert main(command) == 0
+    assert f"3 of 4 runs already done in {out}; running 1" in capsys.readouterr().out
+    assert main(command) == 0
+    assert f"all 4 runs already done in {out}; nothing to run" in capsys.readouterr().out
+    assert main([*command[:-1], "0.25"]) == 2  # runs of 0.5 s are not mixed with runs of 0.25 s
+    assert "[simulation] duration: 0.5 -> 0.25" in capsys.readouterr().err
+    varied = tmp_path / "varied.toml"
+    varied.write_text(QUIET_SPEC + "[sweep.simulation]\nduration = [0.5, 1.0]\n")
+    assert main(["sweep", str(varied), "--out", str(tmp_path / "o2"), "--duration", "0.5"]) == 2
+    assert "varies simulation.duration" in capsys.readouterr().err
+
+
+def test_run_counts_in_words():
+    from dem_core.cli import _run_counts
+
+    assert _run_counts(16, {"ok": 15, "failed": 1}) == "16 runs: 15 ok, 1 failed"
+    assert _run_counts(3, {"failed": 1, "unstable": 1, "ok": 1}) == "3 runs: 1 ok, 1 unstable, 1 failed"
+    assert _run_counts(1, {"ok": 1}) == "1 run: 1 ok"
+
+
 # --- failures ------------------------------------------------------------------------------------
 
 def test_failing_first_point_of_a_sweep_file_is_a_failed_row(tmp_path):

@@ -49,6 +49,7 @@ Parameter names in the results are ``table.key`` (``excitation.frequency``).
 """
 
 import copy
+import dataclasses
 import itertools
 import json
 import numbers
@@ -235,6 +236,37 @@ def load_sweep(path) -> Sweep:
         except scene_file.SceneFileError as exc:
             raise SweepError(f"{exc} (at the point {point} of [sweep])") from None
     return sweep
+
+
+def with_simulation(sweep: Sweep, **settings) -> Sweep:
+    """``sweep`` with ``settings`` (keyword arguments of ``simulate``, e.g. ``duration``) replacing its
+    ``[simulation]`` values at every point: written into a sweep file's tables (so that ``OUT/sweep.json``
+    records them, and a folder of runs made with other values is refused naming the key), and part of each
+    run's id like any setting.  A parameter the sweep varies cannot be replaced: :class:`SweepError`."""
+    varied = [f"simulation.{key}" for key in settings if f"simulation.{key}" in sweep.parameters]
+    if varied:
+        raise SweepError(f"the sweep varies {', '.join(varied)} ([sweep.simulation]): it cannot also be set for "
+                         f"every point")
+    if isinstance(sweep.build, SceneFileBuild):
+        data = copy.deepcopy(sweep.build.data)
+        table = data.get("simulation", {})
+        data["simulation"] = {**(table if isinstance(table, dict) else {}), **settings}
+        build = SceneFileBuild(data, sweep.build.path)
+    else:
+        build = _WithSimulation(sweep.build, dict(settings))
+    return dataclasses.replace(sweep, build=build)
+
+
+@dataclass(frozen=True)
+class _WithSimulation:
+    """``build`` whose runs have ``settings`` replacing their simulation settings (:func:`with_simulation`)."""
+
+    build: Callable
+    settings: dict
+
+    def __call__(self, params: dict) -> RunSpec:
+        spec = self.build(params)
+        return dataclasses.replace(spec, simulation={**spec.simulation, **self.settings})
 
 
 # --- points and their runs -------------------------------------------------------------------------
@@ -463,7 +495,8 @@ def _changed_keys(old, new) -> list:
 # --- running ---------------------------------------------------------------------------------------
 
 def run_sweep(sweep: Sweep, out, *, workers: int | None = None, scheduler=None, progress: bool | None = None,
-              retry_failed: bool = False, overwrite: bool = False) -> pd.DataFrame:
+              retry_failed: bool = False, overwrite: bool = False,
+              on_start: Callable[[int, int], None] | None = None) -> pd.DataFrame:
     """Run every point of ``sweep`` not already finished in ``out`` and return the sweep's rows.
 
     workers : processes on this machine, at least 1 (default: one per core); ignored with a scheduler.
@@ -472,6 +505,8 @@ def run_sweep(sweep: Sweep, out, *, workers: int | None = None, scheduler=None, 
     retry_failed : run again the points recorded as failed or unstable.
     overwrite : delete whatever results ``out`` holds and run every point; without it, the results
         of another sweep in ``out`` raise :class:`SweepError` and those of this sweep are resumed.
+    on_start : called as ``on_start(done, total)`` once the folder is claimed, before any run: ``done`` of the
+        sweep's ``total`` runs are already saved in ``out`` and will not run again (a resumed sweep).
     Returns the table also written to ``out/results.parquet``: one row per point with its
     parameters, ``status`` ("ok", "unstable", "failed"), ``error`` and the measures of
     :func:`measures`, ``wall_time_s``, and (local runs) ``attempts``: 2 when the first worker died,
@@ -489,6 +524,8 @@ def run_sweep(sweep: Sweep, out, *, workers: int | None = None, scheduler=None, 
         history_dir.mkdir(exist_ok=True)
     done = _finished(runs_dir, [p.run_id for p in points], retry_failed)
     todo = [p for p in points if p.run_id not in done]
+    if on_start is not None:
+        on_start(len(points) - len(todo), len(points))
     for point in [p for p in todo if p.spec is None]:
         _write_atomic(pd.DataFrame([_failed_row(point, point.error)]), runs_dir / f"{point.run_id}.parquet")
     todo = [p for p in todo if p.spec is not None]

@@ -3,9 +3,20 @@
 The blocks are drawn from the scene's polygons moved by the result's
 centroid positions and rotations; the base is drawn where the ground is,
 and a strip below shows the ground acceleration with a cursor.  Small
-motions can be exaggerated: with ``exaggerate=K`` every block is drawn at its
-starting pose plus K times its rotation and its displacement relative to the
-moving base since the start, and every frame says so.
+motions can be exaggerated: with ``exaggerate=K`` each block's motion
+relative to the body it rests on (the base, or the block below: its
+*support*, :func:`supports`) since the start is drawn K times larger, about
+the block's corner lowest on that support: its rotation on the support is
+K times the true one, turned about that corner, and that corner's
+displacement on the support (sliding, uplift) is K times the true one; each
+block is then carried by its support as drawn.  A block rocking on a
+corner therefore still stands on it, on the ground or on the drum below, as
+it does in the run (scaling each block's motion about its own centre would
+push the corner it rocks on below what it rests on, and part the drums of a
+column rocking as one).  Every rotation is still K times the true one.  A
+block resting on two bodies (an epistyle on two capitals) follows the one
+it touches along the longer contact, and may part from or overlap the
+other; every frame says that the drawing is exaggerated.
 
 Frames are rendered by blitting: the axes, the ground strip and the labels
 are drawn once, and each frame redraws only the blocks, the base and the
@@ -46,10 +57,54 @@ def _local_shapes(scene, result):
             for k, block in enumerate(scene.blocks)]
 
 
-def drawn_poses(result, exaggerate: float = 1.0):
-    """(x, y, theta): each (n, n_blocks), the centroid positions (m) and rotations (rad) at which the
-    blocks are drawn: the starting pose plus ``exaggerate`` times the rotation and the displacement
-    relative to the moving base since the start, placed on the base where it is at each output."""
+def supports(scene) -> list:
+    """The support of each block, in scene order: the index of the block it rests on, -1 for the base, None for
+    a block resting on nothing at the start.  Of the bodies touching a block at the start below its centre of
+    mass (through a contact lower than that centre, itself lower too), the one it touches along the longest
+    contact."""
+    bodies = scene.bodies
+    best = {}
+    for i, j, contact in scene.touching_pairs():
+        for upper, lower in ((i, j), (j, i)):
+            if upper == 0:
+                continue
+            height = bodies[upper].centroid[1]
+            if contact.centroid[1] >= height or (lower != 0 and bodies[lower].centroid[1] >= height):
+                continue
+            if upper not in best or contact.length > best[upper][1]:
+                best[upper] = (lower, contact.length)
+    return [best[b][0] - 1 if b in best else None for b in range(1, len(bodies))]
+
+
+def _two_supported(scene) -> bool:
+    """Whether a block of ``scene`` rests at the start on more than one body (an epistyle on two capitals)."""
+    bodies = scene.bodies
+    below = {}
+    for i, j, contact in scene.touching_pairs():
+        for upper, lower in ((i, j), (j, i)):
+            if upper and contact.centroid[1] < bodies[upper].centroid[1] and (
+                    lower == 0 or bodies[lower].centroid[1] < bodies[upper].centroid[1]):
+                below.setdefault(upper, set()).add(lower)
+    return any(len(held) > 1 for held in below.values())
+
+
+def _rotate(angle, vectors):
+    """(n, 2) ``vectors`` rotated by (n,) ``angle`` (rad), row by row."""
+    c, s = np.cos(angle), np.sin(angle)
+    return np.column_stack([c * vectors[:, 0] - s * vectors[:, 1], s * vectors[:, 0] + c * vectors[:, 1]])
+
+
+def drawn_poses(result, exaggerate: float = 1.0, scene=None):
+    """(x, y, theta): each (n, n_blocks), the centroid positions (m) and rotations (rad) at which the blocks
+    are drawn, ``exaggerate`` times their motion since the start.
+
+    With ``scene`` (the run's), each block's motion relative to its support (:func:`supports`) is exaggerated
+    about its corner lowest on that support, and the block carried by its support as drawn (see the module's
+    description): a block rocking on a corner still touches what it rocks on.  Without ``scene`` (or for a
+    block resting on nothing), the block's rotation and its displacement relative to the moving base are
+    exaggerated about its centre of mass.  Rotations are ``exaggerate`` times the true ones either way, and
+    ``exaggerate=1`` draws the run as it is.
+    """
     k = float(exaggerate)
     if not k > 0:
         raise ValueError(f"exaggerate must be positive, got {exaggerate}")
@@ -58,12 +113,45 @@ def drawn_poses(result, exaggerate: float = 1.0):
     x = result.base_x[:, None] + rel_x[0] + k * (rel_x - rel_x[0])
     y = result.base_y[:, None] + rel_y[0] + k * (rel_y - rel_y[0])
     theta = result.theta[0] + k * (result.theta - result.theta[0])
+    if scene is None or k == 1:
+        return (result.x.copy(), result.y.copy(), result.theta.copy()) if k == 1 else (x, y, theta)
+    held = supports(scene)
+    turned = result.theta - result.theta[0]  # each block's rotation since the start
+    ground = np.column_stack([result.base_x, result.base_y])
+    true_centre = [np.column_stack([result.x[:, b], result.y[:, b]]) for b in range(result.n_blocks)]
+    drawn_centre, drawn_turn = {}, {}
+    for b in sorted(range(result.n_blocks), key=lambda b: scene.blocks[b].centroid[1]):
+        support = held[b]
+        if support is None or (support >= 0 and support not in drawn_centre):
+            drawn_centre[b] = np.column_stack([x[:, b], y[:, b]])
+            drawn_turn[b] = turned[:, b] * k
+            continue
+        if support < 0:
+            origin = drawn_origin = ground
+            origin_turn = drawn_origin_turn = np.zeros(len(result.t))
+        else:
+            origin, origin_turn = true_centre[support], turned[:, support]
+            drawn_origin, drawn_origin_turn = drawn_centre[support], drawn_turn[support]
+        relative = _rotate(-origin_turn, true_centre[b] - origin)  # the centre in the support's frame
+        rocking = turned[:, b] - origin_turn  # the rotation on the support
+        corners = scene.blocks[b].vertices - true_centre[b][0]  # about the centre, as at the start
+        heights = relative[:, 1][:, None] + np.sin(rocking)[:, None] * corners[:, 0] \
+            + np.cos(rocking)[:, None] * corners[:, 1]
+        corner = corners[np.argmin(heights, axis=1)]  # (n, 2): the corner lowest on the support
+        pivot = relative + _rotate(rocking, corner)
+        start = relative[0] + corner
+        drawn_relative = start + k * (pivot - start) - _rotate(k * rocking, corner)
+        drawn_centre[b] = drawn_origin + _rotate(drawn_origin_turn, drawn_relative)
+        drawn_turn[b] = drawn_origin_turn + k * rocking
+    for b in range(result.n_blocks):
+        x[:, b], y[:, b] = drawn_centre[b][:, 0], drawn_centre[b][:, 1]
+        theta[:, b] = result.theta[0, b] + drawn_turn[b]
     return x, y, theta
 
 
 def block_outlines(scene, result, k: int, exaggerate: float = 1.0) -> list:
-    """World vertices of every block at output ``k`` of ``result`` (list of (n_i, 2) arrays, m), with
-    rotations and displacements relative to the start multiplied by ``exaggerate``."""
+    """World vertices of every block at output ``k`` of ``result`` (list of (n_i, 2) arrays, m), each block's
+    motion since the start on what it rests on multiplied by ``exaggerate`` (:func:`drawn_poses`)."""
     return _Outlines(scene, result, exaggerate)(k)
 
 
@@ -72,7 +160,7 @@ class _Outlines:
 
     def __init__(self, scene, result, exaggerate=1.0):
         self.shapes = _local_shapes(scene, result)
-        self.x, self.y, self.theta = drawn_poses(result, exaggerate)
+        self.x, self.y, self.theta = drawn_poses(result, exaggerate, scene)
 
     def __call__(self, k):
         return [transform(local, self.theta[k, b], (self.x[k, b], self.y[k, b]))
@@ -86,7 +174,7 @@ def _view(scene, result, exaggerate=1.0):
     reach = max(np.ptp(v[:, 0]), np.ptp(v[:, 1]))
     low, high = v.min(axis=0), v.max(axis=0)
     if exaggerate != 1:
-        x, y, _ = drawn_poses(result, exaggerate)
+        x, y, _ = drawn_poses(result, exaggerate, scene)
         radius = np.array([np.max(np.linalg.norm(s, axis=1)) for s in _local_shapes(scene, result)])
         centres = np.stack([x - result.base_x[:, None], y - result.base_y[:, None]], axis=-1)
         low = np.maximum(np.minimum(low, np.min(centres - radius[:, None], axis=(0, 1))), low - reach)
@@ -100,9 +188,16 @@ def _colours(scene):
     return [EPISTYLE if "epistyle" in b.name else STONE for b in scene.blocks]
 
 
-def exaggeration_note(exaggerate: float) -> str:
-    """What a drawing exaggerated ``exaggerate`` times says about it ("" when drawn true to scale)."""
-    return "" if exaggerate == 1 else f"rotations and displacements \u00d7 {exaggerate:g}"
+def exaggeration_note(exaggerate: float, scene=None) -> str:
+    """What a drawing exaggerated ``exaggerate`` times says about it ("" when drawn true to scale): that each
+    block's motion on what it rests on is drawn that many times larger, and (for a ``scene`` with a block on
+    two supports) that such a block follows one of them."""
+    if exaggerate == 1:
+        return ""
+    note = f"rotations and displacements \u00d7 {exaggerate:g}\n(each block's on what it rests on)"
+    if scene is not None and _two_supported(scene):
+        note += ";\na block on two supports follows one:\nit may part from or overlap the other"
+    return note
 
 
 class _Drawing:
@@ -260,8 +355,8 @@ def animate(scene, result, path, *, excitation=None, fps: int = 25, speed: float
 
     fps : frames per second of the file; speed : simulated seconds per second of playback.
     excitation : the ground motion, to draw its acceleration under the scene (else the base displacement).
-    exaggerate : rotations and displacements relative to the start, measured from the moving base,
-        are drawn this many times larger (each frame says so when it is not 1).
+    exaggerate : each block's rotation and displacement since the start on what it rests on are drawn this
+        many times larger (:func:`drawn_poses`; each frame says so when it is not 1).
     progress : show a progress bar of the frames rendered (on stderr).
     Returns the path written.  The file is written under a temporary name and renamed when complete: an
     error or Ctrl-C leaves no partial animation.
@@ -280,7 +375,7 @@ def animate(scene, result, path, *, excitation=None, fps: int = 25, speed: float
     ax, ax_g = fig.subplots(2, 1, gridspec_kw={"height_ratios": [scene_height, 1.1]})
     drawing = _Drawing(ax, scene, result, exaggerate=exaggerate, animated=True)
     ax.set_title(title or "", fontsize=10)
-    note = exaggeration_note(exaggerate)
+    note = exaggeration_note(exaggerate, scene)
     if note:
         ax.text(0.98, 0.96, note, transform=ax.transAxes, ha="right", va="top", fontsize=9, color=OVERTURN)
     cursor = _ground_strip(ax_g, result, excitation)
@@ -318,19 +413,21 @@ def animate(scene, result, path, *, excitation=None, fps: int = 25, speed: float
 
 
 def snapshot_strip(scene, result, times, *, title: str = "", exaggerate: float = 1.0):
-    """Figure: the scene drawn at each of ``times`` (s; the nearest outputs) side by side, rotations
-    and displacements relative to the start multiplied by ``exaggerate`` (said in the title)."""
+    """Figure: the scene drawn at each of ``times`` (s; the nearest outputs) side by side, each block's motion
+    since the start on what it rests on multiplied by ``exaggerate`` (:func:`drawn_poses`; said in the title)."""
     times = list(times)
     (x0, x1), (y0, y1) = _view(scene, result, exaggerate)
+    note = exaggeration_note(exaggerate, scene).replace("\n(", " (").replace(":\n", ": ")  # the strip is wide
+    heading = ", ".join(part for part in (title, note) if part)
     panel = 2.6
-    fig = Figure(figsize=(panel * len(times) + 0.6, panel * (y1 - y0) / (x1 - x0) + 1.2))
+    fig = Figure(figsize=(panel * len(times) + 0.6,
+                          panel * (y1 - y0) / (x1 - x0) + 1.2 + 0.2 * max(heading.count("\n"), 0)))
     FigureCanvasAgg(fig)
     axes = fig.subplots(1, len(times), sharey=True, squeeze=False)
     for ax, when in zip(axes[0], times):
         k = int(np.clip(np.searchsorted(result.t, when), 0, len(result.t) - 1))
         _Drawing(ax, scene, result, exaggerate=exaggerate).update(k)
         ax.set_title(f"t = {result.t[k]:.2f} s", fontsize=9)
-    heading = ", ".join(part for part in (title, exaggeration_note(exaggerate)) if part)
     if heading:
         fig.suptitle(heading, fontsize=10)
     fig.tight_layout()
