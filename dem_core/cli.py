@@ -79,6 +79,7 @@ import math
 import os
 import re
 import sys
+import threading
 import time
 import warnings
 from importlib import resources
@@ -151,8 +152,6 @@ class _CompileNotice:
         self.shown = False
 
     def __enter__(self):
-        import threading
-
         self.started = time.perf_counter()
         self.timer = threading.Timer(COMPILE_NOTICE_S, self._show)
         self.timer.daemon = True
@@ -221,7 +220,6 @@ class _Interrupts:
         """A context in which SIGINT goes to :meth:`handle` (in the main thread only: elsewhere Python's own)."""
         import contextlib
         import signal
-        import threading
 
         self.requested = False
         if threading.current_thread() is not threading.main_thread():

@@ -57,35 +57,31 @@ def _local_shapes(scene, result):
             for k, block in enumerate(scene.blocks)]
 
 
-def supports(scene) -> list:
-    """The support of each block, in scene order: the index of the block it rests on, -1 for the base, None for
-    a block resting on nothing at the start.  Of the bodies touching a block at the start below its centre of
-    mass (through a contact lower than that centre, itself lower too), the one it touches along the longest
-    contact."""
-    bodies = scene.bodies
-    best = {}
-    for i, j, contact in scene.touching_pairs():
-        for upper, lower in ((i, j), (j, i)):
-            if upper == 0:
-                continue
-            height = bodies[upper].centroid[1]
-            if contact.centroid[1] >= height or (lower != 0 and bodies[lower].centroid[1] >= height):
-                continue
-            if upper not in best or contact.length > best[upper][1]:
-                best[upper] = (lower, contact.length)
-    return [best[b][0] - 1 if b in best else None for b in range(1, len(bodies))]
-
-
-def _two_supported(scene) -> bool:
-    """Whether a block of ``scene`` rests at the start on more than one body (an epistyle on two capitals)."""
+def _resting_on(scene) -> dict:
+    """``{block: [(body, contact length), ...]}`` (scene body indices): the bodies each block touches at the start
+    below its centre of mass, through a contact lower than that centre, the body's own centre lower too."""
     bodies = scene.bodies
     below = {}
     for i, j, contact in scene.touching_pairs():
         for upper, lower in ((i, j), (j, i)):
-            if upper and contact.centroid[1] < bodies[upper].centroid[1] and (
-                    lower == 0 or bodies[lower].centroid[1] < bodies[upper].centroid[1]):
-                below.setdefault(upper, set()).add(lower)
-    return any(len(held) > 1 for held in below.values())
+            height = bodies[upper].centroid[1]
+            if upper and contact.centroid[1] < height and (lower == 0 or bodies[lower].centroid[1] < height):
+                below.setdefault(upper, []).append((lower, contact.length))
+    return below
+
+
+def supports(scene) -> list:
+    """The support of each block, in scene order: the index of the block it rests on, -1 for the base, None for
+    a block resting on nothing at the start.  Of the bodies a block rests on (:func:`_resting_on`), the one it
+    touches along the longest contact."""
+    below = _resting_on(scene)
+    return [max(below[b], key=lambda held: held[1])[0] - 1 if b in below else None
+            for b in range(1, len(scene.bodies))]
+
+
+def _two_supported(scene) -> bool:
+    """Whether a block of ``scene`` rests at the start on more than one body (an epistyle on two capitals)."""
+    return any(len({lower for lower, _ in held}) > 1 for held in _resting_on(scene).values())
 
 
 def _rotate(angle, vectors):
