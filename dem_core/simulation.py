@@ -23,13 +23,13 @@ from typing import NamedTuple
 import numba
 import numpy as np
 
-from .engine import _step, stability
+from .engine import _moreau, _step, stability
 from .engine._checks import mechanical_energy
 from .engine.contact import LAWS
 from .engine.model import Model, compile_model, interface_pairs
 from .engine.result import Result
 from .engine.stacks import columns, find_stacks
-from .engine.state import NARROW, OUTPUTS, PAIR_KEY, REBUILDS, SLIP, State, initial_state
+from .engine.state import NARROW, OUTPUTS, PAIR_KEY, REBUILDS, SLIP, SOLVER_SWEEPS, UNCONVERGED, State, initial_state
 from .inputs.excitation import GroundMotion, still
 from .inputs.records import G_STANDARD
 from .inputs.scene import Scene
@@ -56,6 +56,27 @@ COLLAPSE_STEP_FACTOR = 0.25
 EXTREME_PGA_G = 50.0
 #: wall time (s) a chunk of steps aims at between progress updates
 CHUNK_SECONDS = 0.25
+#: the time-stepping schemes: central differences on the contact springs, and Moreau-Jean at the velocity level
+INTEGRATORS = ("explicit", "moreau")
+#: Moreau-Jean's weight of the new velocity in the positions' update.  The smooth forces (gravity, the ground's
+#: load) are constant over a step, so theta only shapes the position update: 0.5 is the trapezoidal rule, second
+#: order and free of numerical damping between impacts (the rocking equation conserves energy there); above 0.5
+#: it damps like implicit Euler and is first order.  Siconos' rocking block uses 0.50001 with an LCP solver.
+MOREAU_THETA = 0.5
+#: Moreau-Jean's step when none is given (s): the accuracy of the impacts, not stability, sets it
+MOREAU_DT = 1e-3
+#: and no more than this fraction of the shortest time of the motion (a pulse's duration, a harmonic's period) or
+#: of the scene (1/p of its most agile block, p = sqrt(3 g / (4 R)) the rocking frequency)
+MOREAU_TIME_FRACTION = 0.02
+#: Moreau-Jean's index set takes the points whose gap at the step's end (at the start's velocity) is below this
+#: fraction of the smallest block's size; points are pushed out at the position level beyond MOREAU_SLOP of it
+MOREAU_ACTIVE_GAP = 1e-5
+MOREAU_SLOP = 1e-6
+#: Gauss-Seidel stops when no point's velocity changed by more than this fraction of g h in a sweep, or after
+#: MOREAU_MAX_SWEEPS sweeps; the position projection takes MOREAU_PROJECTION_SWEEPS
+MOREAU_SOLVER_TOLERANCE = 1e-6
+MOREAU_MAX_SWEEPS = 50
+MOREAU_PROJECTION_SWEEPS = 4
 
 
 _PACKAGE = os.path.dirname(os.path.abspath(__file__))
@@ -120,9 +141,11 @@ def check_run_arguments(scene, excitation) -> GroundMotion:
 
 
 class RunSettings(NamedTuple):
-    """What the kernel needs of a run besides the model: dt (s), output ``stride`` (steps),
+    """What the kernels need of a run besides the model: dt (s), output ``stride`` (steps),
     ``last_step``, ``speed_limit`` (m/s), ``energy_tolerance`` and ``energy_scale`` (J) of the energy
-    balance, ``stop_at_overturn``."""
+    balance, ``stop_at_overturn``; for Moreau-Jean ``theta``, the index set's ``active_gap`` and the projection's
+    ``slop`` (fractions of the smallest block's size), the solver's ``solver_tolerance`` (fraction of g dt),
+    ``max_sweeps`` and ``projection_sweeps``."""
 
     dt: float
     stride: int
@@ -131,6 +154,12 @@ class RunSettings(NamedTuple):
     energy_tolerance: float
     energy_scale: float
     stop_at_overturn: bool
+    theta: float = MOREAU_THETA
+    active_gap: float = MOREAU_ACTIVE_GAP
+    slop: float = MOREAU_SLOP
+    solver_tolerance: float = MOREAU_SOLVER_TOLERANCE
+    max_sweeps: int = MOREAU_MAX_SWEEPS
+    projection_sweeps: int = MOREAU_PROJECTION_SWEEPS
 
 
 class Simulation:
@@ -145,10 +174,18 @@ class Simulation:
                  dt: float | None = None, output_dt: float | None = None, *, ground_motion: str = "inertial",
                  safety: float = DEFAULT_SAFETY, steps_per_impact: float = DEFAULT_STEPS_PER_IMPACT,
                  step_fraction: float = 1.0, stop_at_overturn: bool = True, enforce_stability_limit: bool = True,
-                 parallel: bool = False):
+                 parallel: bool = False, integrator: str = "explicit", theta: float = MOREAU_THETA):
         excitation = check_run_arguments(scene, excitation)
         if ground_motion not in GROUND_MOTION_MODES:
             raise ValueError(f"ground_motion must be one of {GROUND_MOTION_MODES}, got {ground_motion!r}")
+        if integrator not in INTEGRATORS:
+            raise ValueError(f"integrator must be one of {INTEGRATORS}, got {integrator!r}")
+        if not 0.5 <= theta <= 1.0:
+            raise ValueError(f"theta weighs the new velocity in Moreau-Jean's position update; it must be in "
+                             f"[0.5, 1], got {theta}")
+        if integrator == "moreau" and scene.contact.law != "corner":
+            raise ValueError(f"the Moreau-Jean integrator works on the corner law's contact points; the scene's "
+                             f"contact law is {scene.contact.law!r}")
         duration = run_duration(excitation, duration)
         output_dt = 0.01 if output_dt is None else seconds("output_dt", output_dt)
         if _extreme(excitation):
@@ -158,16 +195,22 @@ class Simulation:
         self.model: Model = compile_model(scene, stacks)
         self.stacks = stacks
         self.columns = columns(scene, stacks)
-        self.limit = stability.stability_limit(self.model, toppled=not stop_at_overturn)
-        self.impact = stability.impact_duration(self.model)
+        self.integrator = integrator
         auto_dt = dt is None
-        dt = _time_step(self.model, dt, self.limit, self.impact, safety, steps_per_impact, step_fraction,
-                        enforce_stability_limit)
-        if dt > self.limit:
-            warn_caller(f"dt = {dt:.4g} s is {dt / self.limit:.2f} times the stability limit {self.limit:.4g} s "
-                        f"(enforce_stability_limit=False): the result says so in info['beyond_stability_limit']")
-        if auto_dt and not stop_at_overturn:
-            dt *= COLLAPSE_STEP_FACTOR
+        if integrator == "moreau":
+            self.limit, self.impact = math.inf, math.nan
+            dt = moreau_time_step(self.model, excitation, dt, step_fraction)
+        else:
+            self.limit = stability.stability_limit(self.model, toppled=not stop_at_overturn)
+            self.impact = stability.impact_duration(self.model)
+            dt = _time_step(self.model, dt, self.limit, self.impact, safety, steps_per_impact, step_fraction,
+                            enforce_stability_limit)
+            if dt > self.limit:
+                warn_caller(f"dt = {dt:.4g} s is {dt / self.limit:.2f} times the stability limit {self.limit:.4g} "
+                            f"s (enforce_stability_limit=False): the result says so in "
+                            f"info['beyond_stability_limit']")
+            if auto_dt and not stop_at_overturn:
+                dt *= COLLAPSE_STEP_FACTOR
         n_steps = math.ceil(duration / dt - 1e-9)
         stride = max(1, round(output_dt / dt))
         n_out = n_steps // stride + 2
@@ -176,7 +219,8 @@ class Simulation:
         self.state: State = initial_state(self.model)
         b = self.model.bodies
         if ground_motion == "moving_base":  # the blocks start at rest relative to the ground
-            self.state.vel[1:, :2] = np.array(excitation.velocity(np.array([-0.5 * dt])))[:, 0]
+            at = 0.0 if integrator == "moreau" else -0.5 * dt
+            self.state.vel[1:, :2] = np.array(excitation.velocity(np.array([at])))[:, 0]
         # the energy balance starts from the blocks' energy as they start, moving with the ground
         self.state.tracking.ledger[0] = mechanical_energy(self.state.pos, self.state.vel, b.mass, b.inv_inertia,
                                                            self.model.gravity)
@@ -184,8 +228,11 @@ class Simulation:
             dt=float(dt), stride=int(stride), last_step=int(n_steps),
             speed_limit=_speed_limit(self.model, excitation, duration),
             energy_tolerance=ENERGY_TOLERANCE, energy_scale=float(self.model.gravity * np.sum(b.radius * b.mass)),
-            stop_at_overturn=bool(stop_at_overturn))
-        self.kernel = _step.advance_parallel if parallel and numba.get_num_threads() > 1 else _step.advance
+            stop_at_overturn=bool(stop_at_overturn), theta=float(theta))
+        if integrator == "moreau":
+            self.kernel = _moreau.advance
+        else:
+            self.kernel = _step.advance_parallel if parallel and numba.get_num_threads() > 1 else _step.advance
         self.out_pos = np.full((n_out, len(b.mass), 3), np.nan)
         self.out_slip = np.full((n_out, len(self.model.interface_keys)), np.nan)
         self.out_step = np.zeros(n_out, np.int64)
@@ -194,13 +241,13 @@ class Simulation:
         self.run_time = 0.0
 
     def __getstate__(self) -> dict:
-        # the kernel by its name in _step: a compiled dispatcher does not travel between processes
+        # the kernel by its name: a compiled dispatcher does not travel between processes
         state = dict(self.__dict__)
         state["kernel"] = "advance_parallel" if self.kernel is _step.advance_parallel else "advance"
         return state
 
     def __setstate__(self, state: dict) -> None:
-        state["kernel"] = getattr(_step, state["kernel"])
+        state["kernel"] = getattr(_moreau if state["integrator"] == "moreau" else _step, state["kernel"])
         self.__dict__.update(state)
 
     @property
@@ -251,16 +298,17 @@ class Simulation:
         """(6, steps + 1): inertial load x, y (m/s^2), base position x, y (m) and base velocity x, y
         (m/s) at the half step before each of steps ``first`` .. ``first + steps``.
 
-        The load of step k is the ground's mean acceleration over the step's cell
-        ``[t_k - dt/2, t_k + dt/2]``, the difference of its exact velocity over dt: the velocity update
-        of central differences spans that cell, so the impulse the blocks receive is exact whatever the
+        The load of step k is the ground's mean acceleration over the step's cell, the difference of its
+        exact velocity over dt: ``[t_k - dt/2, t_k + dt/2]``, which the velocity update of central differences
+        spans, or ``[t_k, t_k+1]``, Moreau-Jean's; so the impulse the blocks receive is exact whatever the
         motion (a pulse that ends between steps, a record's piecewise-linear samples)."""
         dt = self.dt
         t = (first + np.arange(steps + 1)) * dt
         ground = np.zeros((6, steps + 1))
         start = self.model.bodies.centroid0[0]
         if self.ground_motion == "inertial":
-            edges = (first + np.arange(steps + 2) - 0.5) * dt
+            lead = 0.0 if self.integrator == "moreau" else 0.5
+            edges = (first + np.arange(steps + 2) - lead) * dt
             velocity = np.array(self.excitation.velocity(edges))
             ground[0:2] = -np.diff(velocity, axis=1) / dt
             ground[2] = start[0]
@@ -288,6 +336,7 @@ class Simulation:
         bodies = scene.bodies
         info = {
             "engine": "dem",
+            "integrator": self.integrator,
             "contact_law": LAWS[self.model.law.law],
             "kn": self.model.law.kn,
             "stability_limit_s": self.limit,
@@ -301,6 +350,12 @@ class Simulation:
             "compile_time_s": self.compile_time,
             "run_time_s": self.run_time,
         }
+        if self.integrator == "moreau":
+            for key in ("kn", "stability_limit_s", "impact_duration_s", "dt_over_limit"):
+                info.pop(key)
+            info["theta"] = self.settings.theta
+            info["sweeps_per_step"] = int(tracking.counters[SOLVER_SWEEPS]) / max(step, 1)
+            info["unconverged_steps"] = int(tracking.counters[UNCONVERGED])
         if dt > self.limit:
             info["beyond_stability_limit"] = (f"dt = {dt:.4g} s is {dt / self.limit:.2f} times the stability limit "
                                               f"{self.limit:.4g} s: the scheme is unstable there and the result may be "
@@ -381,8 +436,8 @@ def simulate(scene, excitation: GroundMotion | None = None, duration: float | No
              ground_motion: str = "inertial", safety: float = DEFAULT_SAFETY,
              steps_per_impact: float = DEFAULT_STEPS_PER_IMPACT, step_fraction: float = 1.0,
              stop_at_overturn: bool = True, enforce_stability_limit: bool = True, progress=None,
-             parallel: bool = False) -> Result:
-    """Simulate ``scene`` under ``excitation`` with the native soft-contact DEM.
+             parallel: bool = False, integrator: str = "explicit", theta: float = MOREAU_THETA) -> Result:
+    """Simulate ``scene`` under ``excitation`` with the native DEM.
 
     scene : :class:`~dem_core.inputs.scene.Scene` (its ``contact.law`` chooses the contact law).
     excitation : :class:`~dem_core.inputs.excitation.GroundMotion` (None: no ground motion).
@@ -413,7 +468,13 @@ def simulate(scene, excitation: GroundMotion | None = None, duration: float | No
         or so (the command line passes a progress bar).
     parallel : spread the contacts over numba's threads (``NUMBA_NUM_THREADS``).  Off by default: on
         few cores the threads' overhead can outweigh the gain (docs/performance.md), so measure yours
-        before turning it on.  The trajectory is the serial kernel's, bit for bit.
+        before turning it on.  The trajectory is the serial kernel's, bit for bit.  Explicit integrator only.
+    integrator : ``"explicit"`` (central differences on the contact springs, docs/method.md 1.6) or
+        ``"moreau"`` (Moreau-Jean time stepping at the velocity level on the corner law's points, rigid
+        contacts with no stiffness and no stability limit, docs/method.md 1.8).  With ``"moreau"`` the
+        automatic dt is :func:`moreau_time_step`'s; ``safety``, ``steps_per_impact`` and
+        ``enforce_stability_limit`` do not apply, and the contact law must be the corner law.
+    theta : Moreau-Jean's weight of the new velocity in the position update, in [0.5, 1] (``MOREAU_THETA``).
 
     Raises ``ValueError`` for bad arguments (a dt above the stability limit
     among them) and :class:`SimulationUnstable`, carrying the result up to
@@ -421,7 +482,8 @@ def simulate(scene, excitation: GroundMotion | None = None, duration: float | No
     """
     run = Simulation(scene, excitation, duration, dt, output_dt, ground_motion=ground_motion, safety=safety,
                      steps_per_impact=steps_per_impact, step_fraction=step_fraction, stop_at_overturn=stop_at_overturn,
-                     enforce_stability_limit=enforce_stability_limit, parallel=parallel)
+                     enforce_stability_limit=enforce_stability_limit, parallel=parallel, integrator=integrator,
+                     theta=theta)
     return run.run(progress).result()
 
 
@@ -470,14 +532,31 @@ def automatic_time_step(scene, *, toppled: bool = False, safety: float = DEFAULT
     return _time_step(model, None, limit, stability.impact_duration(model), safety, steps_per_impact, 1.0, True)
 
 
+def moreau_time_step(model, excitation: GroundMotion, dt: float | None = None, step_fraction: float = 1.0) -> float:
+    """Moreau-Jean's step, s: ``dt`` if given, else ``MOREAU_DT``, or ``MOREAU_TIME_FRACTION`` of the shortest time
+    of the motion (:attr:`GroundMotion.time_scale`) or of the scene (``1/p = sqrt(4 R / (3 g))`` of its smallest
+    block, R the circumradius) where that is shorter, times ``step_fraction``."""
+    _check_step_fraction(step_fraction)
+    if dt is not None:
+        if step_fraction != 1.0:
+            raise ValueError(f"step_fraction ({step_fraction}) applies to the automatic step; give it or dt, not both")
+        return seconds("dt", dt)
+    agile = math.sqrt(4.0 * float(model.bodies.radius[1:].min()) / (3.0 * model.gravity))
+    return min(MOREAU_DT, MOREAU_TIME_FRACTION * min(excitation.time_scale, agile)) * step_fraction
+
+
+def _check_step_fraction(step_fraction) -> None:
+    if not 0.0 < step_fraction <= 1.0:
+        raise ValueError(f"step_fraction multiplies the automatic step; it must be in (0, 1], got {step_fraction}")
+
+
 def _time_step(model, dt, limit, impact, safety, steps_per_impact, step_fraction, enforce) -> float:
     if not 0.0 < safety <= 1.0:
         raise ValueError(f"safety is the fraction of the stability limit used as dt; it must be in (0, 1], "
                          f"got {safety}")
     if not steps_per_impact > 0:
         raise ValueError(f"steps_per_impact must be positive, got {steps_per_impact}")
-    if not 0.0 < step_fraction <= 1.0:
-        raise ValueError(f"step_fraction multiplies the automatic step; it must be in (0, 1], got {step_fraction}")
+    _check_step_fraction(step_fraction)
     if dt is None:
         automatic = min(safety * limit, impact / steps_per_impact)
         return automatic if step_fraction == 1.0 else automatic * step_fraction
@@ -520,7 +599,9 @@ def _check_run_size(model, names, duration, dt, auto_dt, n_steps, n_out, limit, 
     memory, naming what made it so; announce one of more than ``WARN_STEPS`` with its expected wall time.
     ``names`` : the blocks' names, in the model's order."""
     n_bodies = len(model.bodies.mass)
-    if auto_dt:
+    if auto_dt and not math.isfinite(limit):
+        step = f"Moreau-Jean's automatic step dt = {dt:.3g} s"
+    elif auto_dt:
         lightest = 1 + int(np.argmin(model.bodies.mass[1:]))
         light = f"lightest block '{names[lightest - 1]}' {model.bodies.mass[lightest]:.3g} kg"
         if DEFAULT_SAFETY * limit < impact / DEFAULT_STEPS_PER_IMPACT:

@@ -71,18 +71,20 @@ def edge(wx, wy, start, count, k):
 
 
 @nb.njit(cache=True, inline="always")
-def corner_manifold(wx, wy, wnx, wny, a0, na, acx, acy, b0, nb_, bcx, bcy, previous, points, keys, row):
+def corner_manifold(wx, wy, wnx, wny, a0, na, acx, acy, b0, nb_, bcx, bcy, previous, points, keys, row, margin):
     """Contact points of convex polygons A (``a0``, ``na``, centre of mass ``acx``, ``acy``) and B.
 
     previous : last step's reference code of this pair (-1 if none): its side is kept unless the
         other polygon's best face penetrates less by ``REFERENCE_HYSTERESIS`` of the penetration.
     points : (n, 2, 3) output, in ``points[row]`` per point x, y (m) where the force acts (midway
-        between the incident point and the reference face) and depth (m, >= 0).
+        between the incident point and the reference face) and depth (m, >= -margin).
     keys : (n, 2) int64 output, in ``keys[row]`` the points' feature keys.
     (Whole arrays and a row, not the row's view: a view taken in a parallel loop updates its parent's
     reference count atomically from every thread, which serialises them.)
 
-    Returns ``(count, nx, ny, code)``: the number of points (0 when the polygons do not overlap),
+    margin : m, how far apart polygons and points may be and still be returned (0: only overlapping ones;
+        the Moreau-Jean integrator looks ahead by this much).
+    Returns ``(count, nx, ny, code)``: the number of points (0 when the polygons are more than ``margin`` apart),
     the reference face's outward normal (pointing from the reference polygon into the incident one)
     and the reference code (side 0: A is the reference).
     """
@@ -90,17 +92,17 @@ def corner_manifold(wx, wy, wnx, wny, a0, na, acx, acy, b0, nb_, bcx, bcy, previ
     face_before = previous & ((1 << FACE_BITS) - 1) if previous >= 0 else 0
     sep_a, face_a = face_separation(wx, wy, wnx, wny, a0, na, wx, wy, b0, nb_, bcx, bcy,
                                     face_before if side_before == 0 else 0)
-    if sep_a > 0.0:
+    if sep_a > margin:
         return 0, 0.0, 0.0, -1
     sep_b, face_b = face_separation(wx, wy, wnx, wny, b0, nb_, wx, wy, a0, na, acx, acy,
                                     face_before if side_before == 1 else 0)
-    if sep_b > 0.0:
+    if sep_b > margin:
         return 0, 0.0, 0.0, -1
-    margin = REFERENCE_HYSTERESIS * min(-sep_a, -sep_b)
+    hysteresis = REFERENCE_HYSTERESIS * abs(max(sep_a, sep_b))
     if side_before == 1:
-        use_b = not sep_a > sep_b + margin
+        use_b = not sep_a > sep_b + hysteresis
     else:
-        use_b = sep_b > sep_a + margin
+        use_b = sep_b > sep_a + hysteresis
     if use_b:
         r0, nr, i0, ni, face, side = b0, nb_, a0, na, face_b, 1
     else:
@@ -150,7 +152,7 @@ def corner_manifold(wx, wy, wnx, wny, a0, na, acx, acy, b0, nb_, bcx, bcy, previ
         px = p0x if q == 0 else p1x
         py = p0y if q == 0 else p1y
         depth = -(nx * (px - v1x) + ny * (py - v1y))
-        if depth >= 0.0:
+        if depth >= -margin:
             points[row, count, 0] = px + 0.5 * depth * nx
             points[row, count, 1] = py + 0.5 * depth * ny
             points[row, count, 2] = depth

@@ -11,7 +11,7 @@ dashpots acting on the lagging half-step velocities.  Per step, in stages, each 
    (:func:`output_due`, :func:`write_output`);
 2. world vertices, edge normals and boxes of every body (:func:`world_geometry`,
    :func:`~dem_core.engine._broadphase.bounding_boxes`);
-3. the broad phase lists candidate pairs again if a body has moved half a skin (:func:`_needs_relist`,
+3. the broad phase lists candidate pairs again if a body has moved half a skin (:func:`needs_relist`,
    :mod:`._broadphase`);
 4. per candidate pair whose boxes overlap (:func:`pair_forces`): the corner manifold (:mod:`._manifold`) or
    the overlap polygon (:mod:`._polygon`), then the contact law (:mod:`._contact_law`)
@@ -100,7 +100,7 @@ def corner_pair(p, ids, constants, memory, forces, interface_slip, pos, vel, pai
     n_i = vstart[i + 1] - vstart[i]
     n_j = vstart[j + 1] - vstart[j]
     count, nx, ny, code = corner_manifold(wx, wy, wnx, wny, vstart[i], n_i, pos[i, 0], pos[i, 1], vstart[j], n_j,
-                                          pos[j, 0], pos[j, 1], memory[p, REFERENCE], points, keys, p)
+                                          pos[j, 0], pos[j, 1], memory[p, REFERENCE], points, keys, p, 0.0)
     memory[p, REFERENCE] = code
     old_key0 = memory[p, POINT_KEY]
     old_key1 = memory[p, POINT_KEY + 1]
@@ -244,7 +244,7 @@ def move(pos, vel, force, inv_mass, inv_inertia, gx, gy, dt):
 
 
 @nb.njit(cache=True, inline="always")
-def _needs_relist(pos, radius, built_at, half_skin):
+def needs_relist(pos, radius, built_at, half_skin):
     """Whether a body has moved (translation plus rotation at its circumradius) half a skin since the list."""
     for b in range(pos.shape[0]):
         slack = half_skin - abs(pos[b, 2] - built_at[b, 2]) * radius[b]
@@ -392,7 +392,7 @@ def _advance(model, run, pos, vel, contacts, retired, tracking, ground, n_steps,
 
     Each step runs the stages of the module docstring, in order: :func:`place_base` and
     :func:`write_output`; :func:`world_geometry` and the boxes; the broad phase's list when
-    :func:`_needs_relist`; :func:`pair_forces` per pair, :func:`gather_forces` per body and
+    :func:`needs_relist`; :func:`pair_forces` per pair, :func:`gather_forces` per body and
     :func:`deepest_pair`; :func:`ground_work` and :func:`move`; :func:`check_bodies`, the overturns and,
     every ``ENERGY_CHECK_INTERVAL`` steps, :func:`energy_gained`.
 
@@ -450,7 +450,7 @@ def _advance(model, run, pos, vel, contacts, retired, tracking, ground, n_steps,
 
         world_geometry(pos, local_x, local_y, normal_x, normal_y, vstart, wx, wy, wnx, wny)
         bounding_boxes(wx, wy, vstart, lo_x, hi_x, lo_y, hi_y)
-        if _needs_relist(pos, radius, built_at, half_skin):
+        if needs_relist(pos, radius, built_at, half_skin):
             candidates = candidate_keys(lo_x, hi_x, lo_y, hi_y, half_skin)
             contacts, retired = relist(bodies, law, model.interface_keys, contacts, retired, candidates)
             ids, constants, memory, forces = contacts.ids, contacts.constants, contacts.memory, contacts.forces
@@ -492,7 +492,7 @@ def _advance(model, run, pos, vel, contacts, retired, tracking, ground, n_steps,
     return STATUS_OK, 0, 0, contacts, retired
 
 
-def _renamed(function, name):
+def renamed(function, name):
     """``function`` under another name.  Numba's on-disk cache files a kernel by its name, line and bytecode,
     not by its compile options: two dispatchers of one function, serial and parallel, under one name would
     load each other's machine code, so each gets a name of its own."""
@@ -513,8 +513,8 @@ def _engine_digest() -> str:
     return digest.hexdigest()[:10]
 
 
-_DIGEST = _engine_digest()
+ENGINE_DIGEST = _engine_digest()
 #: the stepping kernel, serial
-advance = nb.njit(cache=True)(_renamed(_advance, f"_advance_{_DIGEST}"))
+advance = nb.njit(cache=True)(renamed(_advance, f"_advance_{ENGINE_DIGEST}"))
 #: the same kernel with the pair loop and the gather spread over numba's threads
-advance_parallel = nb.njit(cache=True, parallel=True)(_renamed(_advance, f"_advance_parallel_{_DIGEST}"))
+advance_parallel = nb.njit(cache=True, parallel=True)(renamed(_advance, f"_advance_parallel_{ENGINE_DIGEST}"))

@@ -70,6 +70,7 @@ class Law(NamedTuple):
     coefficient, friction_values : (k,) those coefficients.
     max_penetration : fraction of the smaller block's size (corner law) or area (overlap law) past
     which a contact means the run has lost stability.  skin : m, the broad phase's margin.
+    restitution : Newton's coefficient of the Moreau-Jean integrator's impacts (0 unless given: plastic).
     """
 
     law: int
@@ -86,6 +87,7 @@ class Law(NamedTuple):
     friction_values: np.ndarray
     max_penetration: float
     skin: float
+    restitution: float
 
 
 class Stacks(NamedTuple):
@@ -192,7 +194,8 @@ def compile_law(scene, bodies: Bodies) -> Law:
         friction_keys=np.array([k for k, _ in overrides], np.int64),
         friction_values=np.array([mu for _, mu in overrides], float),
         max_penetration=MAX_PENETRATION_FRACTION if p.law == "corner" else MAX_OVERLAP_FRACTION,
-        skin=SKIN_FRACTION * float(bodies.size[1:].min()))
+        skin=SKIN_FRACTION * float(bodies.size[1:].min()),
+        restitution=0.0 if p.restitution is None else float(p.restitution))
 
 
 def compile_stacks(scene, stacks=None) -> Stacks:

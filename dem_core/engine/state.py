@@ -17,7 +17,9 @@ PAIR_I, PAIR_J, PAIR_KEY, PAIR_INTERFACE = range(4)
 K_N, C_N, K_T, C_T, C_R, MU = range(6)
 #: columns of Contacts.memory (int64) and Contacts.forces (float)
 REFERENCE, POINT_KEY = 0, 1  # POINT_KEY and POINT_KEY + 1: the two points' feature keys
-POINT_FORCE, SLIP = 0, 2  # POINT_FORCE and POINT_FORCE + 1: their tangential springs' force
+#: POINT_FORCE and POINT_FORCE + 1: the points' tangential spring force (explicit) or impulse (Moreau-Jean);
+#: IMPULSE_N and IMPULSE_N + 1: their normal impulses (Moreau-Jean)
+POINT_FORCE, SLIP, IMPULSE_N = 0, 2, 3
 
 
 class Contacts(NamedTuple):
@@ -31,8 +33,9 @@ class Contacts(NamedTuple):
         :func:`~dem_core.engine._contact_law.pair_parameters`) and mu.
     memory : (cap, 3) int64: last step's reference face code (corner law, -1 if none) and the feature
         keys of the contact points (-1: empty).
-    forces : (cap, 3): the points' tangential springs' force along the reference face (N), and the
-        slip (m) accumulated by a pair that is not a recorded interface.
+    forces : (cap, 5): the points' tangential springs' force along the reference face (N; the explicit
+        integrator) or their tangential impulses (N s; Moreau-Jean), the slip (m) accumulated by a pair that is
+        not a recorded interface, and the points' normal impulses (N s; Moreau-Jean).
     count : (1,) int64.
     """
 
@@ -60,7 +63,8 @@ class Tracking(NamedTuple):
     interface_slip : (n_if,) m, slip accumulated at each recorded interface.
     built_at : (nb, 3) positions when the candidate pairs were last listed.
     ledger : (3,) J, the mechanical energy at the start, the ground's net work and its gross work.
-    counters : (4,) int64: steps done, narrow-phase tests, broad-phase rebuilds, outputs written.
+    counters : (6,) int64: steps done, narrow-phase tests (contact points solved, Moreau-Jean), broad-phase
+        rebuilds, outputs written, Gauss-Seidel sweeps and steps whose solve ended unconverged (Moreau-Jean).
     """
 
     peak_theta: np.ndarray
@@ -72,13 +76,14 @@ class Tracking(NamedTuple):
     counters: np.ndarray
 
 
-STEP, NARROW, REBUILDS, OUTPUTS = range(4)
+STEP, NARROW, REBUILDS, OUTPUTS, SOLVER_SWEEPS, UNCONVERGED = range(6)
 
 
 @dataclass
 class State:
     """pos : (nb, 3) x, y, theta of each centre of mass (m, rad) at the current step; vel : (nb, 3)
-    velocities at the half step before it (central differences); contacts, retired, tracking as above.
+    velocities at the half step before it (central differences) or at the step (Moreau-Jean); contacts,
+    retired, tracking as above.
     The base (body 0) is placed by the ground motion."""
 
     pos: np.ndarray
@@ -96,7 +101,7 @@ class State:
 def empty_contacts(capacity):
     """A contact store for ``capacity`` pairs with none listed."""
     return Contacts(np.full((capacity, 4), -1, np.int64), np.zeros((capacity, 6)),
-                    np.full((capacity, 3), -1, np.int64), np.zeros((capacity, 3)), np.zeros(1, np.int64))
+                    np.full((capacity, 3), -1, np.int64), np.zeros((capacity, 5)), np.zeros(1, np.int64))
 
 
 def initial_state(model) -> State:
@@ -110,6 +115,6 @@ def initial_state(model) -> State:
         peak_theta=np.abs(b.angle0).copy(), overturn_step=np.full(nb, -1, np.int64),
         stack_step=np.full(len(model.stacks.bottom), -1, np.int64),
         interface_slip=np.zeros(len(model.interface_keys)), built_at=np.full((nb, 3), np.inf),
-        ledger=np.zeros(3), counters=np.zeros(4, np.int64))
+        ledger=np.zeros(3), counters=np.zeros(6, np.int64))
     return State(pos, vel, empty_contacts(1),
                  Retired(np.zeros(nb, np.int64), np.zeros(nb), np.zeros(1, np.int64)), tracking)

@@ -33,6 +33,9 @@ class Component:
 
     #: natural end of the motion (s); a simulation without a duration runs this long.
     end_time: float = np.inf
+    #: the shortest time over which the motion changes (s): a harmonic's period, a pulse's duration; inf for
+    #: motions that set none (a record's samples are integrated exactly, whatever the step)
+    time_scale: float = np.inf
 
     def acceleration(self, t):
         raise NotImplementedError
@@ -76,6 +79,10 @@ class Harmonic(Component):
     def _omega(self):
         return 2.0 * np.pi * self.frequency
 
+    @property
+    def time_scale(self):
+        return 1.0 / self.frequency
+
     def displacement(self, t):
         return self.amplitude * np.sin(self._omega * np.asarray(t, dtype=float))
 
@@ -110,6 +117,10 @@ class Pulse(Component):
 
     @property
     def end_time(self):
+        return self.duration
+
+    @property
+    def time_scale(self):
         return self.duration
 
     def _parts(self, t):
@@ -291,6 +302,11 @@ class GroundMotion:
     @property
     def end_time(self) -> float:
         return max(self.horizontal.end_time, self.vertical.end_time)
+
+    @property
+    def time_scale(self) -> float:
+        """The shorter of the components' :attr:`Component.time_scale`, s."""
+        return min(self.horizontal.time_scale, self.vertical.time_scale)
 
     def acceleration(self, t):
         """``(a_x, a_y)`` at times ``t``, m/s^2."""
