@@ -77,6 +77,10 @@ MOREAU_SLOP = 1e-6
 MOREAU_SOLVER_TOLERANCE = 1e-6
 MOREAU_MAX_SWEEPS = 50
 MOREAU_PROJECTION_SWEEPS = 4
+#: a step is split where a point meets its face inside it, at most into this many parts, none shorter than
+#: MOREAU_SHORTEST_SUBSTEP of the step
+MOREAU_MAX_SUBSTEPS = 4
+MOREAU_SHORTEST_SUBSTEP = 0.02
 
 
 _PACKAGE = os.path.dirname(os.path.abspath(__file__))
@@ -160,6 +164,8 @@ class RunSettings(NamedTuple):
     solver_tolerance: float = MOREAU_SOLVER_TOLERANCE
     max_sweeps: int = MOREAU_MAX_SWEEPS
     projection_sweeps: int = MOREAU_PROJECTION_SWEEPS
+    max_substeps: int = MOREAU_MAX_SUBSTEPS
+    shortest_substep: float = MOREAU_SHORTEST_SUBSTEP
 
 
 class Simulation:

@@ -162,8 +162,8 @@ def collect_points(p, ids, constants, memory, forces, pos, vel, wx, wy, wnx, wny
         row[FRICTION] = constants[p, MU]
         row[GAP] = gap
         row[U0] = u_n
-        if gap > 0.0:  # the approach that closes the gap at the step's end, never a push apart
-            row[TARGET] = min(-(gap + h * (1.0 - theta) * u_n) / (theta * h), 0.0)
+        if gap > active_gap:  # apart: no constraint within the step, which ends before the point meets its face
+            row[TARGET] = -math.inf
         else:
             row[TARGET] = -restitution * min(u_n, 0.0)
         row[PN] = old_impulses[slot] if slot >= 0 else 0.0
@@ -176,6 +176,33 @@ def collect_points(p, ids, constants, memory, forces, pos, vel, wx, wy, wnx, wny
         ints[n, SLID] = 0
         n += 1
     return n
+
+
+@nb.njit(cache=True, inline="always")
+def forget_pair(p, memory, forces):
+    """Stage 2: pair ``p``'s contact memory cleared (its boxes are apart)."""
+    memory[p, :] = -1
+    forces[p, POINT_FORCE] = 0.0
+    forces[p, POINT_FORCE + 1] = 0.0
+    forces[p, IMPULSE_N] = 0.0
+    forces[p, IMPULSE_N + 1] = 0.0
+
+
+@nb.njit(cache=True, inline="always")
+def first_meeting(rows, n, remaining, active_gap, shortest):
+    """Stage 2: how long (s) to step so that no point apart by more than ``active_gap`` meets its face inside the
+    step: the earliest time a point's gap closes at its present approach, if that is within ``remaining`` and no
+    shorter than ``shortest``; else ``remaining``.  A step split there has each impact at its start, where
+    Newton's law meets the velocity of the instant, and the reactions of the points in contact act until then."""
+    tau = remaining
+    for c in range(n):
+        gap = rows[c, GAP]
+        u_n = rows[c, U0]
+        if gap > active_gap and u_n < 0.0:
+            meet = -gap / u_n
+            if meet < tau:
+                tau = meet
+    return max(tau, shortest) if tau < remaining else remaining
 
 
 @nb.njit(cache=True, inline="always")
@@ -193,7 +220,7 @@ def free_velocities(vel, inv_mass, load_x, load_y, base_vx, base_vy, h):
 @nb.njit(cache=True, inline="always")
 def solve_points(vel, inv_mass, inv_inertia, rows, ints, n, tolerance, max_sweeps):
     """Stage 4: projected Gauss-Seidel over the ``n`` points, starting from their warm-start impulses (applied to
-    ``vel`` first).  A sweep solves each point exactly with the others fixed (:func:`point_impulse`); the solve
+    ``vel`` first).  A sweep, forward and backward in turn, solves each point exactly with the others fixed (:func:`point_impulse`); the solve
     ends when no point's velocity moved by more than ``tolerance`` m/s in a sweep.  Returns ``(sweeps, largest
     change in the last sweep)``."""
     for c in range(n):
@@ -207,7 +234,8 @@ def solve_points(vel, inv_mass, inv_inertia, rows, ints, n, tolerance, max_sweep
     while sweeps < max_sweeps:
         sweeps += 1
         change = 0.0
-        for c in range(n):
+        for e in range(n):
+            c = e if sweeps % 2 == 1 else n - 1 - e  # forward, then backward: a stack's weight travels both ways
             row = rows[c]
             i = ints[c, INC]
             r = ints[c, REF]
@@ -390,51 +418,55 @@ def _advance(model, run, pos, vel, contacts, retired, tracking, ground, n_steps,
         if k == n_steps or step >= run.last_step:
             break
 
-        world_geometry(pos, local_x, local_y, normal_x, normal_y, vstart, wx, wy, wnx, wny)
-        bounding_boxes(wx, wy, vstart, lo_x, hi_x, lo_y, hi_y)
-        if needs_relist(pos, radius, built_at, half_skin):
-            candidates = candidate_keys(lo_x, hi_x, lo_y, hi_y, half_skin)
-            contacts, retired = relist(bodies, law, model.interface_keys, contacts, retired, candidates)
-            ids, constants, memory, forces = contacts.ids, contacts.constants, contacts.memory, contacts.forces
-            n_pairs = contacts.count[0]
-            points = np.empty((max(n_pairs, 1), 2, 3))
-            keys = np.empty((max(n_pairs, 1), 2), np.int64)
-            rows = np.empty((2 * max(n_pairs, 1), N_COLUMNS))
-            ints = np.empty((2 * max(n_pairs, 1), 6), np.int64)
-            built_at[:, :] = pos
-            counters[REBUILDS] += 1
-
-        n = 0
-        for p in range(n_pairs):
-            i = ids[p, PAIR_I]
-            j = ids[p, PAIR_J]
-            if (hi_x[i] + half_skin < lo_x[j] or hi_x[j] + half_skin < lo_x[i] or hi_y[i] + half_skin < lo_y[j]
-                    or hi_y[j] + half_skin < lo_y[i]):
-                memory[p, :] = -1
-                forces[p, POINT_FORCE] = 0.0
-                forces[p, POINT_FORCE + 1] = 0.0
-                forces[p, IMPULSE_N] = 0.0
-                forces[p, IMPULSE_N + 1] = 0.0
-                continue
-            n = collect_points(p, ids, constants, memory, forces, pos, vel, wx, wy, wnx, wny, vstart, inv_mass,
-                               inv_inertia, half_skin, active_gap, restitution, h, theta, points, keys, rows, ints, n)
-        counters[NARROW] += n
-
-        start_vel[:, :] = vel
-        load_x = ground[0, k]
-        load_y = ground[1, k]
-        free_velocities(vel, inv_mass, load_x, load_y - gravity, ground[4, k + 1], ground[5, k + 1], h)
-        sweeps, change = solve_points(vel, inv_mass, inv_inertia, rows, ints, n, tolerance, run.max_sweeps)
-        counters[SOLVER_SWEEPS] += sweeps
-        if change > tolerance:
-            counters[UNCONVERGED] += 1
-        integrate(pos, start_vel, vel, mid, h, theta)
-        project_positions(pos, mid, inv_mass, inv_inertia, rows, ints, n, h, slop, run.projection_sweeps,
-                          shift)
-        keep_impulses(rows, ints, n, forces, interface_slip, ids, base_impulse, vel, h)
-        reaction[0, 0] = base_impulse[0] / h
-        reaction[0, 1] = base_impulse[1] / h
-        ground_work(reaction, mid, mass, load_x, load_y, h, ledger)
+        remaining = h
+        for sub in range(run.max_substeps):
+            world_geometry(pos, local_x, local_y, normal_x, normal_y, vstart, wx, wy, wnx, wny)
+            bounding_boxes(wx, wy, vstart, lo_x, hi_x, lo_y, hi_y)
+            if needs_relist(pos, radius, built_at, half_skin):
+                candidates = candidate_keys(lo_x, hi_x, lo_y, hi_y, half_skin)
+                contacts, retired = relist(bodies, law, model.interface_keys, contacts, retired, candidates)
+                ids, constants, memory, forces = contacts.ids, contacts.constants, contacts.memory, contacts.forces
+                n_pairs = contacts.count[0]
+                points = np.empty((max(n_pairs, 1), 2, 3))
+                keys = np.empty((max(n_pairs, 1), 2), np.int64)
+                rows = np.empty((2 * max(n_pairs, 1), N_COLUMNS))
+                ints = np.empty((2 * max(n_pairs, 1), 6), np.int64)
+                built_at[:, :] = pos
+                counters[REBUILDS] += 1
+            n = 0
+            for p in range(n_pairs):
+                i = ids[p, PAIR_I]
+                j = ids[p, PAIR_J]
+                if (hi_x[i] + half_skin < lo_x[j] or hi_x[j] + half_skin < lo_x[i] or hi_y[i] + half_skin < lo_y[j]
+                        or hi_y[j] + half_skin < lo_y[i]):
+                    forget_pair(p, memory, forces)
+                    continue
+                n = collect_points(p, ids, constants, memory, forces, pos, vel, wx, wy, wnx, wny, vstart, inv_mass,
+                                   inv_inertia, half_skin, active_gap, restitution, remaining, theta, points, keys,
+                                   rows, ints, n)
+            counters[NARROW] += n
+            tau = remaining
+            if sub + 1 < run.max_substeps:
+                tau = first_meeting(rows, n, remaining, active_gap, run.shortest_substep * h)
+            start_vel[:, :] = vel
+            load_x = ground[0, k]
+            load_y = ground[1, k]
+            free_velocities(vel, inv_mass, load_x, load_y - gravity, ground[4, k + 1], ground[5, k + 1], tau)
+            sweeps, change = solve_points(vel, inv_mass, inv_inertia, rows, ints, n, tolerance * tau / h,
+                                          run.max_sweeps)
+            counters[SOLVER_SWEEPS] += sweeps
+            if change > tolerance * tau / h:
+                counters[UNCONVERGED] += 1
+            integrate(pos, start_vel, vel, mid, tau, theta)
+            project_positions(pos, mid, inv_mass, inv_inertia, rows, ints, n, tau, slop, run.projection_sweeps,
+                              shift)
+            keep_impulses(rows, ints, n, forces, interface_slip, ids, base_impulse, vel, tau)
+            reaction[0, 0] = base_impulse[0] / tau
+            reaction[0, 1] = base_impulse[1] / tau
+            ground_work(reaction, mid, mass, load_x, load_y, tau, ledger)
+            remaining -= tau
+            if remaining <= 0.0:
+                break
         counters[STEP] = step + 1
 
         status, b = check_bodies(pos, vel, radius, model.floor, run.speed_limit, peak_theta)
