@@ -14,6 +14,7 @@ from pathlib import Path
 from comparisons.benchmarks import (
     against_pymunk,
     calibrate_damping,
+    column_ensemble,
     scaling,
     stability_probe,
     stiffness_ensembles,
@@ -29,6 +30,7 @@ from comparisons.report.provenance import provenance
 #: subcommand: the module of :mod:`comparisons.benchmarks` that declares its options and runs it
 BENCHMARKS = {
     "against-pymunk": against_pymunk,
+    "column-ensemble": column_ensemble,
     "scaling": scaling,
     "sweep-throughput": sweep_throughput,
     "stability-probe": stability_probe,

@@ -669,9 +669,14 @@ def _print_run(run, result, setup: float) -> None:
     planned = run.settings.last_step * run.dt
     end = float(result.t[-1])
     early = f" of {planned:.4g} s" if end < planned - 1.5 * run.dt else ""
-    print(f"{info.get('contact_law', '?')} contact law, K_n = {info.get('kn', float('nan')):.3g} N/m^2; dt = "
-          f"{result.dt:.3g} s (stability limit {info.get('stability_limit_s', float('nan')):.3g} s), "
-          f"{info.get('steps')} steps")
+    if info.get("integrator") == "moreau":
+        print(f"Moreau-Jean integrator (theta {info.get('theta')}) on the {info.get('contact_law', '?')} law's "
+              f"points, rigid contacts; dt = {result.dt:.3g} s, {info.get('steps')} steps, "
+              f"{info.get('sweeps_per_step', float('nan')):.3g} Gauss-Seidel sweeps a step")
+    else:
+        print(f"{info.get('contact_law', '?')} contact law, K_n = {info.get('kn', float('nan')):.3g} N/m^2; dt = "
+              f"{result.dt:.3g} s (stability limit {info.get('stability_limit_s', float('nan')):.3g} s), "
+              f"{info.get('steps')} steps")
     print(f"simulated {end:.4g} s{early} in {run.run_time:.2f} s (setting up and compiling the engine: "
           f"{setup:.2f} s)")
 

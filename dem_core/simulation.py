@@ -73,9 +73,14 @@ MOREAU_TIME_FRACTION = 0.02
 MOREAU_ACTIVE_GAP = 1e-5
 MOREAU_SLOP = 1e-6
 #: Gauss-Seidel stops when no point's velocity changed by more than this fraction of g h in a sweep, or after
-#: MOREAU_MAX_SWEEPS sweeps; the position projection takes MOREAU_PROJECTION_SWEEPS
+#: MOREAU_MAX_SWEEPS sweeps.  A step whose last sweep still changed a velocity by more than MOREAU_SOLVER_FAILURE
+#: of g h is far from a solution of the contact problem (a stack's first step, an impact running through a
+#: column): it sweeps on, up to MOREAU_RESCUE_SWEEPS more, and the run stops if that does not bring the change
+#: below it.  The position projection takes MOREAU_PROJECTION_SWEEPS
 MOREAU_SOLVER_TOLERANCE = 1e-6
 MOREAU_MAX_SWEEPS = 50
+MOREAU_SOLVER_FAILURE = 0.1
+MOREAU_RESCUE_SWEEPS = 2000
 MOREAU_PROJECTION_SWEEPS = 4
 #: a step is split where a point meets its face inside it, at most into this many parts, none shorter than
 #: MOREAU_SHORTEST_SUBSTEP of the step
@@ -148,8 +153,8 @@ class RunSettings(NamedTuple):
     """What the kernels need of a run besides the model: dt (s), output ``stride`` (steps),
     ``last_step``, ``speed_limit`` (m/s), ``energy_tolerance`` and ``energy_scale`` (J) of the energy
     balance, ``stop_at_overturn``; for Moreau-Jean ``theta``, the index set's ``active_gap`` and the projection's
-    ``slop`` (fractions of the smallest block's size), the solver's ``solver_tolerance`` (fraction of g dt),
-    ``max_sweeps`` and ``projection_sweeps``."""
+    ``slop`` (fractions of the smallest block's size), the solver's ``solver_tolerance`` and ``solver_failure``
+    (fractions of g dt), ``max_sweeps``, ``rescue_sweeps`` and ``projection_sweeps``."""
 
     dt: float
     stride: int
@@ -163,6 +168,8 @@ class RunSettings(NamedTuple):
     slop: float = MOREAU_SLOP
     solver_tolerance: float = MOREAU_SOLVER_TOLERANCE
     max_sweeps: int = MOREAU_MAX_SWEEPS
+    solver_failure: float = MOREAU_SOLVER_FAILURE
+    rescue_sweeps: int = MOREAU_RESCUE_SWEEPS
     projection_sweeps: int = MOREAU_PROJECTION_SWEEPS
     max_substeps: int = MOREAU_MAX_SUBSTEPS
     shortest_substep: float = MOREAU_SHORTEST_SUBSTEP
@@ -420,6 +427,10 @@ class Simulation:
         elif status == _step.STATUS_ENERGY:
             what = (f"the blocks gained energy that neither gravity nor the ground supplied "
                     f"(more than {ENERGY_TOLERANCE:.0%} of the energy scale)")
+        elif status == _moreau.STATUS_UNCONVERGED:
+            what = (f"the contact solve did not converge at block '{bodies[i].name}': after "
+                    f"{self.settings.max_sweeps + self.settings.rescue_sweeps} Gauss-Seidel sweeps a velocity "
+                    f"still changed by more than {self.settings.solver_failure:g} g dt a sweep")
         elif LAWS[self.model.law.law] == "corner":
             what = (f"blocks '{bodies[i].name}' and '{bodies[j].name}' interpenetrate by more than "
                     f"{self.model.law.max_penetration:.0%} of the smaller block's size")
@@ -430,6 +441,8 @@ class Simulation:
             advice = f"{_extreme(self.excitation)}: check its units and scale before the time step"
         elif status == _step.STATUS_FELL_OFF:
             advice = "nothing after this time is physical"
+        elif self.integrator == "moreau":
+            advice = f"reduce dt below {dt:.4g} s"
         else:
             advice = f"reduce dt below {dt:.4g} s or check the contact parameters (kn = {self.model.law.kn:.3g})"
         last = out_t[-1] if len(out_t) else 0.0

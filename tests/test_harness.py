@@ -210,7 +210,7 @@ def test_report_opens_with_its_provenance_and_the_scoreboard(quick_report):
     body = page[page.index("<body>"):]
     assert re.match(r'<body>\s*<h1>[^<]+</h1>\s*<p class="prov">', body)
     assert body.index('<section id="scoreboard">') < body.index('<section id="verdicts">')
-    assert body.index('<section id="scoreboard">') < body.index("Five engines")
+    assert body.index('<section id="scoreboard">') < body.index("Six engines")
     recorded = provenance.recorded_digest(index.parent)
     assert recorded and f"sources digest <code>{recorded[:12]}</code>" in body
     board = body[body.index('<table class="score">'):body.index("</table>")]

@@ -1,7 +1,8 @@
 """Wall time and error of the native core against pymunk, measured in the same run.
 
 For every single-block case of :mod:`comparisons.cases.catalogue` and for the 8-drum column under 20 s of the
-1940 El Centro record: the native core at its automatic step (both contact laws) and pymunk at 1e-3 s,
+1940 El Centro record: the native core at its automatic step (both contact laws, and Moreau-Jean) and pymunk
+at 1e-3 s,
 interleaved so that all see the same machine, each timing the best of ``--repeats`` runs of the
 engine's own stepping (compile or build time apart).  Printed per case: the time step, the wall time,
 the case's primary error, and the ratio of the native core's time to pymunk's (below 1: faster).
@@ -21,7 +22,7 @@ import numpy as np
 import dem_core
 from adapters import pymunk_adapter
 from comparisons.cases.catalogue import all_cases
-from comparisons.harness.engines import NATIVE_LAWS, native_scene
+from comparisons.harness.engines import NATIVE_INTEGRATORS, NATIVE_LAWS, native_scene
 from dem_core import excitation, scenes
 
 PYMUNK_DT = 1e-3
@@ -40,7 +41,8 @@ def cold_compile_time() -> float:
 
 def _runners(scene, motion, duration, output_dt):
     runs = {engine: (lambda engine=engine: dem_core.simulate(native_scene(scene, engine), motion, duration=duration,
-                                                              output_dt=output_dt))
+                                                              output_dt=output_dt,
+                                                              integrator=NATIVE_INTEGRATORS[engine]))
             for engine in NATIVE_LAWS}
     runs["pymunk"] = lambda: pymunk_adapter.simulate(scene, motion, duration=duration, dt=PYMUNK_DT,
                                                      output_dt=output_dt)

@@ -14,8 +14,9 @@ the run and the reference agree, 1 when they do not).
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
 
-#: the engines the harness judges: the native core under each of its two contact laws, and the peers
-ENGINES = ("dem", "dem-overlap", "pymunk", "pybullet", "mujoco")
+#: the engines the harness judges: the native core under each of its two contact laws, its Moreau-Jean
+#: integrator, and the peers
+ENGINES = ("dem", "dem-overlap", "dem-moreau", "pymunk", "pybullet", "mujoco")
 
 #: relative errors below this count as exact: the rocking reference converges its peaks to 3e-7 alpha
 #: (``comparisons.references.rocking_equation.STEP_TIMES_P``), and no relative error here is asked to be finer

@@ -83,7 +83,7 @@ def finest_answers(rows: pd.DataFrame, measure: str) -> pd.DataFrame:
 
 
 def voters(engine: str, engines) -> list:
-    """The engines whose answers judge ``engine``: all others, and not the native core's other law."""
+    """The engines whose answers judge ``engine``: all others, and for a native engine none of the native core's."""
     family = set(NATIVE_LAWS) if engine in NATIVE_LAWS else {engine}
     return [e for e in engines if e not in family]
 

@@ -2,14 +2,16 @@
 
 * ``dem``: the native core with its default contact law (springs at the corners);
 * ``dem-overlap``: the native core with the thesis' overlap-area law;
+* ``dem-moreau``: the native core's Moreau-Jean integrator on the corner law's points (rigid contacts,
+  no stiffness);
 * ``pymunk``, ``pybullet``, ``mujoco``: the adapters of :mod:`adapters`.
 
 A native run replaces the scene's contact with its law's default parameters, with K_n multiplied by
 ``kn_factor`` when its settings ask for a stiffer contact (``{"kn_factor": 100}``), and stops at the
 first overturn, as :func:`dem_core.simulate` does by default.  Its step is a divisor N of the
-automatic step, labelled ``auto/N``: the step :func:`dem_core.simulate` picks when given none (the
-smaller of 0.8 of the stability limit and a fifteenth of the shortest impact, both for the contact
-it runs with) divided by N.  The other engines take a step in seconds and their own solver settings
+automatic step, labelled ``auto/N``: the step :func:`dem_core.simulate` picks when given none
+(explicit: the smaller of 0.8 of the stability limit and a fifteenth of the shortest impact, both for
+the contact it runs with; Moreau-Jean: :func:`dem_core.simulation.moreau_time_step`) divided by N.  The other engines take a step in seconds and their own solver settings
 (``{"iterations": 200}``).
 """
 
@@ -25,28 +27,33 @@ import dem_core
 from comparisons.cases.case import ENGINES
 
 #: the native core's engine names and the contact law each runs
-NATIVE_LAWS = {"dem": "corner", "dem-overlap": "overlap_area"}
+NATIVE_LAWS = {"dem": "corner", "dem-overlap": "overlap_area", "dem-moreau": "corner"}
+#: the native core's integrator under each of its engine names
+NATIVE_INTEGRATORS = {"dem": "explicit", "dem-overlap": "explicit", "dem-moreau": "moreau"}
 #: each engine's usual step: the native core's automatic one, 1e-3 s for the others (their defaults)
-USUAL_STEP = {"dem": 1, "dem-overlap": 1, "pymunk": 1e-3, "pybullet": 1e-3, "mujoco": 1e-3}
+USUAL_STEP = {"dem": 1, "dem-overlap": 1, "dem-moreau": 1, "pymunk": 1e-3, "pybullet": 1e-3, "mujoco": 1e-3}
 
 
 def is_native(engine: str) -> bool:
     return engine in NATIVE_LAWS
 
 
-def _refined(engine: str, kn_factor: float, step: float) -> tuple:
-    """(step, settings) of a refined run: the native core at its automatic step with K_n times
-    ``kn_factor``, the others at ``step`` s."""
-    return (1, {"kn_factor": kn_factor}) if is_native(engine) else (step, {})
+def _refined(engine: str, kn_factor: float, divisor: int, step: float) -> tuple:
+    """(step, settings) of a refined run: the explicit native core at its automatic step with K_n times
+    ``kn_factor``, Moreau-Jean (rigid, no K_n) at its automatic step over ``divisor``, the others at
+    ``step`` s."""
+    if NATIVE_INTEGRATORS.get(engine) == "explicit":
+        return 1, {"kn_factor": kn_factor}
+    return (divisor, {}) if is_native(engine) else (step, {})
 
 
 #: (step, settings) of each engine's finest run, and of the run next to it: the consensus of a
-#: multi-block scene is made of finest runs whose answer agrees with the next-finest one.  The native
-#: core's finest is its automatic step at 100 x K_n (a stiffer contact than any other run); the others'
-#: is their finest step (more solver iterations at that step take PyBullet three times as long, and
-#: moved none of the column's answers by more than the step did)
-FINEST = {engine: _refined(engine, kn_factor=100, step=2.5e-4) for engine in ENGINES}
-NEXT_FINEST = {engine: _refined(engine, kn_factor=10, step=5e-4) for engine in ENGINES}
+#: multi-block scene is made of finest runs whose answer agrees with the next-finest one.  The explicit
+#: native core's finest is its automatic step at 100 x K_n (a stiffer contact than any other run);
+#: Moreau-Jean's and the others' is their finest step (more solver iterations at that step take
+#: PyBullet three times as long, and moved none of the column's answers by more than the step did)
+FINEST = {engine: _refined(engine, kn_factor=100, divisor=4, step=2.5e-4) for engine in ENGINES}
+NEXT_FINEST = {engine: _refined(engine, kn_factor=10, divisor=2, step=5e-4) for engine in ENGINES}
 
 
 def native_scene(scene, engine: str, kn_factor: float = 1.0):
@@ -104,6 +111,7 @@ def run(scene, motion, duration: float, engine: str, step=None, settings: dict |
         scene = native_scene(scene, engine, settings.pop("kn_factor", 1.0))
         # a divisor of the automatic step, which the native core works out as it compiles the scene
         timing, name = {"dt": None, "step_fraction": 1.0 / step}, "dem"
+        settings["integrator"] = NATIVE_INTEGRATORS[engine]
     else:
         timing, name = {"dt": float(step)}, engine
     start = time.perf_counter()

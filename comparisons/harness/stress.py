@@ -30,11 +30,15 @@ from comparisons.cases import catalogue
 from dem_core import excitation, scenes, stability
 from dem_core.engine.model import compile_model
 
-ENGINES = ("dem", "pymunk", "pybullet", "mujoco")
+ENGINES = ("dem", "dem-moreau", "pymunk", "pybullet", "mujoco")
+#: engines that take a step in seconds (the explicit native core's steps are multiples of its stability limit)
+FIXED_STEP = ENGINES[1:]
 WRONG = 0.10  # relative error from which a finished run counts as silently wrong
 
 
 def _run(engine, scene, motion, duration, **kwargs):
+    if engine == "dem-moreau":
+        engine, kwargs = "dem", {**kwargs, "integrator": "moreau"}
     start = time.perf_counter()
     try:
         with warnings.catch_warnings():
@@ -55,11 +59,12 @@ def time_step_ladder(quick, progress):
         metric = case.primary or "max_slip"
         limit = stability.stability_limit(compile_model(case.scene()))
         ladders = {"dem": [(f"{f:g} x limit", f * limit) for f in (1.0, 1.25, 2.0, 3.0)]}
-        for engine in ENGINES[1:]:
+        for engine in FIXED_STEP:
             ladders[engine] = [(f"{dt:g} s", dt) for dt in (2e-3, 5e-3, 1e-2, 2e-2)]
         for engine, ladder in ladders.items():
             for label, dt in ladder:
-                extra = {"enforce_stability_limit": False, "stop_at_overturn": False} if engine == "dem" else {}
+                extra = ({"enforce_stability_limit": False, "stop_at_overturn": False} if engine == "dem"
+                         else {"stop_at_overturn": False} if engine == "dem-moreau" else {})
                 result, status, message, wall = _run(engine, case.scene(), case.motion(), case.duration, dt=dt,
                                                      output_dt=case.output_dt, **extra)
                 error = case.errors(result, reference)[metric] if status == "ok" else np.nan
@@ -113,7 +118,7 @@ def large_motion(quick, progress):
     rows = []
     motion = excitation.record("el_centro_1940", pga=10.0)
     for engine in tqdm(ENGINES, desc="very large motion", disable=not progress):
-        extra = {"stop_at_overturn": False} if engine == "dem" else {}
+        extra = {"stop_at_overturn": False} if engine.startswith("dem") else {}
         result, status, message, wall = _run(engine, scenes.column(8), motion, 8.0 if quick else 20.0, **extra)
         overturn = result.time_of_overturn if result is not None else np.nan
         rows.append({"test": "8-drum column, El Centro at 10 m/s^2", "engine": engine, "setting": "default dt",

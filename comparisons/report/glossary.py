@@ -111,6 +111,11 @@ def glossary() -> list:
         ("dem, dem-overlap",
          "the native core with its default corner contact law, and with the thesis' overlap-area law (the same "
          "scene with the law's default contact parameters)."),
+        ("dem-moreau",
+         "the native core's Moreau-Jean integrator (docs/method.md 1.8): the corner law's contact points as rigid "
+         "unilateral constraints with Coulomb friction, solved at the velocity level; its automatic step is 1e-3 s "
+         "or less where the motion or the scene is faster, and auto/N divides it. It has no K_n: its finest run "
+         "on the multi-block scenes is auto/4."),
         ("iterations",
          "solver settings of pymunk (30 instead of 10), PyBullet and MuJoCo (200 instead of 50 and 100), tried "
          "at 1e-3 s."),
@@ -140,7 +145,7 @@ def glossary() -> list:
         ("Consensus",
          f"the reference of a scene without a closed form: the median of the finest answers of the engines whose "
          f"finest and next-finest runs agree within {CONVERGED:.0%}, leaving out the engine judged (and, for the "
-         f"native core, both its laws). Its uncertainty is half the range of those engines' finest and "
+         f"native core, all its variants). Its uncertainty is half the range of those engines' finest and "
          f"next-finest answers; no reference exists when it exceeds {NO_REFERENCE_SPREAD:.0%}, when fewer than "
          "two other engines converged, or when they disagree about overturning."),
         ("Ensemble",

@@ -218,18 +218,24 @@ def free_velocities(vel, inv_mass, load_x, load_y, base_vx, base_vy, h):
 
 
 @nb.njit(cache=True, inline="always")
-def solve_points(vel, inv_mass, inv_inertia, rows, ints, n, tolerance, max_sweeps):
-    """Stage 4: projected Gauss-Seidel over the ``n`` points, starting from their warm-start impulses (applied to
-    ``vel`` first).  A sweep, forward and backward in turn, solves each point exactly with the others fixed (:func:`point_impulse`); the solve
-    ends when no point's velocity moved by more than ``tolerance`` m/s in a sweep.  Returns ``(sweeps, largest
-    change in the last sweep)``."""
+def warm_start(vel, inv_mass, inv_inertia, rows, ints, n):
+    """Stage 4: the ``n`` points' warm-start impulses applied to ``vel``."""
     for c in range(n):
         row = rows[c]
         nx = row[NX]
         ny = row[NY]
         apply_impulse(vel, inv_mass, inv_inertia, ints[c, INC], ints[c, REF], row[RIX], row[RIY], row[RRX], row[RRY],
                       row[PN] * nx - row[PT] * ny, row[PN] * ny + row[PT] * nx)
+
+
+@nb.njit(cache=True, inline="always")
+def solve_points(vel, inv_mass, inv_inertia, rows, ints, n, tolerance, max_sweeps):
+    """Stage 4: projected Gauss-Seidel over the ``n`` points from their present impulses (already in ``vel``).  A
+    sweep, forward and backward in turn, solves each point exactly with the others fixed (:func:`point_impulse`);
+    the solve ends when no point's velocity moved by more than ``tolerance`` m/s in a sweep.  Returns ``(sweeps,
+    largest change in the last sweep (m/s), the incident block of the point that changed most)``."""
     change = 0.0
+    worst = 0
     sweeps = 0
     while sweeps < max_sweeps:
         sweeps += 1
@@ -254,13 +260,16 @@ def solve_points(vel, inv_mass, inv_inertia, rows, ints, n, tolerance, max_sweep
             if dn != 0.0 or dt_ != 0.0:
                 apply_impulse(vel, inv_mass, inv_inertia, i, r, row[RIX], row[RIY], row[RRX], row[RRY],
                               dn * nx - dt_ * ny, dn * ny + dt_ * nx)
-                change = max(change, abs(wnn * dn + wnt * dt_), abs(wnt * dn + wtt * dt_))
+                moved = max(abs(wnn * dn + wnt * dt_), abs(wnt * dn + wtt * dt_))
+                if moved > change:
+                    change = moved
+                    worst = i
             row[PN] = pn
             row[PT] = pt
             ints[c, SLID] = 1 if slid else 0
         if change <= tolerance:
             break
-    return sweeps, change
+    return sweeps, change, worst
 
 
 @nb.njit(cache=True, inline="always")
@@ -452,11 +461,20 @@ def _advance(model, run, pos, vel, contacts, retired, tracking, ground, n_steps,
             load_x = ground[0, k]
             load_y = ground[1, k]
             free_velocities(vel, inv_mass, load_x, load_y - gravity, ground[4, k + 1], ground[5, k + 1], tau)
-            sweeps, change = solve_points(vel, inv_mass, inv_inertia, rows, ints, n, tolerance * tau / h,
-                                          run.max_sweeps)
-            counters[SOLVER_SWEEPS] += sweeps
+            warm_start(vel, inv_mass, inv_inertia, rows, ints, n)
+            sweeps, change, worst = solve_points(vel, inv_mass, inv_inertia, rows, ints, n, tolerance * tau / h,
+                                                 run.max_sweeps)
             if change > tolerance * tau / h:
                 counters[UNCONVERGED] += 1
+                failure = run.solver_failure * gravity * tau
+                if change > failure:  # far from a solution: sweep on, and stop the run if that does not get there
+                    more, change, worst = solve_points(vel, inv_mass, inv_inertia, rows, ints, n, failure,
+                                                       run.rescue_sweeps)
+                    sweeps += more
+                    if change > failure:
+                        counters[SOLVER_SWEEPS] += sweeps
+                        return STATUS_UNCONVERGED, worst, worst, contacts, retired
+            counters[SOLVER_SWEEPS] += sweeps
             integrate(pos, start_vel, vel, mid, tau, theta)
             project_positions(pos, mid, inv_mass, inv_inertia, rows, ints, n, tau, slop, run.projection_sweeps,
                               shift)

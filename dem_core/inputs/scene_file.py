@@ -160,7 +160,7 @@ EXCITATION_TYPES = {
     "frequency": NUMBER, "vertical_amplitude": NUMBER, "duration": NUMBER, "rate": NUMBER, "peak": NUMBER,
 }
 SIMULATION_TYPES = {"duration": NUMBER, "dt": NUMBER, "output_dt": NUMBER, "ground_motion": STRING,
-                    "safety": NUMBER, "stop_at_overturn": BOOLEAN}
+                    "safety": NUMBER, "stop_at_overturn": BOOLEAN, "integrator": STRING, "theta": NUMBER}
 OUTPUT_TYPES = {"format": STRING, "plots": BOOLEAN}
 BLOCK_TYPES = {"name": STRING, "vertices": POINTS, "density": NUMBER, "friction": NUMBER, "depth": NUMBER,
                "angle": NUMBER}
