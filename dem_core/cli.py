@@ -672,6 +672,7 @@ def _print_run(run, result, setup: float) -> None:
     if info.get("integrator") == "moreau":
         print(f"Moreau-Jean integrator (theta {info.get('theta')}) on the {info.get('contact_law', '?')} law's "
               f"points, rigid contacts; dt = {result.dt:.3g} s, {info.get('steps')} steps, "
+              f"{info.get('status_passes_per_step', float('nan')):.3g} direct solves and "
               f"{info.get('sweeps_per_step', float('nan')):.3g} Gauss-Seidel sweeps a step")
     else:
         print(f"{info.get('contact_law', '?')} contact law, K_n = {info.get('kn', float('nan')):.3g} N/m^2; dt = "

@@ -29,7 +29,8 @@ from .engine.contact import LAWS
 from .engine.model import Model, compile_model, interface_pairs
 from .engine.result import Result
 from .engine.stacks import columns, find_stacks
-from .engine.state import NARROW, OUTPUTS, PAIR_KEY, REBUILDS, SLIP, SOLVER_SWEEPS, UNCONVERGED, State, initial_state
+from .engine.state import (NARROW, OUTPUTS, PAIR_KEY, REBUILDS, SLIP, SOLVER_SWEEPS, STATUS_FALLBACKS, STATUS_PASSES,
+                           UNCONVERGED, State, initial_state)
 from .inputs.excitation import GroundMotion, still
 from .inputs.records import G_STANDARD
 from .inputs.scene import Scene
@@ -82,6 +83,8 @@ MOREAU_MAX_SWEEPS = 50
 MOREAU_SOLVER_FAILURE = 0.1
 MOREAU_RESCUE_SWEEPS = 2000
 MOREAU_PROJECTION_SWEEPS = 4
+#: passes of the direct solve by statuses before Gauss-Seidel (engine/_active_set.py; 0: Gauss-Seidel alone)
+MOREAU_STATUS_PASSES = 8
 #: a step is split where a point meets its face inside it, at most into this many parts, none shorter than
 #: MOREAU_SHORTEST_SUBSTEP of the step
 MOREAU_MAX_SUBSTEPS = 4
@@ -154,7 +157,7 @@ class RunSettings(NamedTuple):
     ``last_step``, ``speed_limit`` (m/s), ``energy_tolerance`` and ``energy_scale`` (J) of the energy
     balance, ``stop_at_overturn``; for Moreau-Jean ``theta``, the index set's ``active_gap`` and the projection's
     ``slop`` (fractions of the smallest block's size), the solver's ``solver_tolerance`` and ``solver_failure``
-    (fractions of g dt), ``max_sweeps``, ``rescue_sweeps`` and ``projection_sweeps``."""
+    (fractions of g dt), ``max_sweeps``, ``rescue_sweeps`` and ``projection_sweeps``, and the direct solve's ``status_passes``."""
 
     dt: float
     stride: int
@@ -171,6 +174,7 @@ class RunSettings(NamedTuple):
     solver_failure: float = MOREAU_SOLVER_FAILURE
     rescue_sweeps: int = MOREAU_RESCUE_SWEEPS
     projection_sweeps: int = MOREAU_PROJECTION_SWEEPS
+    status_passes: int = MOREAU_STATUS_PASSES
     max_substeps: int = MOREAU_MAX_SUBSTEPS
     shortest_substep: float = MOREAU_SHORTEST_SUBSTEP
 
@@ -369,6 +373,8 @@ class Simulation:
             info["theta"] = self.settings.theta
             info["sweeps_per_step"] = int(tracking.counters[SOLVER_SWEEPS]) / max(step, 1)
             info["unconverged_steps"] = int(tracking.counters[UNCONVERGED])
+            info["status_passes_per_step"] = int(tracking.counters[STATUS_PASSES]) / max(step, 1)
+            info["status_fallbacks"] = int(tracking.counters[STATUS_FALLBACKS])
         if dt > self.limit:
             info["beyond_stability_limit"] = (f"dt = {dt:.4g} s is {dt / self.limit:.2f} times the stability limit "
                                               f"{self.limit:.4g} s: the scheme is unstable there and the result may be "

@@ -17,14 +17,17 @@ touching or close within the step) the impulses ``P = (P_n, P_t)`` obey
 * Coulomb's law on the exact 2D cone: ``|P_t| <= mu P_n``, ``u_t+ = 0`` while inside, and ``P_t = -mu P_n
   sign(u_t+)`` while sliding.
 
-The points are solved by projected Gauss-Seidel, each point's 2 x 2 problem exactly (:func:`point_impulse`),
-warm-started from the last step's impulses under the points' feature keys (the keys that carry the explicit
-law's tangential springs).  A point left inside its face by the step is pushed out at the position level
+The points are solved directly, by statuses (open, sticking, sliding: :mod:`._active_set`), from the last step's
+impulses under the points' feature keys (the keys that carry the explicit law's tangential springs), and then by
+projected Gauss-Seidel, each point's 2 x 2 problem exactly (:func:`point_impulse`), which checks the direct
+solution in one sweep or finishes the solve where the statuses did not settle.  A point left inside its face by the step is pushed out at the position level
 (:func:`project_positions`): positions move, velocities do not, so the correction adds no kinetic energy.
 
 Stages per step: :func:`~._step.place_base` and the outputs; the world geometry, boxes and candidate list
-(shared with the explicit kernel); :func:`collect_points` (the manifold of every candidate pair, the index
-set and each point's Delassus block); :func:`free_velocities`; :func:`solve_points`; :func:`integrate`;
+(shared with the explicit kernel; on a new list the pairs' order, :func:`._active_set.pair_order`);
+:func:`collect_points` (the manifold of every candidate pair, the index set and each point's Delassus block);
+:func:`free_velocities`; :func:`warm_start`; :func:`._active_set.solve_statuses`; :func:`solve_points`;
+:func:`integrate`;
 :func:`project_positions`; the ground's work; the checks of the explicit kernel (non-finite, runaway, fell
 off, overturns, energy).
 """
@@ -34,57 +37,20 @@ import math
 import numba as nb
 import numpy as np
 
+from ._active_set import pair_order, solve_statuses, workspace
 from ._broadphase import bounding_boxes, candidate_keys, relist
 from ._checks import mark_overturns
 from ._manifold import FACE_BITS, corner_manifold
 from ._step import (STATUS_ENERGY, STATUS_OK, STATUS_OVERTURNED, ENERGY_CHECK_INTERVAL, needs_relist, renamed,
                     ENGINE_DIGEST, check_bodies, energy_gained, ground_work, output_due, place_base, world_geometry,
                     write_output)
+from ._points import (FRICTION, GAP, INC, KEY, N_COLUMNS, NX, NY, PAIR, PN, PT, REF, RIX, RIY, RRX, RRY, SLID, SLOT,
+                      TARGET, U0, WNN, WNT, WTT, apply_impulse, delassus, relative_velocity)
 from .state import (IMPULSE_N, MU, NARROW, OUTPUTS, PAIR_I, PAIR_INTERFACE, PAIR_J, POINT_FORCE, POINT_KEY,
-                    REBUILDS, REFERENCE, SLIP, STEP, SOLVER_SWEEPS, UNCONVERGED)
+                    REBUILDS, REFERENCE, SLIP, STATUS_FALLBACKS, STATUS_PASSES, STEP, SOLVER_SWEEPS,
+                    UNCONVERGED)
 
 STATUS_UNCONVERGED = 7
-
-#: columns of the per-point rows: the normal (reference face's, into the incident body), the lever arms from the
-#: incident and reference bodies' centres of mass, the Delassus block (1/kg), mu, the gap (m), the normal target
-#: velocity (m/s), the normal velocity at the step's start (m/s), and the impulses (N s)
-NX, NY, RIX, RIY, RRX, RRY, WNN, WNT, WTT, FRICTION, GAP, TARGET, U0, PN, PT = range(15)
-N_COLUMNS = 15
-#: columns of the per-point integers: incident body, reference body, pair, slot (0 or 1) within the pair,
-#: feature key, whether the point slid in the last sweep
-INC, REF, PAIR, SLOT, KEY, SLID = range(6)
-
-
-@nb.njit(cache=True, inline="always")
-def delassus(ax, ay, bx, by, rix, riy, im_i, ii_i, rrx, rry, im_r, ii_r):
-    """``a . W b`` (1/kg) for the incident and reference bodies: the velocity change along a at the point per unit
-    impulse along b (applied positively on the incident body and negatively on the reference)."""
-    ca_i = rix * ay - riy * ax
-    cb_i = rix * by - riy * bx
-    ca_r = rrx * ay - rry * ax
-    cb_r = rrx * by - rry * bx
-    dot = ax * bx + ay * by
-    return (im_i + im_r) * dot + ii_i * ca_i * cb_i + ii_r * ca_r * cb_r
-
-
-@nb.njit(cache=True, inline="always")
-def relative_velocity(vel, i, r, rix, riy, rrx, rry, nx, ny):
-    """``(u_n, u_t)`` m/s: the incident body's material point relative to the reference body's, along the normal
-    and along ``t = (-n_y, n_x)``."""
-    vx = (vel[i, 0] - vel[i, 2] * riy) - (vel[r, 0] - vel[r, 2] * rry)
-    vy = (vel[i, 1] + vel[i, 2] * rix) - (vel[r, 1] + vel[r, 2] * rrx)
-    return vx * nx + vy * ny, -vx * ny + vy * nx
-
-
-@nb.njit(cache=True, inline="always")
-def apply_impulse(vel, inv_mass, inv_inertia, i, r, rix, riy, rrx, rry, px, py):
-    """Velocity changes of an impulse (px, py) N s on the incident body ``i`` and its opposite on ``r``."""
-    vel[i, 0] += inv_mass[i] * px
-    vel[i, 1] += inv_mass[i] * py
-    vel[i, 2] += inv_inertia[i] * (rix * py - riy * px)
-    vel[r, 0] -= inv_mass[r] * px
-    vel[r, 1] -= inv_mass[r] * py
-    vel[r, 2] -= inv_inertia[r] * (rrx * py - rry * px)
 
 
 @nb.njit(cache=True, inline="always")
@@ -179,6 +145,15 @@ def collect_points(p, ids, constants, memory, forces, pos, vel, wx, wy, wnx, wny
 
 
 @nb.njit(cache=True, inline="always")
+def point_buffers(n_pairs, n_bodies):
+    """Per candidate pair its manifold's points (x, y, depth) and feature keys, and for the index set (two points a
+    pair at most) the point rows of :mod:`._points` and the scratch of :func:`._active_set.solve_statuses`."""
+    size = max(n_pairs, 1)
+    return (np.empty((size, 2, 3)), np.empty((size, 2), np.int64), np.empty((2 * size, N_COLUMNS)),
+            np.empty((2 * size, 6), np.int64), workspace(2 * size, n_bodies))
+
+
+@nb.njit(cache=True, inline="always")
 def forget_pair(p, memory, forces):
     """Stage 2: pair ``p``'s contact memory cleared (its boxes are apart)."""
     memory[p, :] = -1
@@ -233,9 +208,10 @@ def solve_points(vel, inv_mass, inv_inertia, rows, ints, n, tolerance, max_sweep
     """Stage 4: projected Gauss-Seidel over the ``n`` points from their present impulses (already in ``vel``).  A
     sweep, forward and backward in turn, solves each point exactly with the others fixed (:func:`point_impulse`);
     the solve ends when no point's velocity moved by more than ``tolerance`` m/s in a sweep.  Returns ``(sweeps,
-    largest change in the last sweep (m/s), the incident block of the point that changed most)``."""
-    change = 0.0
-    worst = 0
+    largest change in the last sweep (m/s; infinite if ``max_sweeps`` is 0 and there are points), the incident
+    block of the point that changed most)``."""
+    change = math.inf if n > 0 else 0.0  # without a sweep, no measure of convergence
+    worst = ints[0, INC] if n > 0 else 0
     sweeps = 0
     while sweeps < max_sweeps:
         sweeps += 1
@@ -414,10 +390,8 @@ def _advance(model, run, pos, vel, contacts, retired, tracking, ground, n_steps,
     restitution = law.restitution
     ids, constants, memory, forces = contacts.ids, contacts.constants, contacts.memory, contacts.forces
     n_pairs = contacts.count[0]
-    points = np.empty((max(n_pairs, 1), 2, 3))
-    keys = np.empty((max(n_pairs, 1), 2), np.int64)
-    rows = np.empty((2 * max(n_pairs, 1), N_COLUMNS))
-    ints = np.empty((2 * max(n_pairs, 1), 6), np.int64)
+    points, keys, rows, ints, work = point_buffers(n_pairs, nb_)
+    order = pair_order(ids, n_pairs, inv_mass)
 
     for k in range(n_steps + 1):
         place_base(pos, vel, ground, k)
@@ -436,14 +410,13 @@ def _advance(model, run, pos, vel, contacts, retired, tracking, ground, n_steps,
                 contacts, retired = relist(bodies, law, model.interface_keys, contacts, retired, candidates)
                 ids, constants, memory, forces = contacts.ids, contacts.constants, contacts.memory, contacts.forces
                 n_pairs = contacts.count[0]
-                points = np.empty((max(n_pairs, 1), 2, 3))
-                keys = np.empty((max(n_pairs, 1), 2), np.int64)
-                rows = np.empty((2 * max(n_pairs, 1), N_COLUMNS))
-                ints = np.empty((2 * max(n_pairs, 1), 6), np.int64)
+                points, keys, rows, ints, work = point_buffers(n_pairs, nb_)
+                order = pair_order(ids, n_pairs, inv_mass)
                 built_at[:, :] = pos
                 counters[REBUILDS] += 1
             n = 0
-            for p in range(n_pairs):
+            for e in range(n_pairs):
+                p = order[e]
                 i = ids[p, PAIR_I]
                 j = ids[p, PAIR_J]
                 if (hi_x[i] + half_skin < lo_x[j] or hi_x[j] + half_skin < lo_x[i] or hi_y[i] + half_skin < lo_y[j]
@@ -462,6 +435,10 @@ def _advance(model, run, pos, vel, contacts, retired, tracking, ground, n_steps,
             load_y = ground[1, k]
             free_velocities(vel, inv_mass, load_x, load_y - gravity, ground[4, k + 1], ground[5, k + 1], tau)
             warm_start(vel, inv_mass, inv_inertia, rows, ints, n)
+            held, passes = solve_statuses(vel, inv_mass, inv_inertia, rows, ints, n, tolerance * tau / h,
+                                          run.status_passes, work)
+            counters[STATUS_PASSES] += passes
+            counters[STATUS_FALLBACKS] += passes > 0 and not held
             sweeps, change, worst = solve_points(vel, inv_mass, inv_inertia, rows, ints, n, tolerance * tau / h,
                                                  run.max_sweeps)
             if change > tolerance * tau / h:

@@ -76,7 +76,7 @@ class Tracking(NamedTuple):
     counters: np.ndarray
 
 
-STEP, NARROW, REBUILDS, OUTPUTS, SOLVER_SWEEPS, UNCONVERGED = range(6)
+STEP, NARROW, REBUILDS, OUTPUTS, SOLVER_SWEEPS, UNCONVERGED, STATUS_PASSES, STATUS_FALLBACKS = range(8)
 
 
 @dataclass
@@ -115,6 +115,6 @@ def initial_state(model) -> State:
         peak_theta=np.abs(b.angle0).copy(), overturn_step=np.full(nb, -1, np.int64),
         stack_step=np.full(len(model.stacks.bottom), -1, np.int64),
         interface_slip=np.zeros(len(model.interface_keys)), built_at=np.full((nb, 3), np.inf),
-        ledger=np.zeros(3), counters=np.zeros(6, np.int64))
+        ledger=np.zeros(3), counters=np.zeros(8, np.int64))
     return State(pos, vel, empty_contacts(1),
                  Retired(np.zeros(nb, np.int64), np.zeros(nb), np.zeros(1, np.int64)), tracking)
