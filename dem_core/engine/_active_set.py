@@ -142,7 +142,9 @@ def delassus_band(ints, inv_mass, n, width, jac, resp, delassus):
     """The ``n`` points' Delassus matrix ``W`` (1/kg) in band storage, ``delassus[u, v - u + HALF_BAND]`` the
     velocity change of unknown ``u``'s row per unit impulse of unknown ``v``: per pair of points the 2 x 2 block
     summed over the movable blocks they share."""
-    delassus[:2 * n, :] = 0.0
+    for u in range(2 * n):
+        for k in range(HALF_BAND - width, HALF_BAND + width + 1):
+            delassus[u, k] = 0.0
     reach = (width + 1) // 2
     for c in range(n):
         for d in range(max(0, c - reach), min(n, c + reach + 1)):
@@ -169,30 +171,30 @@ def assemble(status, rows, velocity, delassus, n, width, band, rhs):
 
     status (n,) per point; velocity (2n,) the present ``(u_n, u_t)`` per point (m/s); delassus the points'
     Delassus matrix (:func:`delassus_band`)."""
+    lo = HALF_BAND - width
+    hi = HALF_BAND + width + 1
     for c in range(n):
         row = rows[c]
         s = status[c]
         un = 2 * c
         ut = un + 1
+        for k in range(lo, hi):
+            band[un, k] = 0.0 if s == OPEN else delassus[un, k]
+            band[ut, k] = delassus[ut, k] if s == STICK else 0.0
         if s == OPEN:
-            band[un, :] = 0.0
             band[un, HALF_BAND] = 1.0
             rhs[un] = -row[PN]
         else:
-            band[un, :] = delassus[un, :]
             band[un, HALF_BAND] *= 1.0 + REGULARISATION
             rhs[un] = row[TARGET] - velocity[un] - REGULARISATION * delassus[un, HALF_BAND] * row[PN]
         if s == STICK:
-            band[ut, :] = delassus[ut, :]
             band[ut, HALF_BAND] *= 1.0 + REGULARISATION
             rhs[ut] = -velocity[ut] - REGULARISATION * delassus[ut, HALF_BAND] * row[PT]
         elif s == OPEN:
-            band[ut, :] = 0.0
             band[ut, HALF_BAND] = 1.0
             rhs[ut] = -row[PT]
         else:
             sign = 1.0 if s == SLIDE_UP else -1.0
-            band[ut, :] = 0.0
             band[ut, HALF_BAND] = 1.0
             band[ut, HALF_BAND - 1] = -sign * row[FRICTION]
             rhs[ut] = sign * row[FRICTION] * row[PN] - row[PT]
