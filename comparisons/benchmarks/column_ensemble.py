@@ -87,12 +87,11 @@ def run(args: argparse.Namespace) -> None:
               f"time / pymunk {np.median(times) / pymunk_time:5.2f}, overturned in "
               f"{sum(table[m][label][1] for m in members)} of {len(members)}")
     print()
+    floor = ROCKING_FLOOR * np.arctan(WIDTH / HEIGHT)
     for a, b in PAIRS:
-        floor = ROCKING_FLOOR * np.arctan(WIDTH / HEIGHT)
         standing = [m for m in members if not table[m][a][1] and not table[m][b][1] and table[m][b][0] >= floor]
         logs = [abs(np.log(table[m][a][0] / table[m][b][0])) for m in standing]
         agree = np.mean([table[m][a][1] == table[m][b][1] for m in members])
         print(f"  {a:22s} against {b:22s}: typical member difference {np.median(logs):.2%} "
               f"(90th percentile {np.percentile(logs, 90):.1%}, {len(standing)} standing and rocking), agree on "
-              f"overturning "
-              f"{agree:.0%}")
+              f"overturning {agree:.0%}")
