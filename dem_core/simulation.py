@@ -157,7 +157,8 @@ class RunSettings(NamedTuple):
     ``last_step``, ``speed_limit`` (m/s), ``energy_tolerance`` and ``energy_scale`` (J) of the energy
     balance, ``stop_at_overturn``; for Moreau-Jean ``theta``, the index set's ``active_gap`` and the projection's
     ``slop`` (fractions of the smallest block's size), the solver's ``solver_tolerance`` and ``solver_failure``
-    (fractions of g dt), ``max_sweeps``, ``rescue_sweeps`` and ``projection_sweeps``, and the direct solve's ``status_passes``."""
+    (fractions of g dt), ``max_sweeps``, ``rescue_sweeps`` and ``projection_sweeps``, and the direct solve's
+    ``status_passes``."""
 
     dt: float
     stride: int

@@ -5,8 +5,9 @@ sticking (``u_n = target``, ``u_t = 0``) or sliding along ``s`` (``u_n = target`
 impulses solve a linear system in ``P = (P_n, P_t)`` per point, ``u = u0 + W (P - P0)`` with ``W = H M^-1 H^T``
 the Delassus matrix of the points.  :func:`solve_statuses` solves it, checks each point against Signorini's and
 Coulomb's laws, changes the statuses of the points that break them and solves again (Kostreva's active-set
-iteration for LCPs; Acary and Brogliato 2008, section 12.4), a few passes at most.  Gauss-Seidel
-(:func:`._moreau.solve_points`) then checks the result in one sweep, or finishes the solve if the passes did not.
+iteration for LCPs; Acary and Brogliato 2008, section 12.4), a few passes at most.  Statuses that hold give the
+step's impulses; where they do not settle, Gauss-Seidel (:func:`._moreau.solve_points`) finishes the solve from
+the last pass.
 
 Unknown ``2c`` is point ``c``'s normal impulse and ``2c + 1`` its tangential one.  Two points couple through a
 block they share, so with the pairs in the breadth-first order of :func:`pair_order` (Cuthill and McKee 1969) a
@@ -23,13 +24,16 @@ velocity by that fraction of its own impulse's effect.
 import numba as nb
 import numpy as np
 
-from ._points import FRICTION, GAP, INC, NX, NY, PN, PT, REF, RIX, RIY, RRX, RRY, TARGET, apply_impulse, relative_velocity
+from ._points import (FRICTION, GAP, INC, NX, NY, PN, PT, REF, RIX, RIY, RRX, RRY, SLID, TARGET, apply_impulse,
+                      relative_velocity)
 
 #: widest half-band (unknowns) solved directly: a column's interfaces couple points up to 3 apart (7 unknowns),
 #: a colonnade's epistyle on three columns up to 7 (15 unknowns)
 HALF_BAND = 15
 #: relative compliance on the diagonal of every constrained row
 REGULARISATION = 1e-9
+#: relative slack on the friction cone: an impulse this close to its edge counts as on it
+CONE_SLACK = 1e-9
 OPEN, STICK, SLIDE_UP, SLIDE_DOWN = 0, 1, 2, 3
 
 
@@ -244,7 +248,7 @@ def revise(status, rows, velocity, n, tolerance):
         elif pn < 0.0:
             new = OPEN
         elif s == STICK:
-            if abs(pt) > rows[c, FRICTION] * pn * (1.0 + 1e-9):
+            if abs(pt) > rows[c, FRICTION] * pn * (1.0 + CONE_SLACK):
                 new = SLIDE_UP if pt > 0.0 else SLIDE_DOWN
         else:
             sign = 1.0 if s == SLIDE_UP else -1.0
@@ -281,7 +285,8 @@ def solve_statuses(vel, inv_mass, inv_inertia, rows, ints, n, tolerance, passes,
     come from the present impulses (a point pushing sticks, or slides if its impulse is on the cone's edge) and
     else from the geometry (a point touching or approaching faster than its target sticks).  Returns ``(whether the
     statuses held, passes taken)``: not held also where the points' band is wider than ``HALF_BAND`` or a pivot
-    vanished, with ``vel`` and the rows consistent either way."""
+    vanished, with ``vel`` and the rows consistent either way.  Statuses that hold mark the sliding points
+    (``ints[:, SLID]``)."""
     status, velocity, jac, resp, delassus, band, rhs, first, last = work
     if n == 0 or passes == 0:
         return False, 0
@@ -296,7 +301,7 @@ def solve_statuses(vel, inv_mass, inv_inertia, rows, ints, n, tolerance, passes,
             status[c] = OPEN
         elif pn > 0.0:
             status[c] = STICK
-            if abs(pt) >= rows[c, FRICTION] * pn * (1.0 - 1e-9):
+            if abs(pt) >= rows[c, FRICTION] * pn * (1.0 - CONE_SLACK):
                 status[c] = SLIDE_UP if pt > 0.0 else SLIDE_DOWN
         elif rows[c, GAP] <= 0.0 or velocity[2 * c] < rows[c, TARGET] - tolerance:
             status[c] = STICK
@@ -318,5 +323,7 @@ def solve_statuses(vel, inv_mass, inv_inertia, rows, ints, n, tolerance, passes,
             row[PT] += dt_
         point_velocities(vel, rows, ints, n, velocity)
         if revise(status, rows, velocity, n, tolerance) == 0:
+            for c in range(n):
+                ints[c, SLID] = 1 if status[c] >= SLIDE_UP else 0
             return True, done
     return False, passes

@@ -18,9 +18,9 @@ touching or close within the step) the impulses ``P = (P_n, P_t)`` obey
   sign(u_t+)`` while sliding.
 
 The points are solved directly, by statuses (open, sticking, sliding: :mod:`._active_set`), from the last step's
-impulses under the points' feature keys (the keys that carry the explicit law's tangential springs), and then by
-projected Gauss-Seidel, each point's 2 x 2 problem exactly (:func:`point_impulse`), which checks the direct
-solution in one sweep or finishes the solve where the statuses did not settle.  A point left inside its face by the step is pushed out at the position level
+impulses under the points' feature keys (the keys that carry the explicit law's tangential springs).  Where the
+statuses do not settle, projected Gauss-Seidel finishes the solve from there, each point's 2 x 2 problem exactly
+(:func:`point_impulse`).  A point left inside its face by the step is pushed out at the position level
 (:func:`project_positions`): positions move, velocities do not, so the correction adds no kinetic energy.
 
 Stages per step: :func:`~._step.place_base` and the outputs; the world geometry, boxes and candidate list
@@ -361,7 +361,8 @@ def _advance(model, run, pos, vel, contacts, retired, tracking, ground, n_steps,
     vstart, mass, inv_mass, inv_inertia = bodies.vstart, bodies.mass, bodies.inv_mass, bodies.inv_inertia
     radius = bodies.radius
     critical_angle, y_start, drop_limit = bodies.critical_angle, bodies.y_start, bodies.drop_limit
-    stack_id, bottom, stack_mass, foot = model.stacks.stack_id, model.stacks.bottom, model.stacks.mass, model.stacks.foot
+    stacks = model.stacks
+    stack_id, bottom, stack_mass, foot = stacks.stack_id, stacks.bottom, stacks.mass, stacks.foot
     overturn_step, stack_step = tracking.overturn_step, tracking.stack_step
     counters, ledger, interface_slip = tracking.counters, tracking.ledger, tracking.interface_slip
     peak_theta, built_at = tracking.peak_theta, tracking.built_at
@@ -438,9 +439,11 @@ def _advance(model, run, pos, vel, contacts, retired, tracking, ground, n_steps,
             held, passes = solve_statuses(vel, inv_mass, inv_inertia, rows, ints, n, tolerance * tau / h,
                                           run.status_passes, work)
             counters[STATUS_PASSES] += passes
-            counters[STATUS_FALLBACKS] += passes > 0 and not held
-            sweeps, change, worst = solve_points(vel, inv_mass, inv_inertia, rows, ints, n, tolerance * tau / h,
-                                                 run.max_sweeps)
+            counters[STATUS_FALLBACKS] += n > 0 and run.status_passes > 0 and not held
+            sweeps, change, worst = 0, 0.0, 0
+            if not held:
+                sweeps, change, worst = solve_points(vel, inv_mass, inv_inertia, rows, ints, n, tolerance * tau / h,
+                                                     run.max_sweeps)
             if change > tolerance * tau / h:
                 counters[UNCONVERGED] += 1
                 failure = run.solver_failure * gravity * tau

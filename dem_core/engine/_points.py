@@ -14,7 +14,7 @@ import numba as nb
 NX, NY, RIX, RIY, RRX, RRY, WNN, WNT, WTT, FRICTION, GAP, TARGET, U0, PN, PT = range(15)
 N_COLUMNS = 15
 #: columns of the per-point integers: incident body, reference body, pair, slot (0 or 1) within the pair,
-#: feature key, whether the point slid in the last sweep
+#: feature key, whether the point slid (its status in the direct solve, or the last sweep)
 INC, REF, PAIR, SLOT, KEY, SLID = range(6)
 
 
