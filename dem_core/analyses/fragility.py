@@ -1,0 +1,157 @@
+"""Fragility curves by multiple-stripe analysis: a lognormal fitted by maximum likelihood to counts of exceedance.
+
+At each intensity level ``x_j`` (a stripe) ``n_j`` runs, one per record, of which ``z_j`` exceed a damage state.
+The fragility is the lognormal distribution function
+
+    P(exceed | x) = Phi(ln(x / median) / beta),
+
+and its median and dispersion ``beta`` maximise the binomial likelihood of the counts,
+
+    sum_j  z_j ln P(x_j) + (n_j - z_j) ln(1 - P(x_j))
+
+(Baker 2015, "Efficient analytical fragility function fitting using dynamic structural analysis", Earthquake
+Spectra 31(1), eq. 11).  Its uncertainty comes from a bootstrap over the runs: each stripe's runs drawn again with
+replacement (``z_j* ~ Binomial(n_j, z_j / n_j)``) and the fit repeated.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+from scipy import optimize, special
+
+#: the bootstrap's central interval
+BAND_LEVEL = 0.9
+BOOTSTRAP_SAMPLES = 1000
+#: smallest dispersion fitted: counts that jump from none to all between two stripes are fitted by this step
+SMALLEST_BETA = 1e-3
+HALF_LOG_TWO_PI = 0.5 * math.log(2.0 * math.pi)
+
+
+@dataclass(frozen=True)
+class Fragility:
+    """One damage state's fitted fragility and what it was fitted to.
+
+    median : intensity at 50% probability of exceedance (the levels' unit); nan if the counts cannot place it
+    (no run or every run exceeds); beta : lognormal dispersion; median_band, beta_band : the bootstrap's
+    BAND_LEVEL central intervals; levels, runs, exceed : (L,) the stripes' intensities, runs and exceedances;
+    samples : (S, 2) the bootstrap's fits (median, beta); note : why a fit is missing or degenerate, else empty."""
+
+    median: float
+    beta: float
+    median_band: tuple[float, float]
+    beta_band: tuple[float, float]
+    levels: np.ndarray
+    runs: np.ndarray
+    exceed: np.ndarray
+    samples: np.ndarray
+    note: str = ""
+
+    def probability(self, x) -> np.ndarray:
+        """P(exceed | x) of the fit at intensities ``x`` (any shape)."""
+        return _probability(np.asarray(x, float), self.median, self.beta)
+
+    def probability_band(self, x) -> tuple[np.ndarray, np.ndarray]:
+        """The bootstrap's BAND_LEVEL pointwise interval of P(exceed | x): ``(low, high)``, each shaped as ``x``."""
+        x = np.asarray(x, float)
+        if not len(self.samples):
+            nan = np.full(x.shape, np.nan)
+            return nan, nan
+        curves = _probability(x[..., None], self.samples[:, 0], self.samples[:, 1])
+        tail = 50.0 * (1.0 - BAND_LEVEL)
+        return np.percentile(curves, tail, axis=-1), np.percentile(curves, 100.0 - tail, axis=-1)
+
+
+def _probability(x, median, beta):
+    with np.errstate(divide="ignore", invalid="ignore"):
+        return special.ndtr(np.log(x / median) / beta)
+
+
+def _counts(levels, runs, exceed) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    levels = np.asarray(levels, float)
+    runs = np.asarray(runs, np.int64)
+    exceed = np.asarray(exceed, np.int64)
+    if not (levels.ndim == runs.ndim == exceed.ndim == 1 and len(levels) == len(runs) == len(exceed)):
+        raise ValueError(f"levels, runs and exceed must be three 1-D arrays of one length, got shapes "
+                         f"{levels.shape}, {runs.shape}, {exceed.shape}")
+    if not np.all(np.isfinite(levels) & (levels > 0.0)):
+        raise ValueError(f"intensity levels must be finite and positive, got {levels[~(levels > 0.0)][:3]}")
+    if np.any(runs < 0) or np.any(exceed < 0) or np.any(exceed > runs):
+        raise ValueError("each stripe needs 0 <= exceed <= runs")
+    return levels, runs, exceed
+
+
+def fit_lognormal(levels, runs, exceed) -> tuple[float, float, str]:
+    """Maximum-likelihood median and dispersion of a lognormal fragility to the stripes' counts.
+
+    levels, runs, exceed : (L,) intensity (> 0), runs and exceedances per stripe.  Returns ``(median, beta,
+    note)``: nan, nan and the reason where the counts place no median (no exceedance at all, or exceedance in
+    every run); where the counts jump from none to all between two stripes (the likelihood grows as beta -> 0),
+    SMALLEST_BETA and the median midway between them in log intensity, with the note saying so."""
+    levels, runs, exceed = _counts(levels, runs, exceed)
+    used = np.flatnonzero(runs > 0)
+    used = used[np.argsort(levels[used])]
+    x, n, z = np.log(levels[used]), runs[used].astype(float), exceed[used].astype(float)
+    if z.sum() == 0:
+        return math.nan, math.nan, "no run exceeded: the median is above the highest level"
+    if z.sum() == n.sum():
+        return math.nan, math.nan, "every run exceeded: the median is below the lowest level"
+    below = z == 0
+    above = z == n
+    if np.all(below | above) and not np.any(above[:-1] & below[1:]):  # none, then all: beta -> 0
+        last_none = np.flatnonzero(below)[-1] if below.any() else None
+        first_all = np.flatnonzero(above)[0]
+        mu = x[first_all] if last_none is None else 0.5 * (x[last_none] + x[first_all])
+        return math.exp(mu), SMALLEST_BETA, "the counts jump from none to all between two stripes"
+    lowest = math.log(SMALLEST_BETA)
+
+    def loss(params):
+        mu, log_beta = params
+        beta = math.exp(max(log_beta, lowest))
+        s = (x - mu) / beta
+        log_p = special.log_ndtr(s)
+        log_q = special.log_ndtr(-s)
+        value = -np.sum(z * log_p + (n - z) * log_q)
+        # d/ds of the log-likelihood per stripe: z phi/Phi - (n - z) phi/(1 - Phi)
+        log_phi = -0.5 * s * s - HALF_LOG_TWO_PI
+        ratio_p = np.exp(log_phi - log_p)
+        ratio_q = np.exp(log_phi - log_q)
+        d_s = z * ratio_p - (n - z) * ratio_q
+        grad_mu = np.sum(d_s) / beta
+        grad_log_beta = np.sum(d_s * s) if log_beta > lowest else 0.0
+        return value, np.array([grad_mu, grad_log_beta])
+
+    fraction = z / n
+    middle = float(np.interp(0.5, np.maximum.accumulate(fraction) + 1e-9 * np.arange(len(fraction)), x))
+    spread = max(float(np.std(x)), 0.1)
+    best = optimize.minimize(loss, np.array([middle, math.log(0.5 * spread + 0.1)]), jac=True, method="BFGS",
+                             options={"gtol": 1e-9, "maxiter": 500})
+    mu, log_beta = best.x
+    beta = math.exp(max(log_beta, lowest))
+    return math.exp(mu), beta, ""
+
+
+def fit_fragility(levels, runs, exceed, samples: int = BOOTSTRAP_SAMPLES, seed: int = 0) -> Fragility:
+    """:func:`fit_lognormal` with the bootstrap's BAND_LEVEL intervals of the median and dispersion, from
+    ``samples`` refits to each stripe's runs drawn again with replacement (``seed`` for the draws).  Resamples
+    whose counts place no median are left out of the intervals."""
+    levels, runs, exceed = _counts(levels, runs, exceed)
+    median, beta, note = fit_lognormal(levels, runs, exceed)
+    if math.isnan(median):
+        return Fragility(median, beta, (math.nan, math.nan), (math.nan, math.nan), levels, runs, exceed,
+                         np.empty((0, 2)), note)
+    rng = np.random.default_rng(seed)
+    fraction = np.divide(exceed, runs, out=np.zeros(len(runs)), where=runs > 0)
+    found = []
+    for _ in range(samples):
+        drawn = rng.binomial(runs, fraction)
+        m, b, _ = fit_lognormal(levels, runs, drawn)
+        if not math.isnan(m):
+            found.append((m, b))
+    fits = np.array(found).reshape(-1, 2)
+    tail = 50.0 * (1.0 - BAND_LEVEL)
+    low, high = np.percentile(fits, [tail, 100.0 - tail], axis=0) if len(fits) else np.full((2, 2), np.nan)
+    return Fragility(median, beta, (float(low[0]), float(high[0])), (float(low[1]), float(high[1])), levels, runs,
+                     exceed, fits, note)
