@@ -99,7 +99,8 @@ def pair_order(ids, n_pairs, inv_mass):
 @nb.njit(cache=True, inline="always")
 def half_band(ints, inv_mass, n, first, last):
     """The half-bandwidth (unknowns) of the ``n`` points' Delassus matrix: how far apart, in unknowns, two points
-    sharing a movable block are at most.  ``first``, ``last`` (nb,) integer scratch."""
+    sharing a movable block are at most.  ``first``, ``last`` (nb,) receive each movable block's first and last
+    point (``last`` -1 for a block no point touches, and for fixed blocks)."""
     first[:] = n
     last[:] = -1
     for c in range(n):
@@ -142,30 +143,32 @@ def responses(rows, ints, inv_mass, inv_inertia, n, jac, resp):
 
 
 @nb.njit(cache=True, inline="always")
-def delassus_band(ints, inv_mass, n, width, jac, resp, delassus):
+def delassus_band(ints, n, width, first, last, jac, resp, delassus):
     """The ``n`` points' Delassus matrix ``W`` (1/kg) in band storage, ``delassus[u, v - u + HALF_BAND]`` the
-    velocity change of unknown ``u``'s row per unit impulse of unknown ``v``: per pair of points the 2 x 2 block
-    summed over the movable blocks they share."""
+    velocity change of unknown ``u``'s row per unit impulse of unknown ``v``: per movable block ``b`` and pair of
+    points on it (among points ``first[b]`` to ``last[b]``, :func:`half_band`) the 2 x 2 block ``jac M_b^-1
+    jac^T``, and its transpose below the diagonal."""
     for u in range(2 * n):
         for k in range(HALF_BAND - width, HALF_BAND + width + 1):
             delassus[u, k] = 0.0
-    reach = (width + 1) // 2
-    for c in range(n):
-        for d in range(max(0, c - reach), min(n, c + reach + 1)):
-            for sc in range(2):
-                b = ints[c, INC] if sc == 0 else ints[c, REF]
-                if inv_mass[b] == 0.0:
+    for b in range(first.shape[0]):
+        for c in range(first[b], last[b] + 1):
+            sc = 0 if ints[c, INC] == b else (3 if ints[c, REF] == b else -1)
+            if sc < 0:
+                continue
+            for d in range(c, last[b] + 1):
+                sd = 0 if ints[d, INC] == b else (3 if ints[d, REF] == b else -1)
+                if sd < 0:
                     continue
-                for sd in range(2):
-                    if b != (ints[d, INC] if sd == 0 else ints[d, REF]):
-                        continue
-                    for a in range(2):
-                        u = 2 * c + a
-                        for e in range(2):
-                            v = 2 * d + e
-                            delassus[u, v - u + HALF_BAND] += (jac[u, 3 * sc] * resp[v, 3 * sd]
-                                                               + jac[u, 3 * sc + 1] * resp[v, 3 * sd + 1]
-                                                               + jac[u, 3 * sc + 2] * resp[v, 3 * sd + 2])
+                for a in range(2):
+                    u = 2 * c + a
+                    for e in range(2):
+                        v = 2 * d + e
+                        w = (jac[u, sc] * resp[v, sd] + jac[u, sc + 1] * resp[v, sd + 1]
+                             + jac[u, sc + 2] * resp[v, sd + 2])
+                        delassus[u, v - u + HALF_BAND] += w
+                        if d != c:
+                            delassus[v, u - v + HALF_BAND] += w
 
 
 @nb.njit(cache=True, inline="always")
@@ -207,25 +210,29 @@ def assemble(status, rows, velocity, delassus, n, width, band, rhs):
 @nb.njit(cache=True, inline="always")
 def solve_band(band, rhs, size, width):
     """Solve ``A x = rhs`` in place (x into ``rhs``) for the band matrix ``A`` (``size`` unknowns, half-band
-    ``width``) by Gaussian elimination without pivoting.  Returns False if a pivot is not clearly non-zero."""
+    ``width``) by Gaussian elimination without pivoting.  Returns False if a pivot is not clearly non-zero: below
+    1e-12 of the largest entry of its row as eliminated."""
     for k in range(size):
         pivot = band[k, HALF_BAND]
+        reach = min(size, k + width + 1) - k  # the row's entries from the diagonal on
         scale = 0.0
-        for j in range(max(0, k - width), min(size, k + width + 1)):
-            scale = max(scale, abs(band[k, j - k + HALF_BAND]))
+        for j in range(HALF_BAND - min(k, width), HALF_BAND + reach):
+            scale = max(scale, abs(band[k, j]))
         if not abs(pivot) > 1e-12 * scale:
             return False
-        for i in range(k + 1, min(size, k + width + 1)):
-            factor = band[i, k - i + HALF_BAND] / pivot
+        inverse = 1.0 / pivot
+        for i in range(k + 1, k + reach):
+            at = k - i + HALF_BAND  # column k in row i
+            factor = band[i, at] * inverse
             if factor == 0.0:
                 continue
-            for j in range(k + 1, min(size, k + width + 1)):
-                band[i, j - i + HALF_BAND] -= factor * band[k, j - k + HALF_BAND]
+            for j in range(1, reach):
+                band[i, at + j] -= factor * band[k, HALF_BAND + j]
             rhs[i] -= factor * rhs[k]
     for k in range(size - 1, -1, -1):
         total = rhs[k]
-        for j in range(k + 1, min(size, k + width + 1)):
-            total -= band[k, j - k + HALF_BAND] * rhs[j]
+        for j in range(1, min(size, k + width + 1) - k):
+            total -= band[k, HALF_BAND + j] * rhs[k + j]
         rhs[k] = total / band[k, HALF_BAND]
     return True
 
@@ -308,7 +315,7 @@ def solve_statuses(vel, inv_mass, inv_inertia, rows, ints, n, tolerance, passes,
         else:
             status[c] = OPEN
     responses(rows, ints, inv_mass, inv_inertia, n, jac, resp)
-    delassus_band(ints, inv_mass, n, width, jac, resp, delassus)
+    delassus_band(ints, n, width, first, last, jac, resp, delassus)
     for done in range(1, passes + 1):
         assemble(status, rows, velocity, delassus, n, width, band, rhs)
         if not solve_band(band, rhs, 2 * n, width):
