@@ -25,11 +25,10 @@ statuses do not settle, projected Gauss-Seidel finishes the solve from there, ea
 
 Stages per step: :func:`~._step.place_base` and the outputs; the world geometry, boxes and candidate list
 (shared with the explicit kernel; on a new list the pairs' order, :func:`._active_set.pair_order`);
-:func:`collect_points` (the manifold of every candidate pair, the index set and each point's Delassus block);
-:func:`free_velocities`; :func:`warm_start`; :func:`._active_set.solve_statuses`; :func:`solve_points`;
-:func:`integrate`;
-:func:`project_positions`; the ground's work; the checks of the explicit kernel (non-finite, runaway, fell
-off, overturns, energy).
+:func:`collect_points` (the manifold of every candidate pair and the index set); :func:`free_velocities`;
+:func:`warm_start`; :func:`._active_set.solve_statuses`, and where its statuses did not hold :func:`point_blocks`
+and :func:`solve_points`; :func:`integrate`; :func:`project_positions`; the ground's work; the checks of the
+explicit kernel (non-finite, runaway, fell off, overturns, energy).
 """
 
 import math
@@ -80,8 +79,8 @@ def collect_points(p, ids, constants, memory, forces, pos, vel, wx, wy, wnx, wny
                    margin, active_gap, restitution, h, theta, points, keys, rows, ints, n):
     """Stage 2, one candidate pair ``p``: its corner manifold with the points up to ``margin`` m apart, and into
     ``rows``/``ints`` from row ``n`` the points of the index set (touching, or closing within ``active_gap`` by the
-    step's end at the start's velocity), each with its Delassus block, target and warm start (the last step's
-    impulses under its feature key).  Returns the rows filled after it."""
+    step's end at the start's velocity), each with its target and warm start (the last step's impulses under its
+    feature key).  Returns the rows filled after it."""
     i = ids[p, PAIR_I]
     j = ids[p, PAIR_J]
     count, nx, ny, code = corner_manifold(wx, wy, wnx, wny, vstart[i], vstart[i + 1] - vstart[i], pos[i, 0],
@@ -121,10 +120,6 @@ def collect_points(p, ids, constants, memory, forces, pos, vel, wx, wy, wnx, wny
         row[RIY] = riy
         row[RRX] = rrx
         row[RRY] = rry
-        im_i, ii_i, im_r, ii_r = inv_mass[inc], inv_inertia[inc], inv_mass[ref], inv_inertia[ref]
-        row[WNN] = delassus(nx, ny, nx, ny, rix, riy, im_i, ii_i, rrx, rry, im_r, ii_r)
-        row[WNT] = delassus(nx, ny, -ny, nx, rix, riy, im_i, ii_i, rrx, rry, im_r, ii_r)
-        row[WTT] = delassus(-ny, nx, -ny, nx, rix, riy, im_i, ii_i, rrx, rry, im_r, ii_r)
         row[FRICTION] = constants[p, MU]
         row[GAP] = gap
         row[U0] = u_n
@@ -142,6 +137,23 @@ def collect_points(p, ids, constants, memory, forces, pos, vel, wx, wy, wnx, wny
         ints[n, SLID] = 0
         n += 1
     return n
+
+
+@nb.njit(cache=True, inline="always")
+def point_blocks(rows, ints, inv_mass, inv_inertia, n):
+    """Stage 4: each of the ``n`` points' own 2 x 2 Delassus block (1/kg) into its row's WNN, WNT, WTT, which
+    Gauss-Seidel and the position sweeps use and the direct solve does not."""
+    for c in range(n):
+        row = rows[c]
+        i = ints[c, INC]
+        r = ints[c, REF]
+        nx = row[NX]
+        ny = row[NY]
+        rix, riy, rrx, rry = row[RIX], row[RIY], row[RRX], row[RRY]
+        im_i, ii_i, im_r, ii_r = inv_mass[i], inv_inertia[i], inv_mass[r], inv_inertia[r]
+        row[WNN] = delassus(nx, ny, nx, ny, rix, riy, im_i, ii_i, rrx, rry, im_r, ii_r)
+        row[WNT] = delassus(nx, ny, -ny, nx, rix, riy, im_i, ii_i, rrx, rry, im_r, ii_r)
+        row[WTT] = delassus(-ny, nx, -ny, nx, rix, riy, im_i, ii_i, rrx, rry, im_r, ii_r)
 
 
 @nb.njit(cache=True, inline="always")
@@ -262,12 +274,13 @@ def integrate(pos, start_vel, vel, mid, h, theta):
 
 
 @nb.njit(cache=True, inline="always")
-def project_positions(pos, mid, inv_mass, inv_inertia, rows, ints, n, h, slop, sweeps, shift):
+def project_positions(pos, mid, inv_mass, inv_inertia, rows, ints, n, h, slop, sweeps, shift, blocks_ready):
     """Stage 6: the points' gaps after the step (followed to first order along ``h`` times the normal velocity of
     ``mid``) brought back to the contact's geometry by Gauss-Seidel sweeps on the positions alone (``shift``
     (nb, 3) scratch): a point that carried an impulse ends on its face (Signorini's complementarity: a point
     that pushes touches), one left deeper than ``slop`` m inside is pushed out.  Velocities do not change, so no
-    kinetic energy is added.  Returns whether any point needed it."""
+    kinetic energy is added.  ``blocks_ready``: whether the rows hold their Delassus blocks (:func:`point_blocks`).
+    Returns whether any point needed it."""
     off = False
     for c in range(n):
         row = rows[c]
@@ -279,6 +292,8 @@ def project_positions(pos, mid, inv_mass, inv_inertia, rows, ints, n, h, slop, s
             off = True
     if not off:
         return False
+    if not blocks_ready:
+        point_blocks(rows, ints, inv_mass, inv_inertia, n)
     shift[:, :] = 0.0
     for _ in range(sweeps):
         for c in range(n):
@@ -442,6 +457,7 @@ def _advance(model, run, pos, vel, contacts, retired, tracking, ground, n_steps,
             counters[STATUS_FALLBACKS] += n > 0 and run.status_passes > 0 and not held
             sweeps, change, worst = 0, 0.0, 0
             if not held:
+                point_blocks(rows, ints, inv_mass, inv_inertia, n)
                 sweeps, change, worst = solve_points(vel, inv_mass, inv_inertia, rows, ints, n, tolerance * tau / h,
                                                      run.max_sweeps)
             if change > tolerance * tau / h:
@@ -457,7 +473,7 @@ def _advance(model, run, pos, vel, contacts, retired, tracking, ground, n_steps,
             counters[SOLVER_SWEEPS] += sweeps
             integrate(pos, start_vel, vel, mid, tau, theta)
             project_positions(pos, mid, inv_mass, inv_inertia, rows, ints, n, tau, slop, run.projection_sweeps,
-                              shift)
+                              shift, not held)
             keep_impulses(rows, ints, n, forces, interface_slip, ids, base_impulse, vel, tau)
             reaction[0, 0] = base_impulse[0] / tau
             reaction[0, 1] = base_impulse[1] / tau

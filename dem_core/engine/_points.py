@@ -9,8 +9,9 @@ incident body.  Impulses act positively on the incident body and negatively on t
 import numba as nb
 
 #: columns of the per-point rows: the normal (reference face's, into the incident body), the lever arms from the
-#: incident and reference bodies' centres of mass, the Delassus block (1/kg), mu, the gap (m), the normal target
-#: velocity (m/s), the normal velocity at the step's start (m/s), and the impulses (N s)
+#: incident and reference bodies' centres of mass, the point's own Delassus block (1/kg; filled only where
+#: Gauss-Seidel or the position sweeps need it), mu, the gap (m), the normal target velocity (m/s), the normal
+#: velocity at the step's start (m/s), and the impulses (N s)
 NX, NY, RIX, RIY, RRX, RRY, WNN, WNT, WTT, FRICTION, GAP, TARGET, U0, PN, PT = range(15)
 N_COLUMNS = 15
 #: columns of the per-point integers: incident body, reference body, pair, slot (0 or 1) within the pair,
