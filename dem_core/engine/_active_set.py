@@ -211,7 +211,7 @@ def assemble(status, rows, velocity, delassus, n, width, band, rhs):
 def solve_band(band, rhs, size, width):
     """Solve ``A x = rhs`` in place (x into ``rhs``) for the band matrix ``A`` (``size`` unknowns, half-band
     ``width``) by Gaussian elimination without pivoting.  Returns False if a pivot is not clearly non-zero: below
-    1e-12 of the largest entry of its row as eliminated."""
+    1e-12 of the largest entry of its row within the band at its turn."""
     for k in range(size):
         pivot = band[k, HALF_BAND]
         reach = min(size, k + width + 1) - k  # the row's entries from the diagonal on
@@ -268,6 +268,19 @@ def revise(status, rows, velocity, n, tolerance):
 
 
 @nb.njit(cache=True, inline="always")
+def equation_error(status, rows, velocity, n):
+    """The largest residual (m/s) of the statuses' velocity equations at ``velocity``: ``u_n - target`` of every
+    closed point and ``u_t`` of every sticking one."""
+    error = 0.0
+    for c in range(n):
+        if status[c] != OPEN:
+            error = max(error, abs(velocity[2 * c] - rows[c, TARGET]))
+        if status[c] == STICK:
+            error = max(error, abs(velocity[2 * c + 1]))
+    return error
+
+
+@nb.njit(cache=True, inline="always")
 def point_velocities(vel, rows, ints, n, velocity):
     """``velocity`` (2n,): each point's ``(u_n, u_t)`` (m/s) at the velocities ``vel``."""
     for c in range(n):
@@ -286,9 +299,11 @@ def workspace(points, blocks):
 
 @nb.njit(cache=True, inline="always")
 def solve_statuses(vel, inv_mass, inv_inertia, rows, ints, n, tolerance, passes, work):
-    """Stage 4 of :mod:`._moreau`, before Gauss-Seidel: the ``n`` points' impulses (their rows' ``PN``, ``PT``,
-    already applied to ``vel``) replaced by the solution of their statuses' linear system, the statuses revised
-    (:func:`revise`, ``tolerance`` m/s) and the system solved again, up to ``passes`` times.  The first statuses
+    """Stage 4 of :mod:`._moreau` (Gauss-Seidel follows only where the statuses do not hold): the ``n`` points'
+    impulses (their rows' ``PN``, ``PT``, already applied to ``vel``) replaced by the solution of their statuses'
+    linear system, the statuses revised (:func:`revise`, ``tolerance`` m/s) and the system solved again, up to
+    ``passes`` times.  The statuses hold when a pass changes none and its solution meets their equations to
+    ``tolerance`` (:func:`equation_error`).  The first statuses
     come from the present impulses (a point pushing sticks, or slides if its impulse is on the cone's edge) and
     else from the geometry (a point touching or approaching faster than its target sticks).  Returns ``(whether the
     statuses held, passes taken)``: not held also where the points' band is wider than ``HALF_BAND`` or a pivot
@@ -330,6 +345,8 @@ def solve_statuses(vel, inv_mass, inv_inertia, rows, ints, n, tolerance, passes,
             row[PT] += dt_
         point_velocities(vel, rows, ints, n, velocity)
         if revise(status, rows, velocity, n, tolerance) == 0:
+            if equation_error(status, rows, velocity, n) > tolerance:
+                return False, done
             for c in range(n):
                 ints[c, SLID] = 1 if status[c] >= SLIDE_UP else 0
             return True, done

@@ -141,8 +141,8 @@ def collect_points(p, ids, constants, memory, forces, pos, vel, wx, wy, wnx, wny
 
 @nb.njit(cache=True, inline="always")
 def point_blocks(rows, ints, inv_mass, inv_inertia, n):
-    """Stage 4: each of the ``n`` points' own 2 x 2 Delassus block (1/kg) into its row's WNN, WNT, WTT, which
-    Gauss-Seidel and the position sweeps use and the direct solve does not."""
+    """Stages 4 and 6: each of the ``n`` points' own 2 x 2 Delassus block (1/kg) into its row's WNN, WNT, WTT,
+    which Gauss-Seidel and the position sweeps use and the direct solve does not."""
     for c in range(n):
         row = rows[c]
         i = ints[c, INC]
@@ -456,7 +456,7 @@ def _advance(model, run, pos, vel, contacts, retired, tracking, ground, n_steps,
             counters[STATUS_PASSES] += passes
             counters[STATUS_FALLBACKS] += n > 0 and run.status_passes > 0 and not held
             sweeps, change, worst = 0, 0.0, 0
-            if not held:
+            if not held and n > 0:
                 point_blocks(rows, ints, inv_mass, inv_inertia, n)
                 sweeps, change, worst = solve_points(vel, inv_mass, inv_inertia, rows, ints, n, tolerance * tau / h,
                                                      run.max_sweeps)

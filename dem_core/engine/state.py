@@ -63,8 +63,9 @@ class Tracking(NamedTuple):
     interface_slip : (n_if,) m, slip accumulated at each recorded interface.
     built_at : (nb, 3) positions when the candidate pairs were last listed.
     ledger : (3,) J, the mechanical energy at the start, the ground's net work and its gross work.
-    counters : (6,) int64: steps done, narrow-phase tests (contact points solved, Moreau-Jean), broad-phase
-        rebuilds, outputs written, Gauss-Seidel sweeps and steps whose solve ended unconverged (Moreau-Jean).
+    counters : (8,) int64: steps done, narrow-phase tests (contact points solved, Moreau-Jean), broad-phase
+        rebuilds, outputs written, and for Moreau-Jean per (sub)step Gauss-Seidel sweeps, solves that ended
+        unconverged, direct passes and direct solves left to Gauss-Seidel.
     """
 
     peak_theta: np.ndarray
