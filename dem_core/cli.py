@@ -331,6 +331,8 @@ RUN_FILES = ("summary.json", "time_history.csv", "time_history.parquet", "metric
              "rotations.png", "displacements.png", "sliding.png", "epistyles.png", "snapshots.png")
 #: exit status of a command stopped by Ctrl-C (128 + SIGINT, as shells report it)
 INTERRUPTED = 130
+#: exit status when the reader of the output went away (a closed pipe, as in ``| head``): a shell's for SIGPIPE
+PIPE_CLOSED = 141
 #: environment variable that lets an unexpected error show its traceback
 DEBUG = "DEM_CORE_DEBUG"
 
@@ -339,7 +341,8 @@ def main(argv=None) -> int:
     """Run the command line ``argv`` (default ``sys.argv[1:]``) and return its exit status: 0 done; 1 failed (a
     sweep with failed runs, a file that could not be written, an unexpected error); 2 refused input (an option,
     a scene file, an output path); 3 a run that stopped unstable (its results up to there are written and
-    marked so); 130 interrupted by Ctrl-C.  Every error is one line on stderr, never a traceback (set
+    marked so); 130 interrupted by Ctrl-C; 141, silently, when the reader of its output went away (``| head``).
+    Every error is one line on stderr, never a traceback (set
     ``DEM_CORE_DEBUG=1`` to see the traceback of an unexpected one)."""
     try:
         args = _parser().parse_args(argv)
@@ -352,10 +355,15 @@ def main(argv=None) -> int:
     try:
         with warnings.catch_warnings(), INTERRUPTS.installed():
             warnings.showwarning = _show_warning
-            return commands[args.command](args)
+            status = commands[args.command](args)
+            sys.stdout.flush()  # a reader gone before the buffered output is met here, not at the interpreter's exit
+            return status
     except KeyboardInterrupt:
         print(f"interrupted: {args.on_interrupt()}", file=sys.stderr)
         return INTERRUPTED
+    except BrokenPipeError:
+        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())  # the exit's flush must not fail again
+        return PIPE_CLOSED
     except (_Refused, OutputPathError) as exc:
         print(f"error: {exc}", file=sys.stderr)
         return 2

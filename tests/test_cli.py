@@ -3,6 +3,7 @@ with g in brackets, takes --duration wherever it runs a scene, shows progress on
 fails cleanly on bad input."""
 
 import json
+import os
 import re
 import subprocess
 import sys
@@ -263,6 +264,17 @@ def test_threshold_searches_as_the_library_does_by_default(tmp_path, capsys, mon
     assert below <= 3.0 < above and above - below <= 0.005 * above  # refined to the library's 0.5%
     assert main(["threshold", str(scene), "--low", "1", "--high", "6", "--scan", "5", "--step", "0.1"]) == 2
     assert "--scan 5 gives evenly spaced values: leave out --step" in capsys.readouterr().err
+
+
+def test_a_reader_that_stops_reading_ends_the_listing_quietly():
+    """``dem-core records | head -1``: the listing stops when the pipe closes, with no error on stderr and the
+    status a shell gives a command stopped by SIGPIPE."""
+    read_end, write_end = os.pipe()
+    os.close(read_end)  # a reader gone before the first line: every write meets a closed pipe
+    done = subprocess.run([sys.executable, "-m", "dem_core", "records"], stdout=write_end, stderr=subprocess.PIPE,
+                          text=True)
+    os.close(write_end)
+    assert done.returncode == 141 and done.stderr == ""
 
 
 def test_records_say_where_each_sampling_interval_comes_from(capsys):
