@@ -91,7 +91,7 @@ from .inputs import records
 from .inputs.records import G_STANDARD
 from .inputs.scene_file import SceneFileError, load, read_toml
 from .output_files import OutputPathError, OutputWriteError, output_file, output_folder, reason, replacing
-from .simulation import SimulationUnstable, run_duration
+from .simulation import INTEGRATORS, SimulationUnstable, run_duration
 
 DEFAULT_SCENE = "column_el_centro.toml"
 
@@ -450,6 +450,9 @@ def _add_run(sub):
     run.add_argument("--format", choices=("csv", "parquet"), help="time-history format (default: the file's [output] "
                      "format, else csv)")
     run.add_argument("--duration", type=SECONDS, help="simulated time in s (default: from the file or the record)")
+    run.add_argument("--integrator", choices=INTEGRATORS, help="explicit central differences on the contact "
+                     "springs, or Moreau-Jean's velocity-level steps on rigid contacts (docs/method.md 1.8; "
+                     "default: the file's [simulation] integrator, else explicit)")
     run.add_argument("--no-plots", action="store_true", help="skip the figures")
     run.add_argument("--animate", metavar="FILE", help="also write an animation (.gif or .mp4, relative to --out) "
                      "and snapshots.png (default: none)")
@@ -592,6 +595,8 @@ def _run(args) -> int:
     settings = dict(spec.simulation)
     if args.duration is not None:
         settings["duration"] = args.duration
+    if args.integrator is not None:
+        settings["integrator"] = args.integrator
     fmt = args.format or spec.output.get("format", "csv")
     print(f"scene {path} ({len(spec.scene.blocks)} blocks), ground motion: {_motion_text(spec.excitation)}")
     args.on_interrupt = lambda: f"the run was stopped before its results were written: {out}/ is as it was"

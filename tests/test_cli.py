@@ -315,3 +315,17 @@ def test_a_slow_engine_setup_is_announced_timed_and_recorded(tmp_path, capsys, m
     monkeypatch.setattr(cli, "COMPILE_NOTICE_S", 60.0)
     assert main(["run", str(scene), "--out", str(tmp_path / "out"), "--no-plots"]) == 0
     assert cli.COMPILING not in capsys.readouterr().err  # a quick setup says nothing
+
+
+def test_the_integrator_option_replaces_the_scene_files(tmp_path, capsys):
+    """``run --integrator moreau`` on the bundled default (explicit in its file) steps it by Moreau-Jean and says
+    so; a scene whose contact law Moreau-Jean cannot take is refused naming the law."""
+    assert main(["run", "--integrator", "moreau", "--duration", "0.5", "--no-plots", "--out",
+                 str(tmp_path / "m")]) == 0
+    assert "Moreau-Jean integrator" in capsys.readouterr().out
+    assert json.loads((tmp_path / "m" / "summary.json").read_text())["integrator"] == "moreau"
+    overlap = tmp_path / "overlap.toml"
+    overlap.write_text("[scene]\nbuilder = 'column'\nn_drums = 2\n\n[contact]\nlaw = 'overlap_area'\n\n"
+                       "[excitation]\nkind = 'sine_pulse'\namplitude = 1.0\nduration = 0.5\n")
+    assert main(["run", str(overlap), "--integrator", "moreau", "--out", str(tmp_path / "o")]) == 2
+    assert "'overlap_area'" in capsys.readouterr().err
