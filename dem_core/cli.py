@@ -140,7 +140,7 @@ def _progress_callback(progress: bool = True):
 #: s: setting a run up (compiling the engine, or loading it from numba's cache) that takes longer than this is
 #: announced while it goes on, and its time printed when it ends (a first run compiles for about half a minute)
 COMPILE_NOTICE_S = 2.0
-COMPILING = "compiling the engine (once; cached for later runs) ..."
+COMPILING = "compiling the engine (once for each integrator; cached for later runs) ..."
 
 
 class _CompileNotice:
@@ -684,9 +684,9 @@ def _print_run(run, result, setup: float) -> None:
     early = f" of {planned:.4g} s" if end < planned - 1.5 * run.dt else ""
     if info.get("integrator") == "moreau":
         print(f"Moreau-Jean integrator (theta {info.get('theta')}) on the {info.get('contact_law', '?')} law's "
-              f"points, rigid contacts; dt = {result.dt:.3g} s, {info.get('steps')} steps, "
-              f"{info.get('status_passes_per_step', float('nan')):.3g} direct solves and "
-              f"{info.get('sweeps_per_step', float('nan')):.3g} Gauss-Seidel sweeps a step")
+              f"points, rigid contacts; dt = {result.dt:.3g} s, {info.get('steps')} steps; contact solve "
+              f"(docs/method.md 1.8): {info.get('status_passes_per_step', float('nan')):.3g} direct passes and "
+              f"{info.get('sweeps_per_step', float('nan')):.2g} iterative sweeps a step")
     else:
         print(f"{info.get('contact_law', '?')} contact law, K_n = {info.get('kn', float('nan')):.3g} N/m^2; dt = "
               f"{result.dt:.3g} s (stability limit {info.get('stability_limit_s', float('nan')):.3g} s), "
