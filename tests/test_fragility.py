@@ -86,3 +86,25 @@ def test_counts_that_place_no_median_give_none_and_say_why(exceed, words):
 def test_bad_counts_are_refused_naming_the_fault(levels, runs, exceed, words):
     with pytest.raises(ValueError, match=words):
         fragility.fit_lognormal(levels, runs, exceed)
+
+
+def test_the_figure_draws_each_fit_and_the_observed_fractions():
+    """One fitted curve per state over the stripes' range, its points the observed fractions; a state with no
+    fit draws its points and says why in the legend."""
+    import matplotlib.pyplot as plt
+
+    runs = np.full(LEVELS.size, 40)
+    fit = fragility.fit_fragility(LEVELS, runs, drawn(runs, 13), samples=50)
+    none = fragility.fit_fragility(LEVELS, runs, np.zeros(LEVELS.size, int), samples=50)
+    fig = fragility.fragility_figure({"0.5": fit, "1.0": none})
+    ax = fig.axes[0]
+    curves = [line for line in ax.lines if line.get_linestyle() == "-"]
+    points = [line for line in ax.lines if line.get_marker() == "o" and len(line.get_xdata())]
+    assert len(curves) == 1
+    np.testing.assert_allclose(curves[0].get_ydata(), fit.probability(curves[0].get_xdata()))
+    x = curves[0].get_xdata()
+    assert x[0] == pytest.approx(LEVELS[0]) and x[-1] == pytest.approx(LEVELS[-1])
+    np.testing.assert_allclose(points[0].get_ydata(), fit.exceed / runs)
+    np.testing.assert_allclose(points[1].get_ydata(), 0.0)
+    assert any("no run exceeded" in text.get_text() for text in ax.get_legend().get_texts())
+    plt.close(fig)

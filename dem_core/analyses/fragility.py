@@ -155,3 +155,32 @@ def fit_fragility(levels, runs, exceed, samples: int = BOOTSTRAP_SAMPLES, seed: 
     low, high = np.percentile(fits, [tail, 100.0 - tail], axis=0) if len(fits) else np.full((2, 2), np.nan)
     return Fragility(median, beta, (float(low[0]), float(high[0])), (float(low[1]), float(high[1])), levels, runs,
                      exceed, fits, note)
+
+
+def fragility_figure(fits: dict, intensity: str = "PGA (m/s$^2$)", title: str = "Fragility"):
+    """Figure of the probability of exceedance against the intensity measure: per damage state (``fits``:
+    {label: :class:`Fragility`}) the fitted lognormal as a line, its bootstrap band shaded, and the stripes'
+    observed fractions as points; a state without a fit shows its points and its note in the legend."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig, ax = plt.subplots(figsize=(6.5, 4.2))
+    colours = plt.get_cmap("viridis")(np.linspace(0.0, 0.85, max(len(fits), 1)))
+    for colour, (label, fit) in zip(colours, fits.items()):
+        used = fit.runs > 0
+        ax.plot(fit.levels[used], fit.exceed[used] / fit.runs[used], "o", color=colour, markersize=3.5, alpha=0.7)
+        if math.isnan(fit.median):
+            ax.plot([], [], "o", color=colour, label=f"{label}: {fit.note}")
+            continue
+        x = np.geomspace(fit.levels[used].min(), fit.levels[used].max(), 200)
+        low, high = fit.probability_band(x)
+        ax.fill_between(x, low, high, color=colour, alpha=0.2, linewidth=0)
+        ax.plot(x, fit.probability(x), color=colour,
+                label=f"{label}: median {fit.median:.3g}, beta {fit.beta:.2f}")
+    ax.set(xlabel=intensity, ylabel="probability of exceedance", ylim=(-0.02, 1.02), title=title)
+    ax.grid(True, alpha=0.3)
+    ax.legend(fontsize=7, loc="best")
+    fig.tight_layout()
+    return fig
