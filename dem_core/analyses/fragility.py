@@ -35,19 +35,28 @@ class Fragility:
     """One damage state's fitted fragility and what it was fitted to.
 
     median : intensity at 50% probability of exceedance (the levels' unit); nan if the counts cannot place it
-    (no run or every run exceeds); beta : lognormal dispersion; median_band, beta_band : the bootstrap's
-    BAND_LEVEL central intervals; levels, runs, exceed : (L,) the stripes' intensities, runs and exceedances;
-    samples : (S, 2) the bootstrap's fits (median, beta); note : why a fit is missing or degenerate, else empty."""
+    (no run or every run exceeds); beta : lognormal dispersion; levels, runs, exceed : (L,) the stripes'
+    intensities, runs and exceedances; samples : (S, 2) the bootstrap's fits (median, beta), whose BAND_LEVEL
+    central intervals are ``median_band`` and ``beta_band``; note : why a fit is missing or degenerate, else
+    empty."""
 
     median: float
     beta: float
-    median_band: tuple[float, float]
-    beta_band: tuple[float, float]
     levels: np.ndarray
     runs: np.ndarray
     exceed: np.ndarray
     samples: np.ndarray
     note: str = ""
+
+    @property
+    def median_band(self) -> tuple[float, float]:
+        low, high = _central(self.samples[:, 0])
+        return float(low), float(high)
+
+    @property
+    def beta_band(self) -> tuple[float, float]:
+        low, high = _central(self.samples[:, 1])
+        return float(low), float(high)
 
     def probability(self, x) -> np.ndarray:
         """P(exceed | x) of the fit at intensities ``x`` (any shape)."""
@@ -56,12 +65,17 @@ class Fragility:
     def probability_band(self, x) -> tuple[np.ndarray, np.ndarray]:
         """The bootstrap's BAND_LEVEL pointwise interval of P(exceed | x): ``(low, high)``, each shaped as ``x``."""
         x = np.asarray(x, float)
-        if not len(self.samples):
-            nan = np.full(x.shape, np.nan)
-            return nan, nan
-        curves = _probability(x[..., None], self.samples[:, 0], self.samples[:, 1])
-        tail = 50.0 * (1.0 - BAND_LEVEL)
-        return np.percentile(curves, tail, axis=-1), np.percentile(curves, 100.0 - tail, axis=-1)
+        return _central(_probability(x[..., None], self.samples[:, 0], self.samples[:, 1]))
+
+
+def _central(values):
+    """The BAND_LEVEL central interval of ``values`` along their last axis: ``(low, high)``; nan where there are
+    none."""
+    if values.shape[-1] == 0:
+        nan = np.full(values.shape[:-1], np.nan)
+        return nan, nan
+    tail = 50.0 * (1.0 - BAND_LEVEL)
+    return np.percentile(values, tail, axis=-1), np.percentile(values, 100.0 - tail, axis=-1)
 
 
 def _probability(x, median, beta):
@@ -140,8 +154,7 @@ def fit_fragility(levels, runs, exceed, samples: int = BOOTSTRAP_SAMPLES, seed: 
     levels, runs, exceed = _counts(levels, runs, exceed)
     median, beta, note = fit_lognormal(levels, runs, exceed)
     if math.isnan(median):
-        return Fragility(median, beta, (math.nan, math.nan), (math.nan, math.nan), levels, runs, exceed,
-                         np.empty((0, 2)), note)
+        return Fragility(median, beta, levels, runs, exceed, np.empty((0, 2)), note)
     rng = np.random.default_rng(seed)
     fraction = np.divide(exceed, runs, out=np.zeros(len(runs)), where=runs > 0)
     found = []
@@ -150,11 +163,7 @@ def fit_fragility(levels, runs, exceed, samples: int = BOOTSTRAP_SAMPLES, seed: 
         m, b, _ = fit_lognormal(levels, runs, drawn)
         if not math.isnan(m):
             found.append((m, b))
-    fits = np.array(found).reshape(-1, 2)
-    tail = 50.0 * (1.0 - BAND_LEVEL)
-    low, high = np.percentile(fits, [tail, 100.0 - tail], axis=0) if len(fits) else np.full((2, 2), np.nan)
-    return Fragility(median, beta, (float(low[0]), float(high[0])), (float(low[1]), float(high[1])), levels, runs,
-                     exceed, fits, note)
+    return Fragility(median, beta, levels, runs, exceed, np.array(found).reshape(-1, 2), note)
 
 
 def fragility_figure(fits: dict, intensity: str = "PGA (m/s$^2$)", title: str = "Fragility"):
