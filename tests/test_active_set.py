@@ -1,11 +1,13 @@
-"""The direct solve of Moreau-Jean's contact problem by statuses (dem_core/engine/_active_set.py): its band
-solver against a dense one, its answer against Gauss-Seidel's converged one, and its work on a column."""
+"""The direct solve of Moreau-Jean's contact problem by statuses (dem_core/engine/_active_set.py): its Delassus band
+and its band solver against dense ones, its answer against Gauss-Seidel's converged one, and its work on a
+column."""
 
 import numpy as np
 
 import dem_core
 from dem_core import excitation, scenes
-from dem_core.engine._active_set import HALF_BAND, solve_band
+from dem_core.engine._active_set import HALF_BAND, delassus_band, half_band, responses, solve_band
+from dem_core.engine._points import INC, N_COLUMNS, NX, NY, REF, RIX, RIY, RRX, RRY
 
 
 def test_the_band_solver_solves_a_band_system():
@@ -26,6 +28,42 @@ def test_the_band_solver_solves_a_band_system():
     x = rhs.copy()
     assert solve_band(band, x, size, width)
     assert np.max(np.abs(x - np.linalg.solve(dense, rhs))) < 1e-12
+
+
+def test_the_delassus_band_is_h_m_inverse_h_transpose():
+    """A column of a fixed base and four drums, two points at each interface with random normals and lever arms:
+    the band holds the dense ``W = H M^-1 H^T`` to rounding, and ``W`` has nothing outside the band."""
+    rng = np.random.default_rng(5)
+    n_blocks, n = 5, 8
+    inv_mass = np.r_[0.0, 1.0 / rng.uniform(500.0, 2000.0, n_blocks - 1)]
+    inv_inertia = np.r_[0.0, 1.0 / rng.uniform(100.0, 900.0, n_blocks - 1)]
+    rows = np.zeros((n, N_COLUMNS))
+    ints = np.zeros((n, 6), np.int64)
+    for c in range(n):
+        below, above = c // 2, c // 2 + 1
+        ints[c, INC], ints[c, REF] = (above, below) if c % 4 < 2 else (below, above)
+        angle = rng.uniform(0.0, 2.0 * np.pi)
+        rows[c, NX], rows[c, NY] = np.cos(angle), np.sin(angle)
+        rows[c, [RIX, RIY, RRX, RRY]] = rng.uniform(-0.6, 0.6, 4)
+    jac, resp = np.empty((2 * n, 6)), np.empty((2 * n, 6))
+    first, last = np.empty(n_blocks, np.int64), np.empty(n_blocks, np.int64)
+    responses(rows, ints, inv_mass, inv_inertia, n, jac, resp)
+    width = half_band(ints, inv_mass, n, first, last)
+    band = np.full((2 * n, 2 * HALF_BAND + 1), np.nan)
+    delassus_band(ints, n, width, first, last, jac, resp, band)
+    h = np.zeros((2 * n, 3 * n_blocks))
+    for u in range(2 * n):
+        c = u // 2
+        h[u, 3 * ints[c, INC]:3 * ints[c, INC] + 3] += jac[u, :3]
+        h[u, 3 * ints[c, REF]:3 * ints[c, REF] + 3] += jac[u, 3:]
+    dense = h @ np.diag(np.column_stack([inv_mass, inv_mass, inv_inertia]).ravel()) @ h.T
+    scale = np.max(np.abs(dense))
+    for u in range(2 * n):
+        for v in range(2 * n):
+            if abs(v - u) <= width:
+                assert abs(band[u, v - u + HALF_BAND] - dense[u, v]) < 1e-13 * scale, (u, v)
+            else:
+                assert dense[u, v] == 0.0, (u, v)
 
 
 def test_a_vanishing_pivot_is_refused():
