@@ -498,5 +498,5 @@ def _advance(model, run, pos, vel, contacts, retired, tracking, ground, n_steps,
     return STATUS_OK, 0, 0, contacts, retired
 
 
-#: the Moreau-Jean kernel (serial: its Gauss-Seidel sweeps are sequential)
-advance = nb.njit(cache=True)(renamed(_advance, f"_advance_moreau_{ENGINE_DIGEST}"))
+#: the Moreau-Jean kernel (serial: its Gauss-Seidel sweeps are sequential); it releases the GIL, as the explicit one
+advance = nb.njit(cache=True, nogil=True)(renamed(_advance, f"_advance_moreau_{ENGINE_DIGEST}"))

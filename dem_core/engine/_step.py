@@ -514,7 +514,7 @@ def _engine_digest() -> str:
 
 
 ENGINE_DIGEST = _engine_digest()
-#: the stepping kernel, serial
-advance = nb.njit(cache=True)(renamed(_advance, f"_advance_{ENGINE_DIGEST}"))
+#: the stepping kernel, serial; it releases the GIL, so that a batch runs members on several Python threads
+advance = nb.njit(cache=True, nogil=True)(renamed(_advance, f"_advance_{ENGINE_DIGEST}"))
 #: the same kernel with the pair loop and the gather spread over numba's threads
 advance_parallel = nb.njit(cache=True, parallel=True)(renamed(_advance, f"_advance_parallel_{ENGINE_DIGEST}"))

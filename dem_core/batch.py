@@ -1,0 +1,212 @@
+"""Many runs of one scene at once: ``simulate_batch(scene, motions, ...)``, one row of measures per member.
+
+A study is many runs of one scene under different ground motions (a threshold scan's scales, an ensemble's
+records, a fragility curve's stripes).  Each member here is the run :func:`~dem_core.simulate` gives with the
+same options, bit for bit: it is a :class:`~dem_core.simulation.Simulation` stepped by the same compiled
+kernel.  The kernels release the GIL, so the members run side by side on ``threads`` Python threads, one member
+per thread at a time; a member's time history is kept only where asked for, so memory does not grow with the
+number of members.
+"""
+
+from __future__ import annotations
+
+import threading
+import time
+from concurrent.futures import FIRST_COMPLETED, ThreadPoolExecutor, wait
+from dataclasses import dataclass, field
+
+import numba
+import numpy as np
+import pandas as pd
+
+from .engine.result import Result
+from .simulation import Simulation, SimulationUnstable, check_run_arguments
+
+#: where a batch can run: ``"auto"`` takes the CPU's threads (this version has no GPU kernels)
+DEVICES = ("auto", "cpu", "gpu")
+#: steps a member takes between looks at whether the batch was interrupted
+CHUNK_STEPS = 20_000
+#: the per-block measures of a row, as :meth:`Result.metrics` names them, and the peak displacement
+BLOCK_MEASURES = ("peak_abs_theta_rad", "peak_abs_displacement_m", "residual_displacement_m", "sliding_m",
+                  "overturn_time_s")
+
+
+@dataclass(frozen=True)
+class Batch:
+    """What :func:`simulate_batch` returns.
+
+    table : one row per member, in the order of the motions (see :func:`member_row` for the columns).
+    histories : {member index: :class:`Result`} of the members asked for.
+    device : where the members ran, in words (``"cpu, 2 threads"``).
+    wall_time_s : s, the batch from its first member's set-up to its last member's measures.
+    """
+
+    table: pd.DataFrame
+    histories: dict = field(default_factory=dict)
+    device: str = ""
+    wall_time_s: float = float("nan")
+
+
+class BatchInterrupted(KeyboardInterrupt):
+    """Ctrl-C during a batch: the members that finished are in ``partial`` (a :class:`Batch`)."""
+
+    def __init__(self, partial: Batch):
+        super().__init__(f"interrupted after {len(partial.table)} members")
+        self.partial = partial
+
+
+def simulate_batch(scene, motions, duration: float | None = None, *, device: str = "auto",
+                   threads: int | None = None, histories=(), measures=None, progress=None,
+                   **simulate_options) -> Batch:
+    """Run ``scene`` under each of ``motions``; one row of measures per member.
+
+    scene : :class:`~dem_core.Scene`, shared by every member.
+    motions : sequence of M :class:`~dem_core.inputs.excitation.GroundMotion`, one per member.
+    duration : s, as :func:`~dem_core.simulate` takes it (None: each motion's natural end).
+    device : ``"auto"`` or ``"cpu"`` (numba's threads); ``"gpu"`` is refused, naming why.
+    threads : how many members run at once (default ``numba.get_num_threads()``, all cores).
+    histories : indices of the members whose :class:`Result` is kept (in :attr:`Batch.histories`).
+    measures : optional ``function(result) -> dict`` whose items are added to each member's row.
+    progress : optional ``function(done, total)`` called as members finish.
+    simulate_options : the keyword arguments of :func:`~dem_core.simulate` (``dt``, ``integrator``, ...), the
+        same for every member; ``parallel`` does not apply (the batch spreads members, not one run).
+
+    A member that loses stability does not stop the others: its row has ``status`` ``"unstable"``, the
+    error's message and the measures of its partial result.  The scene, the motions and the options are checked
+    before any member runs (``TypeError``/``ValueError`` naming the culprit).  Ctrl-C stops the batch after the
+    running members' current chunk and raises :class:`BatchInterrupted` carrying the members that finished.
+    """
+    threads, motions, keep = _checked(scene, motions, device, threads, histories, simulate_options)
+    started = time.perf_counter()
+    first = Simulation(scene, motions[0], duration, **simulate_options)  # checks the options, compiles the kernel
+    stop = threading.Event()
+
+    def run_member(m: int) -> tuple:
+        set_up = time.perf_counter()
+        try:
+            run = first if m == 0 else Simulation(scene, motions[m], duration, **simulate_options)
+        except (ValueError, TypeError) as error:
+            return {"member": m, "motion": motions[m].name, "status": "refused", "error": str(error)}, None
+        while run.advance(CHUNK_STEPS) and not stop.is_set():
+            pass
+        if run.status is None:
+            return None, None
+        try:
+            result, status, error = run.result(), "ok", ""
+        except SimulationUnstable as unstable:
+            result, status, error = unstable.partial, "unstable", str(unstable)
+        row = member_row(m, motions[m].name, result, status, error, time.perf_counter() - set_up)
+        if measures is not None:
+            row.update(measures(result))
+        return row, (result if m in keep else None)
+
+    rows, kept = {}, {}
+    try:
+        _run_members(run_member, len(motions), threads, stop, progress, rows, kept)
+    except KeyboardInterrupt:
+        raise BatchInterrupted(_batch(rows, kept, threads, started)) from None
+    return _batch(rows, kept, threads, started)
+
+
+def _run_members(run_member, count: int, threads: int, stop: threading.Event, progress, rows: dict,
+                 kept: dict) -> None:
+    """``run_member(m)`` for each member on ``threads`` threads, its ``(row, result or None)`` put in ``rows`` and
+    ``kept`` as it finishes.  On ``KeyboardInterrupt`` the running members stop after their chunk (``stop``), those
+    not started are dropped, and the interrupt goes on once the running ones have handed back what they have."""
+    with ThreadPoolExecutor(threads, thread_name_prefix="dem-batch") as pool:
+        pending = {pool.submit(run_member, m): m for m in range(count)}
+
+        def collect(future, m):
+            row, result = future.result()
+            if row is not None:
+                rows[m] = row
+            if result is not None:
+                kept[m] = result
+
+        try:
+            while pending:
+                done, _ = wait(pending, return_when=FIRST_COMPLETED)
+                for future in done:
+                    collect(future, pending.pop(future))
+                    if progress is not None:
+                        progress(len(rows), count)
+        except KeyboardInterrupt:
+            stop.set()
+            for future in pending:
+                future.cancel()
+            wait(pending)
+            for future, m in pending.items():
+                if not future.cancelled():
+                    collect(future, m)
+            raise
+
+
+def _checked(scene, motions, device, threads, histories, simulate_options) -> tuple:
+    """``(threads, motions as a list, members whose histories are kept)``, or the error naming what is wrong."""
+    if device not in DEVICES:
+        raise ValueError(f"device must be one of {DEVICES}, got {device!r}")
+    if device == "gpu":
+        raise ValueError("device='gpu' needs CUDA kernels, which this version of dem_core does not have; "
+                         "device='cpu' or 'auto' runs the members on the CPU's threads")
+    if "parallel" in simulate_options:
+        raise TypeError("simulate_batch spreads its members over threads; 'parallel' (one run over threads) does "
+                        "not apply")
+    threads = _thread_count(threads)
+    motions = list(motions)
+    if not motions:
+        raise ValueError("motions is empty: give one ground motion per member")
+    for m, motion in enumerate(motions):
+        try:
+            check_run_arguments(scene, motion)
+        except TypeError as error:
+            raise TypeError(f"member {m}: {error}") from None
+    return threads, motions, _members(histories, len(motions))
+
+
+def member_row(member: int, motion: str, result: Result, status: str, error: str, wall_time: float) -> dict:
+    """One member's row: ``member``, ``motion`` (its name), ``status`` (``"ok"``, ``"unstable"``, ``"refused"``),
+    ``error`` (the message, or ''), ``overturned`` and ``overturn_time_s`` (the first of any block, NaN if none),
+    ``max_peak_abs_theta_rad``, ``total_sliding_m``, ``dt_s``, ``steps``, ``wall_time_s`` (its set-up, run and
+    measures), and for each block ``<measure>[<block>]`` of :data:`BLOCK_MEASURES`: peak |theta| over every
+    step (rad), peak |horizontal displacement| relative to the base over the outputs (m), residual displacement
+    (m), sliding (m), overturn time (s, NaN if none)."""
+    relative = result.relative_x - result.relative_x[:1]
+    per_block = {
+        "peak_abs_theta_rad": result.peak_theta,
+        "peak_abs_displacement_m": np.max(np.abs(relative), axis=0, initial=0.0),
+        "residual_displacement_m": result.residual_displacement if len(result.t) else np.full(result.n_blocks,
+                                                                                               np.nan),
+        "sliding_m": result.block_sliding,
+        "overturn_time_s": result.overturn_time,
+    }
+    row = {"member": member, "motion": motion, "status": status, "error": error,
+           "overturned": result.overturned, "overturn_time_s": result.time_of_overturn,
+           "max_peak_abs_theta_rad": float(np.max(result.peak_theta)), "total_sliding_m": result.total_sliding,
+           "dt_s": result.dt, "steps": int(result.info.get("steps", 0)), "wall_time_s": wall_time}
+    for measure in BLOCK_MEASURES:
+        for name, value in zip(result.names, per_block[measure]):
+            row[f"{measure}[{name}]"] = float(value)
+    return row
+
+
+def _batch(rows: dict, kept: dict, threads: int, started: float) -> Batch:
+    table = pd.DataFrame([rows[m] for m in sorted(rows)])
+    return Batch(table, {m: kept[m] for m in sorted(kept)}, f"cpu, {threads} thread{'s' * (threads > 1)}",
+                 time.perf_counter() - started)
+
+
+def _thread_count(threads) -> int:
+    if threads is None:
+        return numba.get_num_threads()
+    if isinstance(threads, bool) or not isinstance(threads, (int, np.integer)) or threads < 1:
+        raise ValueError(f"threads must be a whole number of at least 1, got {threads!r}")
+    return int(threads)
+
+
+def _members(histories, count: int) -> set:
+    keep = set()
+    for m in histories:
+        if isinstance(m, bool) or not isinstance(m, (int, np.integer)) or not 0 <= m < count:
+            raise ValueError(f"histories names member {m!r}; members are 0 to {count - 1}")
+        keep.add(int(m))
+    return keep

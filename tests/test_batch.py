@@ -1,0 +1,98 @@
+"""simulate_batch: each member is the run simulate gives, bit for bit, whatever the threads; failures stay with
+their member; bad input is refused before any member runs."""
+
+import numpy as np
+import pandas as pd
+import pytest
+
+import dem_core
+from dem_core import compile_model, excitation, scenes, stability
+from dem_core.batch import BLOCK_MEASURES, BatchInterrupted, simulate_batch
+
+MEASURED = ["overturned", "overturn_time_s", "max_peak_abs_theta_rad", "total_sliding_m", "dt_s", "steps"]
+
+
+def _motions():
+    return [excitation.sine_pulse(a, 0.4) for a in (1.5, 4.0, 9.0)]
+
+
+@pytest.mark.parametrize("integrator", ["explicit", "moreau"])
+def test_members_are_the_runs_simulate_gives(integrator):
+    block = scenes.block(0.6, 3.0)
+    motions = _motions()
+    batch = simulate_batch(block, motions, 1.5, integrator=integrator, threads=2, histories=[1])
+    for m, motion in enumerate(motions):
+        alone = dem_core.simulate(block, motion, 1.5, integrator=integrator)
+        row = batch.table.iloc[m]
+        assert row["status"] == "ok" and row["motion"] == motion.name
+        assert row["peak_abs_theta_rad[block]"] == alone.peak_theta[0]
+        assert row["residual_displacement_m[block]"] == alone.residual_displacement[0]
+        assert row["overturned"] == alone.overturned
+        np.testing.assert_array_equal(row["overturn_time_s[block]"], alone.overturn_time[0])
+    assert batch.table["max_peak_abs_theta_rad"].nunique() == 3, "the three pulses rock the block differently"
+    assert list(batch.histories) == [1]
+    np.testing.assert_array_equal(batch.histories[1].theta,
+                                  dem_core.simulate(block, motions[1], 1.5, integrator=integrator).theta)
+
+
+def test_a_column_batch_is_the_same_on_one_thread_and_on_two():
+    column = scenes.column(n_drums=3, width=1.0, height=4.0)
+    motions = [excitation.record("el_centro_1940", pga=a) for a in (2.0, 3.0, 4.0, 5.0)]
+    one = simulate_batch(column, motions, 3.0, integrator="moreau", threads=1)
+    two = simulate_batch(column, motions, 3.0, integrator="moreau", threads=2)
+    columns = MEASURED + [c for c in one.table if c.split("[")[0] in BLOCK_MEASURES]
+    pd.testing.assert_frame_equal(one.table[columns], two.table[columns])
+    assert one.device == "cpu, 1 thread" and two.device == "cpu, 2 threads"
+    assert len([c for c in one.table if c.startswith("peak_abs_theta_rad[")]) == 3
+
+
+def test_an_unstable_member_keeps_its_partial_measures_and_a_refused_one_its_reason():
+    block = scenes.block(0.6, 3.0)
+    beyond = 3.0 * stability.stability_limit(compile_model(block))
+    motions = [excitation.sine_pulse(3.0, 0.5), excitation.harmonic(0.01, 1.0)]
+    with pytest.warns(RuntimeWarning, match="stability limit"):
+        table = simulate_batch(block, motions, None, dt=beyond, enforce_stability_limit=False).table
+    assert table["status"].tolist() == ["unstable", "refused"]
+    assert "gained energy" in table["error"][0] and np.isfinite(table["max_peak_abs_theta_rad"][0])
+    assert "no natural end" in table["error"][1]
+
+
+def test_measures_add_columns_to_each_row():
+    table = simulate_batch(scenes.block(0.6, 3.0), _motions(), 0.5, integrator="moreau",
+                           measures=lambda result: {"outputs": len(result.t)}).table
+    assert table["outputs"].tolist() == [51, 51, 51]
+
+
+def test_progress_counts_every_member():
+    seen = []
+    simulate_batch(scenes.block(0.6, 3.0), _motions(), 0.2, integrator="moreau",
+                   progress=lambda done, total: seen.append((done, total)))
+    assert seen == [(1, 3), (2, 3), (3, 3)]
+
+
+@pytest.mark.parametrize("arguments, error, words", [
+    ({"motions": [excitation.sine_pulse(1.0, 0.4), 3.0]}, TypeError, "member 1"),
+    ({"motions": []}, ValueError, "motions is empty"),
+    ({"device": "gpu"}, ValueError, "CUDA"),
+    ({"device": "tpu"}, ValueError, "device must be one of"),
+    ({"histories": [5]}, ValueError, "histories names member 5"),
+    ({"threads": 0}, ValueError, "threads must be"),
+    ({"parallel": True}, TypeError, "parallel"),
+    ({"dt": -1.0}, ValueError, "dt must be positive"),
+])
+def test_bad_input_is_refused_naming_it(arguments, error, words):
+    given = {"motions": _motions(), **arguments}
+    with pytest.raises(error, match=words):
+        simulate_batch(scenes.block(0.6, 3.0), given.pop("motions"), 0.5, **given)
+
+
+def test_ctrl_c_hands_back_the_members_that_finished():
+    def interrupt_on_second(done, total):
+        if done == 2:
+            raise KeyboardInterrupt
+
+    with pytest.raises(BatchInterrupted) as caught:
+        simulate_batch(scenes.block(0.6, 3.0), _motions() * 2, 0.3, integrator="moreau", threads=1,
+                       progress=interrupt_on_second)
+    assert len(caught.value.partial.table) >= 2
+    assert (caught.value.partial.table["status"] == "ok").all()
