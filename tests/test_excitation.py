@@ -113,3 +113,16 @@ def test_harmonic_with_both_amplitude_and_pga_names_both_as_given():
 def test_numbers_are_checked_for_finiteness_and_sign_naming_the_input_and_its_unit(make, message):
     with pytest.raises(ValueError, match=message):
         make()
+
+
+def test_a_scaled_motion_is_the_motion_times_the_factor():
+    base = excitation.record("kalamata_1986")
+    times = np.linspace(-1.0, base.end_time + 2.0, 777)
+    louder = excitation.scaled(base, 1.7)
+    for what in ("acceleration", "velocity", "displacement"):
+        np.testing.assert_allclose(getattr(louder, what)(times), 1.7 * np.array(getattr(base, what)(times)),
+                                   rtol=1e-15, atol=0.0)
+    assert louder.end_time == base.end_time and louder.horizontal.peak_acceleration == pytest.approx(
+        1.7 * base.horizontal.peak_acceleration)
+    with pytest.raises(ValueError, match="factor must be a finite positive number"):
+        excitation.scaled(base, 0.0)

@@ -319,6 +319,43 @@ class GroundMotion:
         return self.horizontal.displacement(t), self.vertical.displacement(t)
 
 
+@dataclass(frozen=True)
+class Scaled(Component):
+    """``factor`` times the motion of ``component``."""
+
+    component: Component
+    factor: float
+
+    @property
+    def end_time(self):
+        return self.component.end_time
+
+    @property
+    def time_scale(self):
+        return self.component.time_scale
+
+    def acceleration(self, t):
+        return self.factor * self.component.acceleration(t)
+
+    def velocity(self, t):
+        return self.factor * self.component.velocity(t)
+
+    def displacement(self, t):
+        return self.factor * self.component.displacement(t)
+
+    @property
+    def peak_acceleration(self):
+        return self.factor * self.component.peak_acceleration
+
+
+def scaled(motion: GroundMotion, factor: float) -> GroundMotion:
+    """``motion`` with both components multiplied by ``factor`` (finite, positive), named ``"<name> x<factor>"``:
+    a record loaded once and run at many amplitudes."""
+    factor = _positive_factor(factor, "factor", motion.name)
+    return GroundMotion(Scaled(motion.horizontal, factor), Scaled(motion.vertical, factor),
+                        name=f"{motion.name} x{factor:.4g}")
+
+
 def still() -> GroundMotion:
     """No ground motion."""
     return GroundMotion(name="none")
