@@ -163,7 +163,7 @@ def test_progress_shows_on_a_terminal(tmp_path, capsys, monkeypatch):
     assert "frames: 100%" in capsys.readouterr().err
 
 
-@pytest.mark.parametrize("command", ["run", "animate", "threshold", "ramp", "stiffness"])
+@pytest.mark.parametrize("command", ["run", "animate", "threshold", "ramp", "stiffness", "fragility"])
 def test_every_command_that_runs_a_scene_takes_a_duration(command, capsys):
     with pytest.raises(SystemExit):
         main([command, "--help"])

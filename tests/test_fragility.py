@@ -78,6 +78,14 @@ def test_counts_that_place_no_median_give_none_and_say_why(exceed, words):
     assert math.isnan(fit.median) and math.isnan(fit.beta) and words in fit.note
 
 
+def test_counts_that_do_not_rise_with_the_intensity_place_no_median():
+    """One run in four exceeds at every stripe: the likelihood grows without bound as the lognormal widens and its
+    median runs off, so no median is fitted."""
+    runs = np.full(LEVELS.size, 4)
+    median, beta, note = fragility.fit_lognormal(LEVELS, runs, np.ones(LEVELS.size, int))
+    assert math.isnan(median) and math.isnan(beta) and "barely rise" in note
+
+
 @pytest.mark.parametrize("levels, runs, exceed, words", [
     ([1.0, -2.0], [4, 4], [0, 1], "positive"),
     ([1.0, 2.0], [4, 4], [0, 5], "exceed <= runs"),

@@ -1,1 +1,2 @@
-"""What is done with many runs: threshold searches, parametric sweeps, response spectra, stiffness convergence."""
+"""What is done with many runs: threshold searches, parametric sweeps, response spectra, stiffness convergence,
+fragility curves."""

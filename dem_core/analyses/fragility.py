@@ -27,6 +27,9 @@ BAND_LEVEL = 0.9
 BOOTSTRAP_SAMPLES = 1000
 #: smallest dispersion fitted: counts that jump from none to all between two stripes are fitted by this step
 SMALLEST_BETA = 1e-3
+#: largest dispersion fitted: counts that barely rise with the intensity drive the likelihood's maximum to an
+#: ever wider lognormal whose median runs off to infinity; such counts place no median
+LARGEST_BETA = 10.0
 HALF_LOG_TWO_PI = 0.5 * math.log(2.0 * math.pi)
 
 
@@ -101,9 +104,10 @@ def fit_lognormal(levels, runs, exceed) -> tuple[float, float, str]:
     """Maximum-likelihood median and dispersion of a lognormal fragility to the stripes' counts.
 
     levels, runs, exceed : (L,) intensity (> 0), runs and exceedances per stripe.  Returns ``(median, beta,
-    note)``: nan, nan and the reason where the counts place no median (no exceedance at all, or exceedance in
-    every run); where the counts jump from none to all between two stripes (the likelihood grows as beta -> 0),
-    SMALLEST_BETA and the median midway between them in log intensity, with the note saying so."""
+    note)``: nan, nan and the reason where the counts place no median (no exceedance at all, exceedance in
+    every run, or counts so flat that the likelihood grows as beta passes LARGEST_BETA); where the counts jump
+    from none to all between two stripes (the likelihood grows as beta -> 0), SMALLEST_BETA and the median midway
+    between them in log intensity, with the note saying so."""
     levels, runs, exceed = _counts(levels, runs, exceed)
     used = np.flatnonzero(runs > 0)
     used = used[np.argsort(levels[used])]
@@ -143,7 +147,10 @@ def fit_lognormal(levels, runs, exceed) -> tuple[float, float, str]:
     best = optimize.minimize(loss, np.array([middle, math.log(0.5 * spread + 0.1)]), jac=True, method="BFGS",
                              options={"gtol": 1e-9, "maxiter": 500})
     mu, log_beta = best.x
-    beta = math.exp(max(log_beta, lowest))
+    beta = math.exp(min(max(log_beta, lowest), math.log(LARGEST_BETA) + 1.0))
+    if not (beta <= LARGEST_BETA and abs(mu) < 700.0):
+        return math.nan, math.nan, (f"the counts barely rise with the intensity: the best lognormal is wider than "
+                                    f"beta = {LARGEST_BETA:g} and places no median")
     return math.exp(mu), beta, ""
 
 

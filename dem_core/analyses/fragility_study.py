@@ -1,0 +1,162 @@
+"""A fragility study: one scene under a suite of records, each scaled to stripes of an intensity measure, run as
+one batch, and a lognormal fragility fitted per damage state (:mod:`dem_core.analyses.fragility`).
+
+Damage is measured by the damage ratio, the largest over the blocks of peak |theta| over the critical angle that
+governs the block: its column's (the tilt at which the stack tips as one body, :mod:`dem_core.engine.stacks`) for
+a block in a column, its own ``atan(b/h)`` otherwise.  A run exceeds damage state ``s`` below 1 when its damage
+ratio reaches ``s`` or it overturned; states of 1 and above are overturning, as the engine's overturn rule finds
+it (docs/method.md section 3).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+import pandas as pd
+
+from ..batch import simulate_batch
+from ..inputs.excitation import GroundMotion, scaled
+from ..inputs.records import G_STANDARD
+from .fragility import fit_fragility, fragility_figure
+
+#: the intensity measures: name -> (label, unit)
+INTENSITY_MEASURES = {"pga": ("PGA", "m/s^2"), "pgv": ("PGV", "m/s")}
+#: the highest stripe when none is given: 1 g of PGA, 1 m/s of PGV
+DEFAULT_TOP = {"pga": G_STANDARD, "pgv": 1.0}
+DEFAULT_STATES = (0.1, 0.3, 0.5, 1.0)
+#: s: the ground velocity is sampled this finely (or finer, for a motion that changes faster) to find its peak
+VELOCITY_SAMPLING = 1e-3
+
+
+@dataclass(frozen=True)
+class FragilityStudy:
+    """What :func:`fragility_study` returns.
+
+    runs : one row per run: ``record``, ``level`` (the intensity, in the measure's unit), ``scale`` (the factor
+        applied to the record) and ``damage_ratio``, then the batch's measures (:func:`dem_core.batch.member_row`).
+    fits : {state: :class:`~dem_core.analyses.fragility.Fragility`}.
+    im : the intensity measure's name (a key of :data:`INTENSITY_MEASURES`).
+    device, wall_time_s : where the batch ran and how long the study took, s.
+    """
+
+    runs: pd.DataFrame
+    fits: dict
+    im: str
+    device: str = ""
+    wall_time_s: float = float("nan")
+    settings: dict = field(default_factory=dict)
+
+    def table(self) -> pd.DataFrame:
+        """One row per damage state: ``state``, ``median`` and ``beta`` with their bootstrap bands
+        (``median_low`` .. ``beta_high``), ``runs``, ``exceeded`` and ``note``."""
+        rows = []
+        for state, fit in self.fits.items():
+            (m_low, m_high), (b_low, b_high) = fit.median_band, fit.beta_band
+            rows.append({"state": state, "median": fit.median, "median_low": m_low, "median_high": m_high,
+                         "beta": fit.beta, "beta_low": b_low, "beta_high": b_high, "runs": int(fit.runs.sum()),
+                         "exceeded": int(fit.exceed.sum()), "note": fit.note})
+        return pd.DataFrame(rows)
+
+    def counts(self) -> pd.DataFrame:
+        """One row per stripe and state: ``level``, ``state``, ``runs``, ``exceeded``."""
+        return pd.DataFrame([{"level": level, "state": state, "runs": int(n), "exceeded": int(z)}
+                             for state, fit in self.fits.items()
+                             for level, n, z in zip(fit.levels, fit.runs, fit.exceed)])
+
+    def figure(self, title: str = ""):
+        label, unit = INTENSITY_MEASURES[self.im]
+        fits = {("overturning" if state >= 1.0 else f"peak |theta|/alpha >= {state:g}"): fit
+                for state, fit in self.fits.items()}
+        return fragility_figure(fits, intensity=f"{label} ({unit.replace('^2', '$^2$')})",
+                                title=title or "Fragility")
+
+
+def intensity(motion: GroundMotion, im: str) -> float:
+    """The intensity measure ``im`` of ``motion``'s horizontal component: PGA (m/s^2), or PGV (m/s), the peak
+    |velocity| sampled every :data:`VELOCITY_SAMPLING` s or 1/50 of the motion's shortest time."""
+    if im == "pga":
+        return float(motion.horizontal.peak_acceleration)
+    if im == "pgv":
+        end = motion.horizontal.end_time
+        if not math.isfinite(end):
+            raise ValueError(f"{motion.name}: PGV needs a motion with an end (a record, a pulse)")
+        step = min(VELOCITY_SAMPLING, motion.horizontal.time_scale / 50.0)
+        t = np.linspace(0.0, end, int(math.ceil(end / step)) + 1)
+        return float(np.max(np.abs(motion.horizontal.velocity(t))))
+    raise ValueError(f"intensity measure must be one of {tuple(INTENSITY_MEASURES)}, got {im!r}")
+
+
+def damage_ratio(result) -> float:
+    """The largest over the blocks of peak |theta| / the governing critical angle (the column's for a block in a
+    column, else the block's own); nan for a result without critical angles."""
+    if result.critical_angle is None:
+        return float("nan")
+    governing = np.array(result.critical_angle, float)
+    for column in result.columns:
+        for name in column.blocks:
+            governing[result.index(name)] = column.critical_angle
+    return float(np.max(result.peak_theta / governing))
+
+
+def exceeds(ratio, overturned, state: float) -> np.ndarray:
+    """Whether runs of damage ``ratio`` that ``overturned`` (arrays of one shape) exceed damage ``state``: states
+    of 1 and above are overturning; below 1, a ratio of at least ``state``, or an overturn."""
+    overturned = np.asarray(overturned, bool)
+    if state >= 1.0:
+        return overturned
+    return overturned | (np.asarray(ratio, float) >= state)
+
+
+def stripes(count: int, top: float) -> np.ndarray:
+    """``count`` intensity levels evenly spaced from ``top / count`` to ``top``."""
+    if isinstance(count, bool) or not isinstance(count, (int, np.integer)) or count < 2:
+        raise ValueError(f"a fragility needs at least 2 intensity levels, got {count!r}")
+    if not (math.isfinite(top) and top > 0):
+        raise ValueError(f"the highest intensity level must be positive and finite, got {top!r}")
+    return top * np.arange(1, count + 1) / count
+
+
+def fragility_study(scene, records: dict, levels, states=DEFAULT_STATES, *, im: str = "pga",
+                    duration: float | None = None, device: str = "auto", threads: int | None = None,
+                    progress=None, samples: int | None = None, **simulate_options) -> FragilityStudy:
+    """Run ``scene`` under every record of ``records`` ({name: :class:`GroundMotion`}) scaled to each intensity of
+    ``levels`` (the measure ``im``), all as one :func:`~dem_core.batch.simulate_batch`, and fit one lognormal
+    fragility per damage state of ``states`` (multiple-stripe analysis: each level's runs, one per record).
+
+    A run that does not finish (unstable, refused) counts in no stripe and keeps its row, with its error.
+    ``samples`` : the bootstrap's refits (default that of :func:`fit_fragility`).  ``simulate_options`` go to
+    every run, as :func:`~dem_core.simulate` takes them.
+    """
+    if im not in INTENSITY_MEASURES:
+        raise ValueError(f"intensity measure must be one of {tuple(INTENSITY_MEASURES)}, got {im!r}")
+    if not records:
+        raise ValueError("records is empty: a fragility needs at least one record")
+    levels = np.asarray(levels, float)
+    if levels.ndim != 1 or len(levels) < 2 or not np.all(np.isfinite(levels) & (levels > 0)):
+        raise ValueError(f"levels must be at least 2 positive, finite intensities, got {levels}")
+    states = sorted(float(s) for s in states)
+    if not states or not all(math.isfinite(s) and s > 0 for s in states):
+        raise ValueError(f"damage states are positive fractions of the critical angle, got {states}")
+    own = {name: intensity(motion, im) for name, motion in records.items()}
+    for name, value in own.items():
+        if not value > 0:
+            raise ValueError(f"record {name}: its {INTENSITY_MEASURES[im][0]} is zero; it cannot be scaled")
+    plan = [(name, level, level / own[name]) for level in levels for name in records]
+    motions = [scaled(records[name], factor) for name, _, factor in plan]
+    batch = simulate_batch(scene, motions, duration, device=device, threads=threads, progress=progress,
+                           measures=lambda result: {"damage_ratio": damage_ratio(result)}, **simulate_options)
+    runs = pd.concat([pd.DataFrame(plan, columns=["record", "level", "scale"]), batch.table], axis=1)
+    finished = runs["status"] == "ok"
+    fits = {}
+    for state in states:
+        hit = exceeds(runs["damage_ratio"].to_numpy(), runs["overturned"].fillna(False).to_numpy(), state)
+        per_level = pd.DataFrame({"level": runs["level"], "run": finished, "hit": hit & finished})
+        grouped = per_level.groupby("level", sort=True).sum()
+        options = {} if samples is None else {"samples": samples}
+        fits[state] = fit_fragility(grouped.index.to_numpy(), grouped["run"].to_numpy(), grouped["hit"].to_numpy(),
+                                    **options)
+    return FragilityStudy(runs, fits, im, batch.device, batch.wall_time_s,
+                          {"records": list(records), "levels": len(levels), "states": states, "im": im,
+                           "duration": duration, **simulate_options})

@@ -1,0 +1,79 @@
+"""dem-core fragility: the suite of records scaled to stripes, the fits printed and written, bad records refused."""
+
+import json
+import textwrap
+
+import numpy as np
+import pandas as pd
+
+from dem_core.cli import main
+
+COLUMN = textwrap.dedent("""
+    [scene]
+    builder = "column"
+    n_drums = 3
+    width = 1.0
+    height = 4.0
+    [excitation]
+    kind = "record"
+    source = "el_centro_1940"
+    [simulation]
+    integrator = "moreau"
+""")
+
+
+def _scene(tmp_path):
+    path = tmp_path / "column.toml"
+    path.write_text(COLUMN)
+    return str(path)
+
+
+def test_fragility_writes_fits_counts_runs_figure_and_settings(tmp_path, capsys):
+    out = tmp_path / "fragility"
+    status = main(["fragility", _scene(tmp_path), "--records", "el_centro_1940", "kalamata_1986", "--levels", "3",
+                   "--max", "9", "--states", "0.2", "1.0", "--duration", "3", "--out", str(out)])
+    printed = capsys.readouterr().out
+    assert status == 0
+    assert "2 record(s) x 3 PGA levels from 3 to 9 m/s^2 (6 runs), integrator moreau" in printed
+    assert "peak |theta|/alpha >= 0.2:" in printed and "overturning:" in printed
+    fits = pd.read_csv(out / "fragility.csv")
+    assert fits["state"].tolist() == [0.2, 1.0] and (fits["runs"] == 6).all()
+    counts = pd.read_csv(out / "counts.csv")
+    assert len(counts) == 6 and (counts["runs"] == 2).all()
+    runs = pd.read_csv(out / "runs.csv")
+    assert sorted(set(runs["record"])) == ["el_centro_1940", "kalamata_1986"]
+    np.testing.assert_allclose(sorted(set(runs["level"])), [3.0, 6.0, 9.0])
+    overturned = runs["overturned"].astype(bool)
+    for state in (0.2, 1.0):  # the counts are the runs' own damage, state by state
+        hit = overturned if state >= 1 else overturned | (runs["damage_ratio"] >= state)
+        assert fits.loc[fits["state"] == state, "exceeded"].item() == hit.sum()
+    facts = json.loads((out / "study.json").read_text())
+    assert facts["runs"] == 6 and facts["simulation"]["integrator"] == "moreau" and facts["duration_s"] == 3.0
+    assert (out / "fragility.png").stat().st_size > 0
+
+
+def test_a_folder_of_text_records_is_a_suite(tmp_path, capsys):
+    folder = tmp_path / "records"
+    folder.mkdir()
+    t = np.arange(0.0, 2.0, 0.01)
+    for name, frequency in (("north", 2.0), ("south", 3.0)):
+        np.savetxt(folder / f"{name}.txt", np.column_stack([t, np.sin(2 * np.pi * frequency * t)]))
+    (folder / "notes.md").write_text("not a record")
+    out = tmp_path / "out"
+    assert main(["fragility", _scene(tmp_path), "--records-dir", str(folder), "--units", "g", "--levels", "2",
+                 "--out", str(out)]) == 0
+    assert sorted(set(pd.read_csv(out / "runs.csv")["record"])) == ["north", "south"]
+
+
+def test_a_record_that_cannot_be_read_is_named(tmp_path, capsys):
+    assert main(["fragility", _scene(tmp_path), "--records", str(tmp_path / "missing.at2"), "--out",
+                 str(tmp_path / "out")]) == 2
+    error = capsys.readouterr().err
+    assert error.startswith("error: record ") and "missing.at2" in error and "Traceback" not in error
+
+
+def test_an_empty_records_folder_is_refused(tmp_path, capsys):
+    (tmp_path / "empty").mkdir()
+    assert main(["fragility", _scene(tmp_path), "--records-dir", str(tmp_path / "empty"), "--out",
+                 str(tmp_path / "out")]) == 2
+    assert "no .at2, .txt, .dat or .csv file" in capsys.readouterr().err

@@ -1,0 +1,71 @@
+"""The fragility study's pieces: intensity measures, the damage ratio against the governing critical angle, the
+exceedance rule, the stripes, and the study's counts against its own runs."""
+
+import math
+
+import numpy as np
+import pytest
+
+from dem_core import excitation, scenes, simulate
+from dem_core.analyses.fragility_study import damage_ratio, exceeds, fragility_study, intensity, stripes
+
+
+def test_pgv_of_a_sine_pulse_is_its_closed_form():
+    """a sin(2 pi t / T) for 0 <= t < T: the ground velocity peaks at T/2 at a T / pi."""
+    a, period = 3.0, 0.7
+    assert intensity(excitation.sine_pulse(a, period), "pgv") == pytest.approx(a * period / math.pi, rel=1e-5)
+    assert intensity(excitation.sine_pulse(a, period), "pga") == pytest.approx(a)
+
+
+def test_scaling_a_record_scales_its_intensities():
+    record = excitation.record("kalamata_1986")
+    for im in ("pga", "pgv"):
+        assert intensity(excitation.scaled(record, 2.5), im) == pytest.approx(2.5 * intensity(record, im), rel=1e-12)
+
+
+def test_a_drums_damage_is_measured_against_its_columns_critical_angle():
+    column = scenes.column(n_drums=3, width=1.0, height=4.0)
+    result = simulate(column, excitation.sine_pulse(3.0, 0.6), 1.5, integrator="moreau")
+    (only,) = result.columns
+    assert only.critical_angle < result.critical_angle.min(), "the column tips before any drum alone would"
+    assert damage_ratio(result) == pytest.approx(result.peak_theta.max() / only.critical_angle, rel=1e-12)
+    block = simulate(scenes.block(0.6, 3.0), excitation.sine_pulse(3.0, 0.6), 1.5, integrator="moreau")
+    assert damage_ratio(block) == pytest.approx(block.peak_theta[0] / math.atan(0.6 / 3.0), rel=1e-12)
+
+
+def test_states_from_one_up_are_overturning_and_an_overturn_exceeds_every_state():
+    ratio, overturned = np.array([0.05, 0.4, 1.2, 0.3]), np.array([False, False, False, True])
+    assert exceeds(ratio, overturned, 0.3).tolist() == [False, True, True, True]
+    assert exceeds(ratio, overturned, 1.0).tolist() == [False, False, False, True]
+
+
+def test_stripes_are_evenly_spaced_up_to_the_top_and_bad_ones_refused():
+    np.testing.assert_allclose(stripes(4, 8.0), [2.0, 4.0, 6.0, 8.0])
+    with pytest.raises(ValueError, match="at least 2"):
+        stripes(1, 8.0)
+    with pytest.raises(ValueError, match="positive and finite"):
+        stripes(4, -1.0)
+
+
+def test_the_study_counts_each_stripes_runs_as_the_runs_themselves_say():
+    records = {"pulse": excitation.sine_pulse(1.0, 0.5), "long pulse": excitation.sine_pulse(1.0, 0.9)}
+    study = fragility_study(scenes.block(0.6, 3.0), records, stripes(5, 10.0), (0.5, 1.0), duration=2.0,
+                            integrator="moreau", samples=50)
+    assert len(study.runs) == 10 and (study.runs["status"] == "ok").all()
+    for state, fit in study.fits.items():
+        for level, runs, exceeded in zip(fit.levels, fit.runs, fit.exceed):
+            at = study.runs[study.runs["level"] == level]
+            assert runs == 2
+            assert exceeded == exceeds(at["damage_ratio"], at["overturned"].astype(bool), state).sum()
+    tallest = study.runs[study.runs["level"] == 10.0]
+    np.testing.assert_allclose(tallest["scale"], 10.0)
+
+
+def test_bad_studies_are_refused_naming_the_fault():
+    block, records = scenes.block(0.6, 3.0), {"pulse": excitation.sine_pulse(1.0, 0.5)}
+    with pytest.raises(ValueError, match="intensity measure"):
+        fragility_study(block, records, [1.0, 2.0], im="sa")
+    with pytest.raises(ValueError, match="records is empty"):
+        fragility_study(block, {}, [1.0, 2.0])
+    with pytest.raises(ValueError, match="damage states"):
+        fragility_study(block, records, [1.0, 2.0], states=(0.5, -1.0))
