@@ -13,6 +13,7 @@ from pathlib import Path
 
 from comparisons.benchmarks import (
     against_pymunk,
+    batch_throughput,
     calibrate_damping,
     column_ensemble,
     scaling,
@@ -30,6 +31,7 @@ from comparisons.report.provenance import provenance
 #: subcommand: the module of :mod:`comparisons.benchmarks` that declares its options and runs it
 BENCHMARKS = {
     "against-pymunk": against_pymunk,
+    "batch-throughput": batch_throughput,
     "column-ensemble": column_ensemble,
     "scaling": scaling,
     "sweep-throughput": sweep_throughput,
