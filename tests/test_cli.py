@@ -118,11 +118,11 @@ def test_threshold_units_follow_the_varied_parameter_and_duration_overrides_the_
                                     'kind = "harmonic"\npga = 2.0\nfrequency = 1.0'))
     durations = []
 
-    def overturns_above_3_m_s2(scene, motion, **options):
+    def overturns_above_3_m_s2(scene, motion_at, scales, event, **options):
         durations.append(options["duration"])
-        return type("Run", (), {"overturned": motion.horizontal.peak_acceleration > 3.0})()
+        return [motion_at(s).horizontal.peak_acceleration > 3.0 for s in scales]
 
-    monkeypatch.setattr(thresholds, "simulate", overturns_above_3_m_s2)
+    monkeypatch.setattr(thresholds, "batch_outcomes", overturns_above_3_m_s2)
     assert main(["threshold", str(scene), "--low", "1", "--high", "6", "--duration", "2.5"]) == 0
     assert set(durations) == {2.5}
     assert re.search(f"overturning threshold: pga = {ACCELERATION}, between", capsys.readouterr().out)
@@ -238,11 +238,12 @@ def test_threshold_searches_as_the_library_does_by_default(tmp_path, capsys, mon
                                     'kind = "harmonic"\npga = 2.0\nfrequency = 1.0'))
     ran = []
 
-    def overturns_above_3_m_s2(scene, motion, **options):
-        ran.append(motion.horizontal.peak_acceleration)
-        return type("Run", (), {"overturned": motion.horizontal.peak_acceleration > 3.0})()
+    def overturns_above_3_m_s2(scene, motion_at, scales, event, **options):
+        peaks = [motion_at(s).horizontal.peak_acceleration for s in scales]
+        ran.extend(peaks)
+        return [peak > 3.0 for peak in peaks]
 
-    monkeypatch.setattr(thresholds, "simulate", overturns_above_3_m_s2)
+    monkeypatch.setattr(thresholds, "batch_outcomes", overturns_above_3_m_s2)
     monkeypatch.setattr(cli, "_compile_first", lambda *args: None)
 
     def library(**options):

@@ -35,6 +35,43 @@ def test_scan_finds_every_window_and_refines_each_change():
     assert np.all(np.diff(grid) <= 0.02 * grid[:-1] + 1e-12)
 
 
+def test_a_scan_in_batches_runs_what_a_scan_one_at_a_time_runs():
+    def overturns(scale):
+        if 4.0 < scale < 4.2:
+            raise dem_core.SimulationUnstable(f"energy balance lost at scale {scale}", None)
+        return 3.3 < scale < 5.0 or scale > 8.0
+
+    def together(scales):
+        batches.append(len(scales))
+        outcomes = []
+        for scale in scales:
+            try:
+                outcomes.append(overturns(scale))
+            except dem_core.SimulationUnstable as unstable:
+                outcomes.append(unstable)
+        return outcomes
+
+    batches = []
+    alone = thresholds.scan_and_refine(overturns, 1.0, 10.0)
+    batched = thresholds.scan_and_refine(overturns, 1.0, 10.0, happen_at=together, batch=8)
+    assert batched.runs == alone.runs and batched.failures == alone.failures
+    assert max(batches) == 8 and sum(batches) == len(thresholds.scan_grid(1.0, 10.0))
+    grid = thresholds.scan_grid(1.0, 10.0)
+    first = thresholds.scan_and_refine(overturns, 1.0, 10.0, happen_at=together, batch=8, first_only=True)
+    event = int(np.argmax(grid > 3.3))  # the first scale that overturns, below those that fail
+    assert first.smallest == grid[event] and len(first.runs) == 8 * (event // 8 + 1)
+
+
+def test_the_search_runs_each_scale_as_simulate_runs_it():
+    block = scenes.block(0.6, 3.0)
+    found = thresholds.overturning_threshold(block, lambda a: excitation.sine_pulse(a, 0.5), 3.0, 12.0, step=0.25,
+                                             tolerance=0.05, integrator="moreau", duration=2.0)
+    assert any(happened for _, happened in found.runs) and not all(happened for _, happened in found.runs)
+    for scale, happened in found.runs:
+        alone = dem_core.simulate(block, excitation.sine_pulse(scale, 0.5), 2.0, integrator="moreau")
+        assert happened == alone.overturned
+
+
 def test_scan_steps_are_relative_and_capped():
     grid = thresholds.scan_grid(1.5, 20.0, step=0.02, absolute_step=0.05)
     steps = np.diff(grid)

@@ -5,7 +5,8 @@
   gives their number), then refines *every* change between neighbouring scales (standing to
   overturned and back) by bisection to ``tolerance``.  The result keeps every run, every window of
   scales where the event happened, and the runs that failed (a run that lost stability is neither a
-  survivor nor a collapse);
+  survivor nor a collapse).  The scan's scales run in batches (:func:`dem_core.batch.simulate_batch`)
+  on every core, each run the one ``simulate`` gives;
 * :func:`overturning_threshold`: the smallest scale (PGA, amplitude, record factor: whatever
   ``motion_at(scale)`` takes) at which a block overturns;
 * :func:`onset_threshold`: the same for the start of rocking (a rotation above theta_cr / 30,
@@ -24,6 +25,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from ..batch import simulate_batch
 from ..simulation import SimulationUnstable, simulate
 from ..inputs.excitation import ramp
 from ..inputs.scene import Scene
@@ -32,6 +34,9 @@ ROCKING_FRACTION = 1.0 / 30.0  # rocking starts at theta_cr / 30
 SLIP_THRESHOLD = 1e-4  # m
 SCAN_STEP = 0.02  # relative step of the scan
 TOLERANCE = 0.005  # relative width of a refined change
+#: the scan runs this many scales per thread in each batch: the progress shows between batches, and a search
+#: that stops at its first event (``first_only``) runs few scales past it
+SCALES_PER_THREAD = 4
 
 
 @dataclass(frozen=True)
@@ -142,7 +147,8 @@ def scan_and_refine(happens: Callable[[float], bool], low: float, high: float, *
                     absolute_step: float | None = None, scan: int | None = None, tolerance: float = TOLERANCE,
                     criterion: str = "", failures: tuple = (SimulationUnstable,),
                     on_run: Callable[[float, bool | None], None] | None = None,
-                    first_only: bool = False) -> Threshold:
+                    first_only: bool = False, happen_at: Callable[[list], list] | None = None,
+                    batch: int = 1) -> Threshold:
     """Every scale of :func:`scan_grid` (``low``, ``high``, ``step``, ``absolute_step``, ``scan``), then
     bisection of each change between neighbouring finished runs until its bracket is narrower than
     ``tolerance`` times its upper end.
@@ -154,29 +160,45 @@ def scan_and_refine(happens: Callable[[float], bool], low: float, high: float, *
     happens : scale -> whether the event happened; an exception of a type in ``failures`` marks the
         run as failed (kept in :attr:`Threshold.failures`); any other exception propagates.
     on_run : called as ``on_run(scale, happened)`` after each run, ``happened`` None for a failure.
+    happen_at : optional, many scales at once -> for each, whether the event happened or the exception its run
+        raised; the scan then runs through it ``batch`` scales at a time (the bisections go on one at a time).
     """
     if not tolerance > 0:
         raise ValueError(f"tolerance must be positive, got {tolerance}")
     runs, failed = [], []
 
-    def test(scale):
-        scale = float(scale)
-        try:
-            outcome = bool(happens(scale))
-        except failures as exc:
-            failed.append((scale, f"{type(exc).__name__}: {exc}"))
+    def record(scale, outcome):
+        if isinstance(outcome, failures):
+            failed.append((scale, f"{type(outcome).__name__}: {outcome}"))
             outcome = None
+        elif isinstance(outcome, BaseException):
+            raise outcome
         else:
+            outcome = bool(outcome)
             runs.append((scale, outcome))
         if on_run is not None:
             on_run(scale, outcome)
         return outcome
 
+    def test(scale):
+        try:
+            outcome = happens(float(scale))
+        except failures as exc:
+            outcome = exc
+        return record(float(scale), outcome)
+
+    grid = [float(s) for s in scan_grid(low, high, step=step, absolute_step=absolute_step, scan=scan)]
+    together = happen_at if happen_at is not None else (lambda scales: [_outcome(happens, s, failures)
+                                                                         for s in scales])
+    size = max(1, int(batch)) if happen_at is not None else 1
     scanned = []
-    for scale in scan_grid(low, high, step=step, absolute_step=absolute_step, scan=scan):
-        scanned.append((scale, test(scale)))
-        if first_only and scanned[-1][1]:
-            return Threshold(criterion, tuple(runs), tuple(failed), tolerance)
+    for first in range(0, len(grid), size):
+        chunk = grid[first:first + size]
+        outcomes = [record(scale, outcome) for scale, outcome in zip(chunk, together(chunk))]
+        for scale, outcome in zip(chunk, outcomes):
+            scanned.append((scale, outcome))
+            if first_only and outcome:
+                return Threshold(criterion, tuple(runs), tuple(failed), tolerance)
     finished = [(s, o) for s, o in scanned if o is not None]
     for (lo, lo_event), (hi, hi_event) in zip(finished, finished[1:]):
         while lo_event != hi_event and hi - lo > tolerance * hi:
@@ -189,6 +211,31 @@ def scan_and_refine(happens: Callable[[float], bool], low: float, high: float, *
             else:
                 hi = middle
     return Threshold(criterion, tuple(runs), tuple(failed), tolerance)
+
+
+def _outcome(happens, scale: float, failures):
+    """``happens(scale)``, or the exception of a type in ``failures`` it raised."""
+    try:
+        return happens(scale)
+    except failures as exc:
+        return exc
+
+
+def batch_outcomes(scene: Scene, motion_at: Callable, scales, event: Callable, **simulate_options) -> list:
+    """For each of ``scales``: ``event(result)`` of the run of ``scene`` under ``motion_at(scale)``, or the error
+    of a run that failed (:class:`SimulationUnstable`, whose ``partial`` is the run up to there; a ``ValueError``
+    for a run refused), all the runs one :func:`~dem_core.batch.simulate_batch`."""
+    table = simulate_batch(scene, [motion_at(s) for s in scales], simulate_options.pop("duration", None),
+                           measures=lambda result: {"event": bool(event(result))}, **simulate_options).table
+    outcomes = []
+    for _, row in table.iterrows():
+        if row["status"] == "ok":
+            outcomes.append(bool(row["event"]))
+        elif row["status"] == "unstable":
+            outcomes.append(SimulationUnstable(row["error"], None))
+        else:
+            outcomes.append(ValueError(row["error"]))
+    return outcomes
 
 
 def interface_slip_history(scene: Scene, result) -> dict:
@@ -255,11 +302,15 @@ def overturning_threshold(scene: Scene, motion_at: Callable, low: float, high: f
     simulate_options : passed to :func:`dem_core.simulate` (duration, dt, ...); runs stop at the
         first overturn; a run that loses stability is a failure, not a survivor.
     """
-    def overturns(scale):
-        return simulate(scene, motion_at(scale), stop_at_overturn=True, **simulate_options).overturned
+    simulate_options.pop("progress", None)
+    options = {**simulate_options, "stop_at_overturn": True}
 
-    return scan_and_refine(overturns, low, high, step=step, absolute_step=absolute_step, scan=scan,
-                           tolerance=tolerance, criterion="overturning", on_run=on_run, first_only=first_only)
+    def overturned(scales):
+        return batch_outcomes(scene, motion_at, scales, lambda result: result.overturned, **options)
+
+    return scan_and_refine(lambda scale: _single(overturned(np.array([scale]))[0]), low, high, step=step,
+                           absolute_step=absolute_step, scan=scan, tolerance=tolerance, criterion="overturning",
+                           on_run=on_run, first_only=first_only, happen_at=overturned, batch=_scan_batch())
 
 
 def onset_threshold(scene: Scene, motion_at: Callable, low: float, high: float, *, criterion: str = "rocking",
@@ -271,13 +322,30 @@ def onset_threshold(scene: Scene, motion_at: Callable, low: float, high: float, 
     if criterion not in ("rocking", "sliding"):
         raise ValueError(f"criterion must be 'rocking' or 'sliding', got {criterion!r}")
     simulate_options.setdefault("output_dt", 1e-3)
+    simulate_options.pop("progress", None)
 
-    def starts(scale):
-        result = simulate(scene, motion_at(scale), **simulate_options)
+    def started(result):
         return rocks(scene, result) if criterion == "rocking" else slides(scene, result, slip)
 
-    return scan_and_refine(starts, low, high, step=step, absolute_step=absolute_step, scan=scan,
-                           tolerance=tolerance, criterion=criterion, on_run=on_run)
+    def starts(scales):
+        return batch_outcomes(scene, motion_at, scales, started, **simulate_options)
+
+    return scan_and_refine(lambda scale: _single(starts(np.array([scale]))[0]), low, high, step=step,
+                           absolute_step=absolute_step, scan=scan, tolerance=tolerance, criterion=criterion,
+                           on_run=on_run, happen_at=starts, batch=_scan_batch())
+
+
+def _single(outcome):
+    """One run's outcome from :func:`batch_outcomes`: the event, or its error raised."""
+    if isinstance(outcome, BaseException):
+        raise outcome
+    return outcome
+
+
+def _scan_batch() -> int:
+    import numba
+
+    return SCALES_PER_THREAD * numba.get_num_threads()
 
 
 @dataclass(frozen=True)
