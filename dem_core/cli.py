@@ -19,6 +19,10 @@
 * ``animate SCENE.toml --out run.gif``: run and animate (GIF or MP4, at most 5000 frames);
   ``--exaggerate K`` draws each block's motion on what it rests on K times larger, so that a
   block rocking on a corner still stands on it;
+* ``fragility [SCENE.toml] --out DIR``: fragility curves of the scene under a suite of records (the bundled
+  four, ``--records`` or ``--records-dir``) scaled to ``--levels`` stripes of PGA or PGV, all the runs one
+  batch on every core, a lognormal per damage state with bootstrap bands
+  (:mod:`dem_core.analyses.fragility_study`), written as CSV files and a figure;
 * ``spectrum RECORD ... --out spectra.png``: elastic response spectra;
 * ``stiffness SCENE.toml``: the run again at 10 and 100 times the contact stiffness, to see
   whether the answer depends on it: each measure named, its value at each stiffness and a
