@@ -1436,33 +1436,11 @@ def _record_suite(args):
 
 
 def _write_fragility(out: Path, study, path: Path, settings: dict, duration) -> list:
-    """Write the study's files into ``out`` (each whole or not at all, :func:`replacing`); returns their names."""
-    import platform
+    """Write the study's files into ``out``; returns their names."""
+    from .analyses.fragility_study import write_study
 
-    from .analyses.run_identity import code_digest, package_version
-
-    facts = {"scene": str(path), "records": study.settings["records"], "intensity_measure": study.im,
-             "levels": int(study.settings["levels"]), "states": study.settings["states"], "duration_s": duration,
-             "simulation": {k: v for k, v in settings.items() if k != "progress"}, "device": study.device,
-             "machine": f"{platform.machine()}, {os.cpu_count()} cores, {platform.processor() or platform.system()}",
-             "runs": len(study.runs), "wall_time_s": study.wall_time_s, "dem_core": package_version(),
-             "code": code_digest()}
-    files = {"fragility.csv": lambda tmp: study.table().to_csv(tmp, index=False),
-             "counts.csv": lambda tmp: study.counts().to_csv(tmp, index=False),
-             "runs.csv": lambda tmp: study.runs.to_csv(tmp, index=False),
-             "study.json": lambda tmp: tmp.write_text(json.dumps(facts, indent=2)),
-             "fragility.png": lambda tmp: _save_png(study.figure(f"Fragility of {path.stem}"), tmp)}
-    for name, write in files.items():
-        with replacing(out / name) as tmp:
-            write(tmp)
-    return list(files)
-
-
-def _save_png(figure, tmp) -> None:
-    import matplotlib.pyplot as plt
-
-    figure.savefig(tmp, dpi=130, format="png")
-    plt.close(figure)
+    return write_study(study, out, f"Fragility of {path.stem}", {"scene": str(path), "duration_s": duration,
+                                                                 "simulation": settings})
 
 
 if __name__ == "__main__":

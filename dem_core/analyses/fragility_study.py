@@ -10,8 +10,12 @@ it (docs/method.md section 3).
 
 from __future__ import annotations
 
+import json
 import math
+import os
+import platform
 from dataclasses import dataclass, field
+from pathlib import Path
 
 import numpy as np
 import pandas as pd
@@ -19,6 +23,7 @@ import pandas as pd
 from ..batch import simulate_batch
 from ..inputs.excitation import GroundMotion, scaled
 from ..inputs.records import G_STANDARD
+from ..output_files import replacing
 from .fragility import fit_fragility, fragility_figure
 
 #: the intensity measures: name -> (label, unit)
@@ -160,3 +165,47 @@ def fragility_study(scene, records: dict, levels, states=DEFAULT_STATES, *, im: 
     return FragilityStudy(runs, fits, im, batch.device, batch.wall_time_s,
                           {"records": list(records), "levels": len(levels), "states": states, "im": im,
                            "duration": duration, **simulate_options})
+
+
+#: the files :func:`write_study` writes
+STUDY_FILES = ("fragility.csv", "counts.csv", "runs.csv", "study.json", "fragility.png")
+
+
+def write_study(study: FragilityStudy, out, title: str, facts: dict | None = None) -> list:
+    """Write ``study`` into the folder ``out``, each file whole or not at all: ``fragility.csv``
+    (:meth:`FragilityStudy.table`), ``counts.csv`` (:meth:`FragilityStudy.counts`), ``runs.csv`` (the runs),
+    ``study.json`` (``facts``, the study's settings, the machine, the wall time, the package's version and code
+    digest) and ``fragility.png`` (the figure, titled ``title``); returns the files' names."""
+    from .run_identity import code_digest, package_version
+
+    out = Path(out)
+    described = {**(facts or {}), **{k: v for k, v in study.settings.items() if k not in (facts or {})},
+                 "device": study.device, "machine": machine(), "runs": len(study.runs),
+                 "wall_time_s": study.wall_time_s, "dem_core": package_version(), "code": code_digest()}
+    writers = {"fragility.csv": lambda tmp: study.table().to_csv(tmp, index=False),
+               "counts.csv": lambda tmp: study.counts().to_csv(tmp, index=False),
+               "runs.csv": lambda tmp: study.runs.to_csv(tmp, index=False),
+               "study.json": lambda tmp: tmp.write_text(json.dumps(described, indent=2, default=str)),
+               "fragility.png": lambda tmp: _save_png(study.figure(title), tmp)}
+    for name in STUDY_FILES:
+        with replacing(out / name) as tmp:
+            writers[name](tmp)
+    return list(STUDY_FILES)
+
+
+def machine() -> str:
+    """This machine in words: its architecture, its cores and, where Linux says it, its processor's model."""
+    model = platform.processor() or platform.system()
+    try:
+        with open("/proc/cpuinfo") as info:
+            model = next((line.split(":", 1)[1].strip() for line in info if line.startswith("model name")), model)
+    except OSError:
+        pass
+    return f"{platform.machine()}, {os.cpu_count()} cores, {model}"
+
+
+def _save_png(figure, path) -> None:
+    import matplotlib.pyplot as plt
+
+    figure.savefig(path, dpi=130, format="png")
+    plt.close(figure)
