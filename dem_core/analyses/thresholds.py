@@ -194,10 +194,9 @@ def scan_and_refine(happens: Callable[[float], bool], low: float, high: float, *
     scanned = []
     for first in range(0, len(grid), size):
         chunk = grid[first:first + size]
-        outcomes = [record(scale, outcome) for scale, outcome in zip(chunk, together(chunk))]
-        for scale, outcome in zip(chunk, outcomes):
-            scanned.append((scale, outcome))
-            if first_only and outcome:
+        for scale, outcome in zip(chunk, together(chunk)):
+            scanned.append((scale, record(scale, outcome)))
+            if first_only and scanned[-1][1]:  # the scales past it ran, but the search is the serial one's
                 return Threshold(criterion, tuple(runs), tuple(failed), tolerance)
     finished = [(s, o) for s, o in scanned if o is not None]
     for (lo, lo_event), (hi, hi_event) in zip(finished, finished[1:]):
@@ -223,18 +222,18 @@ def _outcome(happens, scale: float, failures):
 
 def batch_outcomes(scene: Scene, motion_at: Callable, scales, event: Callable, **simulate_options) -> list:
     """For each of ``scales``: ``event(result)`` of the run of ``scene`` under ``motion_at(scale)``, or the error
-    of a run that failed (:class:`SimulationUnstable`, whose ``partial`` is the run up to there; a ``ValueError``
-    for a run refused), all the runs one :func:`~dem_core.batch.simulate_batch`."""
+    of a run that failed (a :class:`SimulationUnstable` with its message and no ``partial``; a ``ValueError``
+    naming the scale for a run refused), all the runs one :func:`~dem_core.batch.simulate_batch`."""
     table = simulate_batch(scene, [motion_at(s) for s in scales], simulate_options.pop("duration", None),
                            measures=lambda result: {"event": bool(event(result))}, **simulate_options).table
     outcomes = []
-    for _, row in table.iterrows():
+    for scale, (_, row) in zip(scales, table.iterrows()):
         if row["status"] == "ok":
             outcomes.append(bool(row["event"]))
         elif row["status"] == "unstable":
             outcomes.append(SimulationUnstable(row["error"], None))
         else:
-            outcomes.append(ValueError(row["error"]))
+            outcomes.append(ValueError(f"the run at scale {scale:g} was refused: {row['error']}"))
     return outcomes
 
 
@@ -299,8 +298,10 @@ def overturning_threshold(scene: Scene, motion_at: Callable, low: float, high: f
     motion_at : scale -> GroundMotion, e.g. ``lambda pga: excitation.record("el_centro_1940", pga=pga)``.
     low, high : the range scanned; start ``low`` just below the scene's uplift acceleration.
     step, absolute_step, scan, tolerance, on_run, first_only : as :func:`scan_and_refine`.
-    simulate_options : passed to :func:`dem_core.simulate` (duration, dt, ...); runs stop at the
-        first overturn; a run that loses stability is a failure, not a survivor.
+    simulate_options : as :func:`dem_core.simulate` takes them (duration, dt, ...), for every run of
+        :func:`~dem_core.batch.simulate_batch` (so not ``parallel``; a ``progress`` callback is not passed on:
+        ``on_run`` reports each run); runs stop at the first overturn; a run that loses stability is a failure,
+        not a survivor.
     """
     simulate_options.pop("progress", None)
     options = {**simulate_options, "stop_at_overturn": True}
@@ -308,7 +309,7 @@ def overturning_threshold(scene: Scene, motion_at: Callable, low: float, high: f
     def overturned(scales):
         return batch_outcomes(scene, motion_at, scales, lambda result: result.overturned, **options)
 
-    return scan_and_refine(lambda scale: _single(overturned(np.array([scale]))[0]), low, high, step=step,
+    return scan_and_refine(lambda scale: _single(overturned([scale])[0]), low, high, step=step,
                            absolute_step=absolute_step, scan=scan, tolerance=tolerance, criterion="overturning",
                            on_run=on_run, first_only=first_only, happen_at=overturned, batch=_scan_batch())
 
@@ -330,7 +331,7 @@ def onset_threshold(scene: Scene, motion_at: Callable, low: float, high: float, 
     def starts(scales):
         return batch_outcomes(scene, motion_at, scales, started, **simulate_options)
 
-    return scan_and_refine(lambda scale: _single(starts(np.array([scale]))[0]), low, high, step=step,
+    return scan_and_refine(lambda scale: _single(starts([scale])[0]), low, high, step=step,
                            absolute_step=absolute_step, scan=scan, tolerance=tolerance, criterion=criterion,
                            on_run=on_run, happen_at=starts, batch=_scan_batch())
 
