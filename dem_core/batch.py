@@ -10,6 +10,7 @@ number of members.
 
 from __future__ import annotations
 
+import itertools
 import threading
 import time
 from concurrent.futures import FIRST_COMPLETED, ThreadPoolExecutor, wait
@@ -24,8 +25,10 @@ from .simulation import Simulation, SimulationUnstable, check_run_arguments
 
 #: where a batch can run: ``"auto"`` takes the CPU's threads (this version has no GPU kernels)
 DEVICES = ("auto", "cpu", "gpu")
-#: steps a member takes between looks at whether the batch was interrupted
-CHUNK_STEPS = 20_000
+#: members queued per thread at a time (so that waiting for the next to finish does not grow with the batch)
+IN_FLIGHT_PER_THREAD = 4
+#: s the main thread waits for a member at most before it looks again: a Ctrl-C is taken between two looks
+WAKE_SECONDS = 0.2
 #: the per-block measures of a row, as :meth:`Result.metrics` names them, and the peak displacement
 BLOCK_MEASURES = ("peak_abs_theta_rad", "peak_abs_displacement_m", "residual_displacement_m", "sliding_m",
                   "overturn_time_s")
@@ -63,7 +66,8 @@ def simulate_batch(scene, motions, duration: float | None = None, *, device: str
     scene : :class:`~dem_core.Scene`, shared by every member.
     motions : sequence of M :class:`~dem_core.inputs.excitation.GroundMotion`, one per member.
     duration : s, as :func:`~dem_core.simulate` takes it (None: each motion's natural end).
-    device : ``"auto"`` or ``"cpu"`` (numba's threads); ``"gpu"`` is refused, naming why.
+    device : ``"auto"`` or ``"cpu"`` (Python threads, each running the compiled kernel, which releases the GIL);
+        ``"gpu"`` is refused, naming why.
     threads : how many members run at once (default ``numba.get_num_threads()``, all cores).
     histories : indices of the members whose :class:`Result` is kept (in :attr:`Batch.histories`).
     measures : optional ``function(result) -> dict`` whose items are added to each member's row.
@@ -72,24 +76,32 @@ def simulate_batch(scene, motions, duration: float | None = None, *, device: str
         same for every member; ``parallel`` does not apply (the batch spreads members, not one run).
 
     A member that loses stability does not stop the others: its row has ``status`` ``"unstable"``, the
-    error's message and the measures of its partial result.  The scene, the motions and the options are checked
-    before any member runs (``TypeError``/``ValueError`` naming the culprit).  Ctrl-C stops the batch after the
-    running members' current chunk and raises :class:`BatchInterrupted` carrying the members that finished.
+    error's message and the measures of its partial result; a member whose motion cannot be run (no natural end
+    and no duration, too many steps) has ``status`` ``"refused"`` and the reason.  The scene, the motions and the
+    options are checked before any member runs (``TypeError``/``ValueError`` naming the culprit, or member 0 when
+    every member is refused).  Ctrl-C stops the running members after their current chunk (a quarter of a
+    second) and raises :class:`BatchInterrupted` carrying the members that finished; any other exception (from
+    ``measures``, say) stops the batch the same way and goes on.
     """
     threads, motions, keep = _checked(scene, motions, device, threads, histories, simulate_options)
     started = time.perf_counter()
-    first = Simulation(scene, motions[0], duration, **simulate_options)  # checks the options, compiles the kernel
+    rows, kept = {}, {}
+    first, built = _first_member(scene, motions, duration, simulate_options, rows)
     stop = threading.Event()
+
+    def halt(done, total):
+        if stop.is_set():
+            raise _Stopped
 
     def run_member(m: int) -> tuple:
         set_up = time.perf_counter()
         try:
-            run = first if m == 0 else Simulation(scene, motions[m], duration, **simulate_options)
+            run = built if m == first else Simulation(scene, motions[m], duration, **simulate_options)
         except (ValueError, TypeError) as error:
-            return {"member": m, "motion": motions[m].name, "status": "refused", "error": str(error)}, None
-        while run.advance(CHUNK_STEPS) and not stop.is_set():
-            pass
-        if run.status is None:
+            return _refused(m, motions[m], error), None
+        try:
+            run.run(progress=halt)
+        except _Stopped:
             return None, None
         try:
             result, status, error = run.result(), "ok", ""
@@ -100,21 +112,44 @@ def simulate_batch(scene, motions, duration: float | None = None, *, device: str
             row.update(measures(result))
         return row, (result if m in keep else None)
 
-    rows, kept = {}, {}
     try:
-        _run_members(run_member, len(motions), threads, stop, progress, rows, kept)
+        _run_members(run_member, range(first, len(motions)), threads, stop, progress, rows, kept, len(motions))
     except KeyboardInterrupt:
         raise BatchInterrupted(_batch(rows, kept, threads, started)) from None
     return _batch(rows, kept, threads, started)
 
 
-def _run_members(run_member, count: int, threads: int, stop: threading.Event, progress, rows: dict,
-                 kept: dict) -> None:
-    """``run_member(m)`` for each member on ``threads`` threads, its ``(row, result or None)`` put in ``rows`` and
-    ``kept`` as it finishes.  On ``KeyboardInterrupt`` the running members stop after their chunk (``stop``), those
-    not started are dropped, and the interrupt goes on once the running ones have handed back what they have."""
+class _Stopped(Exception):
+    """A member's run stopped between its chunks because the batch was interrupted."""
+
+
+def _refused(m: int, motion, error: Exception) -> dict:
+    return {"member": m, "motion": motion.name, "status": "refused", "error": str(error)}
+
+
+def _first_member(scene, motions, duration, simulate_options, rows: dict) -> tuple:
+    """``(index, Simulation)`` of the first member that can be set up (which compiles the kernel), the members
+    before it put in ``rows`` as refused; the error of member 0, naming it, when none can be."""
+    for m, motion in enumerate(motions):
+        try:
+            return m, Simulation(scene, motion, duration, **simulate_options)
+        except (ValueError, TypeError) as error:
+            rows[m] = _refused(m, motion, error)
+            if m == 0:
+                refusal = error
+    raise type(refusal)(f"every member was refused; member 0 ({motions[0].name}): {refusal}")
+
+
+def _run_members(run_member, members, threads: int, stop: threading.Event, progress, rows: dict, kept: dict,
+                 total: int) -> None:
+    """``run_member(m)`` for each of ``members`` on ``threads`` threads, at most IN_FLIGHT_PER_THREAD of them
+    queued per thread, its ``(row, result or None)`` put in ``rows`` and ``kept`` as it finishes; ``progress(done,
+    total)`` after each.  On any exception (Ctrl-C among them) the running members stop after their chunk
+    (``stop``), those not started are dropped, and the exception goes on once the running ones have handed back
+    what they have."""
+    waiting = iter(members)
     with ThreadPoolExecutor(threads, thread_name_prefix="dem-batch") as pool:
-        pending = {pool.submit(run_member, m): m for m in range(count)}
+        pending = {}
 
         def collect(future, m):
             row, result = future.result()
@@ -124,19 +159,23 @@ def _run_members(run_member, count: int, threads: int, stop: threading.Event, pr
                 kept[m] = result
 
         try:
+            for m in itertools.islice(waiting, IN_FLIGHT_PER_THREAD * threads):
+                pending[pool.submit(run_member, m)] = m
             while pending:
-                done, _ = wait(pending, return_when=FIRST_COMPLETED)
+                done, _ = wait(pending, timeout=WAKE_SECONDS, return_when=FIRST_COMPLETED)
                 for future in done:
                     collect(future, pending.pop(future))
                     if progress is not None:
-                        progress(len(rows), count)
-        except KeyboardInterrupt:
+                        progress(len(rows), total)
+                    for m in itertools.islice(waiting, 1):
+                        pending[pool.submit(run_member, m)] = m
+        except BaseException:
             stop.set()
             for future in pending:
                 future.cancel()
             wait(pending)
             for future, m in pending.items():
-                if not future.cancelled():
+                if not future.cancelled() and future.exception() is None:
                     collect(future, m)
             raise
 
@@ -191,6 +230,8 @@ def member_row(member: int, motion: str, result: Result, status: str, error: str
 
 def _batch(rows: dict, kept: dict, threads: int, started: float) -> Batch:
     table = pd.DataFrame([rows[m] for m in sorted(rows)])
+    if "overturned" in table:  # a refused member's row has none: missing, not True
+        table["overturned"] = table["overturned"].astype("boolean")
     return Batch(table, {m: kept[m] for m in sorted(kept)}, f"cpu, {threads} thread{'s' * (threads > 1)}",
                  time.perf_counter() - started)
 

@@ -327,6 +327,7 @@ WORKERS = _number(int, lambda v: v >= 1, "a whole number of at least 1")
 FPS = _number(int, lambda v: 1 <= v <= 100, "a whole number from 1 to 100")
 SCALES = _number(int, lambda v: 2 <= v <= 1000, "a whole number from 2 to 1000")
 LEVELS = _number(int, lambda v: 2 <= v <= 100_000, "a whole number from 2 to 100000")
+STATE = _number(float, lambda v: 0 < v <= 1, "a number above 0 and at most 1")
 FRACTION = _number(float, lambda v: 0 < v < 1, "a number between 0 and 1 (both excluded)")
 DAMPING = _number(float, lambda v: 0 <= v < 1, "a damping ratio from 0 up to (not including) 1")
 #: most frames an animation may have (at 25 frames/s, 200 s of playback): each is held in memory for a GIF
@@ -560,9 +561,9 @@ def _add_fragility(sub):
         "fragility", help="fragility curves: the scene under a suite of records scaled to stripes of PGA or PGV",
         description="Run the scene under each record scaled to each of --levels intensities evenly spaced up to "
         "--max (multiple-stripe analysis), all members of one batch on every core, and fit a lognormal fragility "
-        "per damage state by maximum likelihood with bootstrap 90%% bands (dem_core.analyses.fragility).  A "
+        "per damage state by maximum likelihood with bootstrap 90% bands (dem_core.analyses.fragility).  A "
         "damage state is a peak |theta|/alpha (alpha the column's critical angle for a drum, else the block's "
-        "own); 1.0 and above is overturning.  Writes fragility.csv (median and dispersion per state with their "
+        "own); 1 is overturning.  Writes fragility.csv (median and dispersion per state with their "
         "bands), counts.csv (runs and exceedances per level and state), runs.csv (every run's measures), "
         "fragility.png and study.json (the settings, the machine and the wall time).")
     fragility.add_argument("scene", nargs="?", help=f"scene file (its [excitation] is ignored); default the bundled "
@@ -580,8 +581,8 @@ def _add_fragility(sub):
                            "100000")
     fragility.add_argument("--max", type=POSITIVE, help="highest level, in the measure's unit; the levels are evenly "
                            "spaced from max/levels to max (default: 1 g of PGA, 1 m/s of PGV)")
-    fragility.add_argument("--states", type=POSITIVE, nargs="+", default=list(DEFAULT_STATES),
-                           help="damage states as peak |theta|/alpha, each positive; 1.0 and above is overturning")
+    fragility.add_argument("--states", type=STATE, nargs="+", default=list(DEFAULT_STATES),
+                           help="damage states as peak |theta|/alpha, each above 0 and at most 1; 1 is overturning")
     fragility.add_argument("--out", required=True, help="output folder, created if need be")
     fragility.add_argument("--duration", type=SECONDS, help="simulated time of each run in s (default: from the "
                            "file, else each record's length)")
@@ -1346,8 +1347,7 @@ def _measure_text(value: float, unit: str, signed: bool = False) -> str:
 
 
 def _fragility(args) -> int:
-    from .analyses.fragility_study import DEFAULT_TOP, INTENSITY_MEASURES, fragility_study, stripes
-    from .batch import BatchInterrupted
+    from .analyses.fragility_study import DEFAULT_TOP, INTENSITY_MEASURES, fragility_study, state_label, stripes
 
     loaded = _scene_and_settings(args)
     if loaded is None:
@@ -1378,8 +1378,6 @@ def _fragility(args) -> int:
     try:
         study = fragility_study(spec.scene, suite, levels, args.states, im=args.im, duration=duration,
                                 device=args.device, threads=args.threads, progress=on_member, **settings)
-    except BatchInterrupted:
-        raise KeyboardInterrupt from None
     except (TypeError, ValueError) as exc:
         print(f"error: {exc}", file=sys.stderr)
         return 2
@@ -1393,7 +1391,7 @@ def _fragility(args) -> int:
               f"{str(row['error']).splitlines()[0]}")
     table = study.table()
     for _, row in table.iterrows():
-        what = "overturning" if row["state"] >= 1.0 else f"peak |theta|/alpha >= {row['state']:g}"
+        what = state_label(row["state"])
         if np.isfinite(row["median"]):
             print(f"  {what}: median {row['median']:.3g} {unit} (90% {row['median_low']:.3g} to "
                   f"{row['median_high']:.3g}), beta {row['beta']:.2f} ({row['beta_low']:.2f} to {row['beta_high']:.2f})"

@@ -1,6 +1,10 @@
 """simulate_batch: each member is the run simulate gives, bit for bit, whatever the threads; failures stay with
 their member; bad input is refused before any member runs."""
 
+import _thread
+import threading
+import time
+
 import numpy as np
 import pandas as pd
 import pytest
@@ -33,6 +37,17 @@ def test_members_are_the_runs_simulate_gives(integrator):
     assert list(batch.histories) == [1]
     np.testing.assert_array_equal(batch.histories[1].theta,
                                   dem_core.simulate(block, motions[1], 1.5, integrator=integrator).theta)
+
+
+def test_an_explicit_column_member_is_the_run_simulate_gives():
+    """The explicit core relists a stack's contact pairs as the drums move: each member keeps its own list."""
+    column = scenes.column(n_drums=3, width=1.0, height=4.0)
+    motions = [excitation.sine_pulse(a, 0.6) for a in (2.0, 5.0)]
+    table = simulate_batch(column, motions, 1.0, threads=2).table
+    for m, motion in enumerate(motions):
+        alone = dem_core.simulate(column, motion, 1.0)
+        assert [table[f"peak_abs_theta_rad[{n}]"][m] for n in alone.names] == alone.peak_theta.tolist()
+        assert table["total_sliding_m"][m] == alone.total_sliding
 
 
 def test_a_column_batch_is_the_same_on_one_thread_and_on_two():
@@ -94,5 +109,43 @@ def test_ctrl_c_hands_back_the_members_that_finished():
     with pytest.raises(BatchInterrupted) as caught:
         simulate_batch(scenes.block(0.6, 3.0), _motions() * 2, 0.3, integrator="moreau", threads=1,
                        progress=interrupt_on_second)
-    assert len(caught.value.partial.table) >= 2
+    assert caught.value.partial.table["member"].tolist() == [0, 1]
     assert (caught.value.partial.table["status"] == "ok").all()
+
+
+@pytest.mark.filterwarnings("ignore:a long run")
+def test_ctrl_c_stops_a_running_member_between_its_chunks():
+    """A SIGINT delivered to the main thread while one long member runs: the member stops at its next chunk
+    (a quarter of a second), long before its run would end, and no member is handed back."""
+    block, pulse = scenes.block(0.6, 3.0), excitation.sine_pulse(1.0, 0.4)
+    simulate_batch(block, [pulse], 0.01)  # compiled before the clock starts
+    timer = threading.Timer(0.5, _thread.interrupt_main)
+    timer.start()
+    started = time.perf_counter()
+    with pytest.raises(BatchInterrupted) as caught:
+        simulate_batch(block, [pulse], 3000.0, threads=1)
+    timer.join()
+    assert time.perf_counter() - started < 5.0, "the 3000 s run takes about half a minute: the member did not stop"
+    assert len(caught.value.partial.table) == 0
+
+
+def test_an_error_in_measures_stops_the_batch_without_running_the_rest():
+    ran = []
+
+    def failing(result):
+        ran.append(result)
+        raise RuntimeError("a measure that fails")
+
+    with pytest.raises(RuntimeError, match="a measure that fails"):
+        simulate_batch(scenes.block(0.6, 3.0), _motions() * 8, 0.3, integrator="moreau", threads=1,
+                       measures=failing)
+    assert len(ran) < 8, "the members queued behind the failure did not run"
+
+
+def test_a_refused_first_member_is_a_row_like_any_other():
+    motions = [excitation.harmonic(0.01, 1.0), excitation.sine_pulse(3.0, 0.5)]
+    table = simulate_batch(scenes.block(0.6, 3.0), motions, None, integrator="moreau").table
+    assert table["status"].tolist() == ["refused", "ok"] and "no natural end" in table["error"][0]
+    assert table["overturned"].isna().tolist() == [True, False]
+    with pytest.raises(ValueError, match=r"every member was refused; member 0 \(harmonic"):
+        simulate_batch(scenes.block(0.6, 3.0), motions[:1] * 3, None)

@@ -48,17 +48,34 @@ def test_stripes_are_evenly_spaced_up_to_the_top_and_bad_ones_refused():
 
 
 def test_the_study_counts_each_stripes_runs_as_the_runs_themselves_say():
+    """Two sine pulses on the 0.6 x 3 m block at five stripes: the counts written out run by run (the block
+    overturns from the third stripe under the longer pulse, from the fourth under the shorter), checked against
+    the study's, and a mix of exceeding and standing runs in the stripes between."""
     records = {"pulse": excitation.sine_pulse(1.0, 0.5), "long pulse": excitation.sine_pulse(1.0, 0.9)}
     study = fragility_study(scenes.block(0.6, 3.0), records, stripes(5, 10.0), (0.5, 1.0), duration=2.0,
                             integrator="moreau", samples=50)
     assert len(study.runs) == 10 and (study.runs["status"] == "ok").all()
-    for state, fit in study.fits.items():
-        for level, runs, exceeded in zip(fit.levels, fit.runs, fit.exceed):
-            at = study.runs[study.runs["level"] == level]
-            assert runs == 2
-            assert exceeded == exceeds(at["damage_ratio"], at["overturned"].astype(bool), state).sum()
-    tallest = study.runs[study.runs["level"] == 10.0]
-    np.testing.assert_allclose(tallest["scale"], 10.0)
+    overturned = {(row.record, row.level): bool(row.overturned) for row in study.runs.itertuples()}
+    expected = [sum(overturned[(name, level)] for name in records) for level in (2.0, 4.0, 6.0, 8.0, 10.0)]
+    assert study.fits[1.0].exceed.tolist() == expected and study.fits[1.0].runs.tolist() == [2] * 5
+    assert 0 in expected and 2 in expected, "the stripes run from none to all overturned"
+    half = [sum(overturned[(name, level)] or study.runs.loc[(study.runs.record == name) &
+                                                            (study.runs.level == level), "damage_ratio"].item() >= 0.5
+                for name in records) for level in (2.0, 4.0, 6.0, 8.0, 10.0)]
+    assert study.fits[0.5].exceed.tolist() == half
+    np.testing.assert_allclose(study.runs.loc[study.runs.level == 10.0, "scale"], 10.0)
+
+
+def test_a_colonnades_drums_answer_to_their_columns_and_its_epistyle_to_itself():
+    colonnade = scenes.colonnade(n_columns=2, n_drums=2)
+    result = simulate(colonnade, excitation.sine_pulse(2.5, 0.6), 1.0, integrator="moreau")
+    governing = result.critical_angle.copy()
+    for column in result.columns:
+        for name in column.blocks:
+            governing[result.index(name)] = column.critical_angle
+    assert len(result.columns) == 2 and np.any(governing != result.critical_angle)
+    assert np.any(governing == result.critical_angle), "the epistyle is on no column: its own angle governs"
+    assert damage_ratio(result) == pytest.approx(np.max(result.peak_theta / governing), rel=1e-12)
 
 
 def test_bad_studies_are_refused_naming_the_fault():
@@ -67,5 +84,6 @@ def test_bad_studies_are_refused_naming_the_fault():
         fragility_study(block, records, [1.0, 2.0], im="sa")
     with pytest.raises(ValueError, match="records is empty"):
         fragility_study(block, {}, [1.0, 2.0])
-    with pytest.raises(ValueError, match="damage states"):
-        fragility_study(block, records, [1.0, 2.0], states=(0.5, -1.0))
+    for states in ((0.5, -1.0), (0.5, 1.5)):
+        with pytest.raises(ValueError, match="damage states"):
+            fragility_study(block, records, [1.0, 2.0], states=states)

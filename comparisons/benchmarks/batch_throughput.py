@@ -7,10 +7,12 @@ scaled evenly from 1.2 to 3 times the scene's rocking threshold g tan(alpha) (th
 ensembles).  For each scene, integrator and batch size M it prints the wall time, member-runs and member-steps per
 second, and the speed-up over one thread.  The loop of ``simulate`` (one thread) runs where M is at most
 ``--loop-up-to``, and then every member's peak |theta| is compared with the batch's (they are the same runs, bit
-for bit); pymunk (1e-3 s, the report's step) runs the same members on a process per core where M is at most
-``--peers-up-to``.  Up to ``--loop-up-to`` each timing is the least of ``--repeats``.  The GPU line says why it is absent: this version has no CUDA kernels.
+for bit).  pymunk (1e-3 s, the report's step) runs the same members on a process per core where M is at most
+``--peers-up-to``, beside the batch with ``stop_at_overturn=False``: pymunk runs every member to the end.  Up to
+``--loop-up-to`` each timing is the least of ``--repeats``.  The GPU line says why it is absent: this version has
+no CUDA kernels.
 
-    python -m comparisons batch-throughput [--scenes block column] [--integrators moreau explicit]
+    python -m comparisons batch-throughput [--scenes block column] [--integrators moreau explicit] \
         [--members 1 64 4096] [--duration 20]
 """
 
@@ -129,6 +131,11 @@ def _measure(name, scene, integrator, members_motions, args, threads) -> None:
     overturned = int(single.table["overturned"].sum())
     print(f"  {overturned} of {members} members overturned (a run stops there)", flush=True)
     if members <= args.peers_up_to and integrator == args.integrators[0]:
+        wall, _ = _timed(lambda: simulate_batch(scene, members_motions, args.duration, integrator=integrator,
+                                                threads=threads, stop_at_overturn=False), repeats)
+        print(_line(f"simulate_batch, {threads} threads, to the end", members, wall,
+                    members * math.ceil(args.duration / single.table["dt_s"].iloc[0]), one)
+              + "  (stop_at_overturn=False, as pymunk below)", flush=True)
         workers = os.cpu_count()
         with ProcessPoolExecutor(workers) as pool:
             list(pool.map(_pymunk_peak, [name] * workers, members_motions[:1] * workers, [0.1] * workers))

@@ -30,6 +30,8 @@ SMALLEST_BETA = 1e-3
 #: largest dispersion fitted: counts that barely rise with the intensity drive the likelihood's maximum to an
 #: ever wider lognormal whose median runs off to infinity; such counts place no median
 LARGEST_BETA = 10.0
+#: largest |ln median| fitted: beyond it the median overflows a float, a fit that never settled
+LARGEST_LOG_MEDIAN = 700.0
 HALF_LOG_TWO_PI = 0.5 * math.log(2.0 * math.pi)
 
 
@@ -147,11 +149,10 @@ def fit_lognormal(levels, runs, exceed) -> tuple[float, float, str]:
     best = optimize.minimize(loss, np.array([middle, math.log(0.5 * spread + 0.1)]), jac=True, method="BFGS",
                              options={"gtol": 1e-9, "maxiter": 500})
     mu, log_beta = best.x
-    beta = math.exp(min(max(log_beta, lowest), math.log(LARGEST_BETA) + 1.0))
-    if not (beta <= LARGEST_BETA and abs(mu) < 700.0):
+    if not (log_beta <= math.log(LARGEST_BETA) and abs(mu) < LARGEST_LOG_MEDIAN):
         return math.nan, math.nan, (f"the counts barely rise with the intensity: the best lognormal is wider than "
                                     f"beta = {LARGEST_BETA:g} and places no median")
-    return math.exp(mu), beta, ""
+    return math.exp(mu), math.exp(max(log_beta, lowest)), ""
 
 
 def fit_fragility(levels, runs, exceed, samples: int = BOOTSTRAP_SAMPLES, seed: int = 0) -> Fragility:

@@ -4,16 +4,14 @@ one batch, and a lognormal fragility fitted per damage state (:mod:`dem_core.ana
 Damage is measured by the damage ratio, the largest over the blocks of peak |theta| over the critical angle that
 governs the block: its column's (the tilt at which the stack tips as one body, :mod:`dem_core.engine.stacks`) for
 a block in a column, its own ``atan(b/h)`` otherwise.  A run exceeds damage state ``s`` below 1 when its damage
-ratio reaches ``s`` or it overturned; states of 1 and above are overturning, as the engine's overturn rule finds
-it (docs/method.md section 3).
+ratio reaches ``s`` or it overturned; state 1 is overturning, as the engine's overturn rule finds it
+(docs/method.md section 3).
 """
 
 from __future__ import annotations
 
 import json
 import math
-import os
-import platform
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -44,6 +42,8 @@ class FragilityStudy:
     fits : {state: :class:`~dem_core.analyses.fragility.Fragility`}.
     im : the intensity measure's name (a key of :data:`INTENSITY_MEASURES`).
     device, wall_time_s : where the batch ran and how long the study took, s.
+    settings : the records' names, the number of levels, the states, the measure, the duration and the
+        options of :func:`~dem_core.simulate` the study ran with (written into ``study.json``).
     """
 
     runs: pd.DataFrame
@@ -72,25 +72,33 @@ class FragilityStudy:
 
     def figure(self, title: str = ""):
         label, unit = INTENSITY_MEASURES[self.im]
-        fits = {("overturning" if state >= 1.0 else f"peak |theta|/alpha >= {state:g}"): fit
-                for state, fit in self.fits.items()}
+        fits = {state_label(state): fit for state, fit in self.fits.items()}
         return fragility_figure(fits, intensity=f"{label} ({unit.replace('^2', '$^2$')})",
                                 title=title or "Fragility")
+
+
+def state_label(state: float) -> str:
+    """A damage state in words: ``"overturning"`` for 1, ``"peak |theta|/alpha >= 0.3"`` below."""
+    return "overturning" if state >= 1.0 else f"peak |theta|/alpha >= {state:g}"
+
+
+def _check_measure(im: str) -> None:
+    if im not in INTENSITY_MEASURES:
+        raise ValueError(f"intensity measure must be one of {tuple(INTENSITY_MEASURES)}, got {im!r}")
 
 
 def intensity(motion: GroundMotion, im: str) -> float:
     """The intensity measure ``im`` of ``motion``'s horizontal component: PGA (m/s^2), or PGV (m/s), the peak
     |velocity| sampled every :data:`VELOCITY_SAMPLING` s or 1/50 of the motion's shortest time."""
+    _check_measure(im)
     if im == "pga":
         return float(motion.horizontal.peak_acceleration)
-    if im == "pgv":
-        end = motion.horizontal.end_time
-        if not math.isfinite(end):
-            raise ValueError(f"{motion.name}: PGV needs a motion with an end (a record, a pulse)")
-        step = min(VELOCITY_SAMPLING, motion.horizontal.time_scale / 50.0)
-        t = np.linspace(0.0, end, int(math.ceil(end / step)) + 1)
-        return float(np.max(np.abs(motion.horizontal.velocity(t))))
-    raise ValueError(f"intensity measure must be one of {tuple(INTENSITY_MEASURES)}, got {im!r}")
+    end = motion.horizontal.end_time
+    if not math.isfinite(end):
+        raise ValueError(f"{motion.name}: PGV needs a motion with an end (a record, a pulse)")
+    step = min(VELOCITY_SAMPLING, motion.horizontal.time_scale / 50.0)
+    t = np.linspace(0.0, end, int(math.ceil(end / step)) + 1)
+    return float(np.max(np.abs(motion.horizontal.velocity(t))))
 
 
 def damage_ratio(result) -> float:
@@ -106,9 +114,10 @@ def damage_ratio(result) -> float:
 
 
 def exceeds(ratio, overturned, state: float) -> np.ndarray:
-    """Whether runs of damage ``ratio`` that ``overturned`` (arrays of one shape) exceed damage ``state``: states
-    of 1 and above are overturning; below 1, a ratio of at least ``state``, or an overturn."""
-    overturned = np.asarray(overturned, bool)
+    """Whether runs of damage ``ratio`` that ``overturned`` (arrays of one shape; a missing overturn counts as
+    none) exceed damage ``state``: state 1 is overturning; below 1, a ratio of at least ``state``, or an
+    overturn."""
+    overturned = pd.Series(np.ravel(overturned)).fillna(False).to_numpy(bool).reshape(np.shape(overturned))
     if state >= 1.0:
         return overturned
     return overturned | (np.asarray(ratio, float) >= state)
@@ -134,16 +143,16 @@ def fragility_study(scene, records: dict, levels, states=DEFAULT_STATES, *, im: 
     ``samples`` : the bootstrap's refits (default that of :func:`fit_fragility`).  ``simulate_options`` go to
     every run, as :func:`~dem_core.simulate` takes them.
     """
-    if im not in INTENSITY_MEASURES:
-        raise ValueError(f"intensity measure must be one of {tuple(INTENSITY_MEASURES)}, got {im!r}")
+    _check_measure(im)
     if not records:
         raise ValueError("records is empty: a fragility needs at least one record")
     levels = np.asarray(levels, float)
     if levels.ndim != 1 or len(levels) < 2 or not np.all(np.isfinite(levels) & (levels > 0)):
         raise ValueError(f"levels must be at least 2 positive, finite intensities, got {levels}")
     states = sorted(float(s) for s in states)
-    if not states or not all(math.isfinite(s) and s > 0 for s in states):
-        raise ValueError(f"damage states are positive fractions of the critical angle, got {states}")
+    if not states or not all(0 < s <= 1 for s in states):
+        raise ValueError(f"damage states are fractions of the critical angle above 0 and up to 1 (1 is "
+                         f"overturning), got {states}")
     own = {name: intensity(motion, im) for name, motion in records.items()}
     for name, value in own.items():
         if not value > 0:
@@ -156,7 +165,7 @@ def fragility_study(scene, records: dict, levels, states=DEFAULT_STATES, *, im: 
     finished = runs["status"] == "ok"
     fits = {}
     for state in states:
-        hit = exceeds(runs["damage_ratio"].to_numpy(), runs["overturned"].fillna(False).to_numpy(), state)
+        hit = exceeds(runs["damage_ratio"].to_numpy(), runs["overturned"], state)
         per_level = pd.DataFrame({"level": runs["level"], "run": finished, "hit": hit & finished})
         grouped = per_level.groupby("level", sort=True).sum()
         options = {} if samples is None else {"samples": samples}
@@ -176,7 +185,7 @@ def write_study(study: FragilityStudy, out, title: str, facts: dict | None = Non
     (:meth:`FragilityStudy.table`), ``counts.csv`` (:meth:`FragilityStudy.counts`), ``runs.csv`` (the runs),
     ``study.json`` (``facts``, the study's settings, the machine, the wall time, the package's version and code
     digest) and ``fragility.png`` (the figure, titled ``title``); returns the files' names."""
-    from .run_identity import code_digest, package_version
+    from .run_identity import code_digest, machine, package_version
 
     out = Path(out)
     described = {**(facts or {}), **{k: v for k, v in study.settings.items() if k not in (facts or {})},
@@ -191,17 +200,6 @@ def write_study(study: FragilityStudy, out, title: str, facts: dict | None = Non
         with replacing(out / name) as tmp:
             writers[name](tmp)
     return list(STUDY_FILES)
-
-
-def machine() -> str:
-    """This machine in words: its architecture, its cores and, where Linux says it, its processor's model."""
-    model = platform.processor() or platform.system()
-    try:
-        with open("/proc/cpuinfo") as info:
-            model = next((line.split(":", 1)[1].strip() for line in info if line.startswith("model name")), model)
-    except OSError:
-        pass
-    return f"{platform.machine()}, {os.cpu_count()} cores, {model}"
 
 
 def _save_png(figure, path) -> None:

@@ -14,6 +14,8 @@ import hashlib
 import inspect
 import json
 import math
+import os
+import platform
 from importlib import metadata
 from pathlib import Path
 
@@ -103,3 +105,14 @@ def describe(value):
 
 def _qualified_name(obj) -> str:
     return f"{getattr(obj, '__module__', '?')}.{getattr(obj, '__qualname__', type(obj).__qualname__)}"
+
+
+def machine() -> str:
+    """This machine in words: its architecture, its cores and, where Linux says it, its processor's model."""
+    model = platform.processor() or platform.system()
+    try:
+        with open("/proc/cpuinfo") as info:
+            model = next((line.split(":", 1)[1].strip() for line in info if line.startswith("model name")), model)
+    except OSError:
+        pass
+    return f"{platform.machine()}, {os.cpu_count()} cores, {model}"
