@@ -180,13 +180,18 @@ def _run_members(run_member, members, threads: int, stop: threading.Event, progr
             raise
 
 
-def _checked(scene, motions, device, threads, histories, simulate_options) -> tuple:
-    """``(threads, motions as a list, members whose histories are kept)``, or the error naming what is wrong."""
+def check_device(device: str) -> None:
+    """``ValueError`` naming why a batch cannot run on ``device``: not one of :data:`DEVICES`, or ``"gpu"``."""
     if device not in DEVICES:
         raise ValueError(f"device must be one of {DEVICES}, got {device!r}")
     if device == "gpu":
         raise ValueError("device='gpu' needs CUDA kernels, which this version of dem_core does not have; "
                          "device='cpu' or 'auto' runs the members on the CPU's threads")
+
+
+def _checked(scene, motions, device, threads, histories, simulate_options) -> tuple:
+    """``(threads, motions as a list, members whose histories are kept)``, or the error naming what is wrong."""
+    check_device(device)
     if "parallel" in simulate_options:
         raise TypeError("simulate_batch spreads its members over threads; 'parallel' (one run over threads) does "
                         "not apply")

@@ -1349,6 +1349,13 @@ def _measure_text(value: float, unit: str, signed: bool = False) -> str:
 def _fragility(args) -> int:
     from .analyses.fragility_study import DEFAULT_TOP, INTENSITY_MEASURES, fragility_study, state_label, stripes
 
+    from .batch import check_device
+
+    try:
+        check_device(args.device)
+    except ValueError as exc:
+        print(f"error: --device: {exc}", file=sys.stderr)
+        return 2
     loaded = _scene_and_settings(args)
     if loaded is None:
         return 2

@@ -77,3 +77,9 @@ def test_an_empty_records_folder_is_refused(tmp_path, capsys):
     assert main(["fragility", _scene(tmp_path), "--records-dir", str(tmp_path / "empty"), "--out",
                  str(tmp_path / "out")]) == 2
     assert "no .at2, .txt, .dat or .csv file" in capsys.readouterr().err
+
+
+def test_the_gpu_is_refused_before_anything_runs(tmp_path, capsys):
+    assert main(["fragility", _scene(tmp_path), "--device", "gpu", "--out", str(tmp_path / "out")]) == 2
+    captured = capsys.readouterr()
+    assert captured.out == "" and captured.err.startswith("error: --device:") and "CUDA" in captured.err
