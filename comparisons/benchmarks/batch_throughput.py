@@ -77,7 +77,7 @@ def _installed(module: str) -> bool:
 
 def _line(label: str, members: int, wall: float, steps: int, one: float | None) -> str:
     ratio = f"{one / wall:8.2f}" if one else f"{'':8s}"
-    return (f"  {label:34s} M={members:<6d} {wall:9.2f} s {members / wall:11.1f} runs/s "
+    return (f"  {label:40s} M={members:<6d} {wall:9.2f} s {members / wall:11.1f} runs/s "
             f"{steps / wall:10.3g} member-steps/s {ratio}")
 
 
@@ -88,7 +88,7 @@ def run(args: argparse.Namespace) -> None:
     print(f"batch throughput: {args.duration:g} s of {RECORD} at {LOWEST:g} to {HIGHEST:g} g tan(alpha); {cores} "
           f"cores, numba {threads} threads; GPU: none used (this version has no CUDA kernels); MJX: "
           f"{'installed, not run here' if _installed('mujoco.mjx') else 'not installed'}")
-    print(f"  {'':34s} {'':8s} {'wall':>11s} {'':>16s} {'':>25s} {'vs 1 thread':>8s}")
+    print(f"  {'':40s} {'':8s} {'wall':>11s} {'':>16s} {'':>25s} {'vs 1 thread':>8s}")
     for name in args.scenes:
         build, tan_alpha = SCENES[name]
         scene = build()
@@ -131,10 +131,10 @@ def _measure(name, scene, integrator, members_motions, args, threads) -> None:
     overturned = int(single.table["overturned"].sum())
     print(f"  {overturned} of {members} members overturned (a run stops there)", flush=True)
     if members <= args.peers_up_to and integrator == args.integrators[0]:
-        wall, _ = _timed(lambda: simulate_batch(scene, members_motions, args.duration, integrator=integrator,
-                                                threads=threads, stop_at_overturn=False), repeats)
+        wall, whole = _timed(lambda: simulate_batch(scene, members_motions, args.duration, integrator=integrator,
+                                                    threads=threads, stop_at_overturn=False), repeats)
         print(_line(f"simulate_batch, {threads} threads, to the end", members, wall,
-                    members * math.ceil(args.duration / single.table["dt_s"].iloc[0]), one)
+                    int(whole.table["steps"].sum()), one)
               + "  (stop_at_overturn=False, as pymunk below)", flush=True)
         workers = os.cpu_count()
         with ProcessPoolExecutor(workers) as pool:
