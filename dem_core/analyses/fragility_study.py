@@ -22,6 +22,7 @@ from ..batch import simulate_batch
 from ..inputs.excitation import GroundMotion, scaled
 from ..inputs.records import G_STANDARD
 from ..output_files import replacing
+from .damage import critical_angles
 from .fragility import fit_fragility, fragility_figure
 
 #: the intensity measures: name -> (label, unit)
@@ -102,15 +103,11 @@ def intensity(motion: GroundMotion, im: str) -> float:
 
 
 def damage_ratio(result) -> float:
-    """The largest over the blocks of peak |theta| / the governing critical angle (the column's for a block in a
-    column, else the block's own); nan for a result without critical angles."""
+    """The largest over the blocks of peak |theta| / the governing critical angle (:func:`.damage.critical_angles`:
+    the column's for a block in a column, else the block's own); nan for a result without critical angles."""
     if result.critical_angle is None:
         return float("nan")
-    governing = np.array(result.critical_angle, float)
-    for column in result.columns:
-        for name in column.blocks:
-            governing[result.index(name)] = column.critical_angle
-    return float(np.max(result.peak_theta / governing))
+    return float(np.max(result.peak_theta / critical_angles(result)))
 
 
 def exceeds(ratio, overturned, state: float) -> np.ndarray:

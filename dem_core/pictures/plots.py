@@ -20,6 +20,7 @@ matplotlib.use("Agg")  # files only: the command line and CI have no screen
 import matplotlib.pyplot as plt
 import numpy as np
 
+from ..analyses.damage import critical_angles
 from ..analyses.thresholds import SLIP_THRESHOLD
 from ..inputs.records import G_STANDARD
 from ..output_files import replacing
@@ -148,18 +149,6 @@ def _history_figure(result, values, ylabel, colour_map, excitation, title, unit:
     axes[0].grid(alpha=0.3)
     _ground_panel(axes[1], result, excitation)
     return fig, axes, groups
-
-
-def critical_angles(result) -> np.ndarray:
-    """(n_blocks,) rad: the rotation at which each block is judged to overturn: for a column's
-    drums the column's critical angle, for every other block its own."""
-    if result.critical_angle is None:
-        raise ValueError("the result carries no critical angles (an engine that does not report them)")
-    alpha = np.array(result.critical_angle, dtype=float)
-    for column in result.columns:
-        for name in column.blocks:
-            alpha[result.index(name)] = column.critical_angle
-    return alpha
 
 
 def _holders(result, groups, alpha, value) -> str:

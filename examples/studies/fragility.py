@@ -28,7 +28,7 @@ CHECK_DT, CHECK_EVERY = 5e-4, 4
 
 
 def median_text(fit) -> str:
-    if fit.median != fit.median:
+    if math.isnan(fit.median):
         return f"no median ({fit.note})"
     low, high = fit.median_band
     return f"{fit.median:.3g} ({low:.3g} to {high:.3g})"
