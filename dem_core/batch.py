@@ -217,9 +217,8 @@ def member_row(member: int, motion: str, result: Result, status: str, error: str
     relative = result.relative_x - result.relative_x[:1]
     per_block = {
         "peak_abs_theta_rad": result.peak_theta,
-        "peak_abs_displacement_m": np.max(np.abs(relative), axis=0, initial=0.0),
-        "residual_displacement_m": result.residual_displacement if len(result.t) else np.full(result.n_blocks,
-                                                                                               np.nan),
+        "peak_abs_displacement_m": np.max(np.abs(relative), axis=0),
+        "residual_displacement_m": result.residual_displacement,
         "sliding_m": result.block_sliding,
         "overturn_time_s": result.overturn_time,
     }
