@@ -16,6 +16,7 @@ from comparisons.benchmarks import (
     batch_throughput,
     calibrate_damping,
     column_ensemble,
+    overturn_rule,
     scaling,
     stability_probe,
     stiffness_ensembles,
@@ -38,6 +39,7 @@ BENCHMARKS = {
     "stability-probe": stability_probe,
     "calibrate-damping": calibrate_damping,
     "stiffness-ensembles": stiffness_ensembles,
+    "overturn-rule": overturn_rule,
 }
 
 

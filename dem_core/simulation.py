@@ -30,7 +30,7 @@ from .engine.model import Model, compile_model, interface_pairs
 from .engine.result import Result
 from .engine.stacks import columns, find_stacks
 from .engine.state import (NARROW, OUTPUTS, PAIR_KEY, REBUILDS, SLIP, SOLVER_SWEEPS, STATUS_FALLBACKS, STATUS_PASSES,
-                           UNCONVERGED, State, initial_state)
+                           SUBSTEPPED, UNCONVERGED, State, initial_state)
 from .inputs.excitation import GroundMotion, still
 from .inputs.records import G_STANDARD
 from .inputs.scene import Scene
@@ -47,9 +47,10 @@ SPEED_LIMIT_FACTOR = 10.0
 #: energy gained beyond the ground's work, as a fraction of sum(m g R) plus the gross ground work, that stops the run
 ENERGY_TOLERANCE = 0.05
 GROUND_MOTION_MODES = ("inertial", "moving_base")
-#: with stop_at_overturn=False the automatic step shrinks by this factor: a pile of fallen blocks has more
-#: and stiffer contacts than the standing scene the stability limit is computed for (the 8-drum column
-#: under El Centro at 10 m/s^2 goes through its collapse at a quarter of the step, not at a half)
+#: with stop_at_overturn=False, while a block is overturned (past its critical angle or fallen), central differences
+#: take each step in substeps no longer than this fraction of the automatic step for toppled blocks: a pile of fallen
+#: blocks has more and stiffer contacts than the standing scene the stability limit is computed for (the 8-drum
+#: column under El Centro at 10 m/s^2 goes through its collapse at a quarter of the step, not at a half)
 COLLAPSE_STEP_FACTOR = 0.25
 #: a ground acceleration above this many g (9.80665 m/s^2) is beyond what a stone block can meet and more likely a
 #: mistake of units or scale: such a motion is announced before the run, and a run that loses stability under it
@@ -155,7 +156,8 @@ def check_run_arguments(scene, excitation) -> GroundMotion:
 class RunSettings(NamedTuple):
     """What the kernels need of a run besides the model: dt (s), output ``stride`` (steps),
     ``last_step``, ``speed_limit`` (m/s), ``energy_tolerance`` and ``energy_scale`` (J) of the energy
-    balance, ``stop_at_overturn``; for Moreau-Jean ``theta``, the index set's ``active_gap`` and the projection's
+    balance, ``stop_at_overturn``; for central differences the ``substeps`` each step is taken in while a block
+    is overturned (1: never); for Moreau-Jean ``theta``, the index set's ``active_gap`` and the projection's
     ``slop`` (fractions of the smallest block's size), the solver's ``solver_tolerance`` and ``solver_failure``
     (fractions of g dt), ``max_sweeps``, ``rescue_sweeps`` and ``projection_sweeps``, and the direct solve's
     ``status_passes``."""
@@ -167,6 +169,7 @@ class RunSettings(NamedTuple):
     energy_tolerance: float
     energy_scale: float
     stop_at_overturn: bool
+    substeps: int = 1
     theta: float = MOREAU_THETA
     active_gap: float = MOREAU_ACTIVE_GAP
     slop: float = MOREAU_SLOP
@@ -215,11 +218,12 @@ class Simulation:
         self.columns = columns(scene, stacks)
         self.integrator = integrator
         auto_dt = dt is None
+        substeps = 1
         if integrator == "moreau":
             self.limit, self.impact = math.inf, math.nan
             dt = moreau_time_step(self.model, excitation, dt, step_fraction)
         else:
-            self.limit = stability.stability_limit(self.model, toppled=not stop_at_overturn)
+            self.limit = stability.stability_limit(self.model)
             self.impact = stability.impact_duration(self.model)
             dt = _time_step(self.model, dt, self.limit, self.impact, safety, steps_per_impact, step_fraction,
                             enforce_stability_limit)
@@ -227,8 +231,11 @@ class Simulation:
                 warn_caller(f"dt = {dt:.4g} s is {dt / self.limit:.2f} times the stability limit {self.limit:.4g} "
                             f"s (enforce_stability_limit=False): the result says so in "
                             f"info['beyond_stability_limit']")
-            if auto_dt and not stop_at_overturn:
-                dt *= COLLAPSE_STEP_FACTOR
+            if not stop_at_overturn:
+                collapse = COLLAPSE_STEP_FACTOR * _time_step(
+                    self.model, None, stability.stability_limit(self.model, toppled=True), self.impact, safety,
+                    steps_per_impact, step_fraction, True)
+                substeps = max(1, math.ceil(dt / collapse - 1e-9))
         n_steps = math.ceil(duration / dt - 1e-9)
         stride = max(1, round(output_dt / dt))
         n_out = n_steps // stride + 2
@@ -246,7 +253,7 @@ class Simulation:
             dt=float(dt), stride=int(stride), last_step=int(n_steps),
             speed_limit=_speed_limit(self.model, excitation, duration),
             energy_tolerance=ENERGY_TOLERANCE, energy_scale=float(self.model.gravity * np.sum(b.radius * b.mass)),
-            stop_at_overturn=bool(stop_at_overturn), theta=float(theta))
+            stop_at_overturn=bool(stop_at_overturn), substeps=int(substeps), theta=float(theta))
         if integrator == "moreau":
             self.kernel = _moreau.advance
         else:
@@ -376,6 +383,9 @@ class Simulation:
             info["unconverged_steps"] = int(tracking.counters[UNCONVERGED])
             info["status_passes_per_step"] = int(tracking.counters[STATUS_PASSES]) / max(step, 1)
             info["status_fallbacks"] = int(tracking.counters[STATUS_FALLBACKS])
+        else:
+            info["collapse_substeps"] = self.settings.substeps
+            info["substepped_steps"] = int(tracking.counters[SUBSTEPPED])
         if dt > self.limit:
             info["beyond_stability_limit"] = (f"dt = {dt:.4g} s is {dt / self.limit:.2f} times the stability limit "
                                               f"{self.limit:.4g} s: the scheme is unstable there and the result may be "
@@ -484,9 +494,10 @@ def simulate(scene, excitation: GroundMotion | None = None, duration: float | No
     stop_at_overturn : end the run when a block first overturns (passes its
         critical angle or falls half its size) or a column tips past its base; the result then
         ends at that time and ``info["stopped"]`` says why.  With False the run goes on
-        through the collapse, with an automatic step small enough for blocks
-        lying on their long sides (see :func:`dem_core.engine.stability.stability_limit`)
-        and for piles of fallen blocks (``COLLAPSE_STEP_FACTOR``).
+        through the collapse.  Central differences then take every step during which a block is
+        overturned in ``info["collapse_substeps"]`` substeps, each short enough for blocks lying on
+        their long sides (see :func:`dem_core.engine.stability.stability_limit`) and for piles of
+        fallen blocks (``COLLAPSE_STEP_FACTOR``); ``info["substepped_steps"]`` counts them.
     enforce_stability_limit : refuse an explicit dt above the stability limit.
         Only for stress tests that study what happens past it
         (``python -m comparisons stability-probe``); such a result says so in ``info``.
@@ -551,8 +562,8 @@ def automatic_time_step(scene, *, toppled: bool = False, safety: float = DEFAULT
                         steps_per_impact: float = DEFAULT_STEPS_PER_IMPACT) -> float:
     """The step :func:`simulate` chooses when given none, s: the smaller of ``safety`` times the
     stability limit (with ``toppled``, the limit of blocks lying on their long sides) and the
-    shortest impact over ``steps_per_impact``.  (Going on through a collapse, ``simulate`` takes
-    ``COLLAPSE_STEP_FACTOR`` of the toppled value.)"""
+    shortest impact over ``steps_per_impact``.  (Going on through a collapse, ``simulate`` takes the steps
+    during which a block is overturned in substeps of at most ``COLLAPSE_STEP_FACTOR`` of the toppled value.)"""
     model = compile_model(scene)
     limit = stability.stability_limit(model, toppled=toppled)
     return _time_step(model, None, limit, stability.impact_duration(model), safety, steps_per_impact, 1.0, True)

@@ -181,3 +181,22 @@ def test_block_at_rest_lifts_off_exactly_at_g_tan_alpha():
     history = rocking_reference.rocking_response(SLENDER, excitation.ramp(0.5), 4.0)
     assert 0.5 * history.uplift_time == pytest.approx(analytical.rocking_onset_acceleration(SLENDER), rel=1e-12)
     assert np.all(history.theta[history.t <= history.uplift_time] == 0.0)
+
+
+@pytest.mark.parametrize("speed, comes_back", [(1.02, True), (0.98, False)])
+def test_a_block_past_alpha_comes_back_only_with_the_energy_to_climb_over_it(speed, comes_back):
+    """Counted at pi/2, overturning is falling: a free block released past alpha towards upright climbs back over
+    alpha if its kinetic energy beats the height it must regain, ``omega^2 / 2 >= p^2 (1 - cos(theta0 - alpha))``
+    (energy over I_O), and lands on its side otherwise."""
+    block = SLENDER
+    theta0 = block.alpha + 0.1
+    needed = np.sqrt(2.0 * block.p**2 * (1.0 - np.cos(theta0 - block.alpha)))
+    history = rocking_reference.rocking_response(block, excitation.still(), 20.0, theta0=theta0,
+                                                 omega0=-speed * needed, overturn_angle=0.5 * np.pi)
+    assert history.overturned != comes_back
+    if comes_back:
+        assert len(history.impacts) >= 1 and np.nanmax(np.abs(history.theta)) == pytest.approx(theta0)
+    else:
+        assert history.peak == 0.5 * np.pi and np.nanmin(history.theta) > block.alpha
+    with pytest.raises(ValueError, match="overturn_angle"):
+        rocking_reference.rocking_response(block, excitation.still(), 1.0, overturn_angle=2.0)

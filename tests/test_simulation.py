@@ -66,6 +66,40 @@ def test_overturn_stops_the_run_and_says_when():
     assert abs(goes_on.theta[-1, 0]) == pytest.approx(np.pi / 2, abs=0.01)  # lying on its side
 
 
+def test_going_on_past_an_overturn_takes_the_same_steps_until_a_block_is_overturned():
+    """With stop_at_overturn=False the step is the automatic one, bit for bit the stopping run's trajectory, until a
+    block passes its critical angle; from then on each step is taken in substeps (docs/method.md 1.7)."""
+    scene = scenes.block(1.0, 6.0)
+    for pga, overturns in ((3.0, False), (9.0, True)):
+        motion = excitation.record("el_centro_1940", pga=pga)
+        stops = dem_core.simulate(scene, motion, duration=15.0, output_dt=1e-3)
+        goes_on = dem_core.simulate(scene, motion, duration=15.0, output_dt=1e-3, stop_at_overturn=False)
+        assert stops.overturned == goes_on.overturned == overturns
+        assert goes_on.dt == stops.dt
+        n = len(stops.t) - 1  # the stopping run's last output is the overturn, between output times
+        assert np.array_equal(stops.theta[:n], goes_on.theta[:n]) and np.array_equal(stops.x[:n], goes_on.x[:n])
+        assert (goes_on.info["substepped_steps"] > 0) == overturns
+        if overturns:
+            assert goes_on.time_of_overturn == stops.time_of_overturn
+            assert goes_on.info["substepped_steps"] <= goes_on.info["steps"] - round(stops.time_of_overturn / stops.dt)
+
+
+@pytest.mark.parametrize("ground_motion", ["inertial", "moving_base"])
+def test_the_substeps_past_an_overturn_follow_the_fall_a_short_step_gives(ground_motion):
+    """A block thrown over by a pulse falls onto its side: taken in substeps past its critical angle, and at the
+    substeps' length throughout, it lands within one output (1 ms) and comes to rest within 2 mm of each other."""
+    scene, motion = scenes.block(0.25, 1.0), excitation.sine_pulse(3.5, 1.0)
+    options = dict(duration=2.0, stop_at_overturn=False, output_dt=1e-3, ground_motion=ground_motion)
+    substepped = dem_core.simulate(scene, motion, **options)
+    n = substepped.info["collapse_substeps"]
+    fine = dem_core.simulate(scene, motion, dt=substepped.dt / n, **options)
+    assert n > 1 and fine.info["substepped_steps"] == 0 < substepped.info["substepped_steps"]
+    landed = [r.t[np.argmax(np.abs(r.theta[:, 0]) > np.pi / 2 - 0.02)] for r in (substepped, fine)]
+    assert landed[0] == pytest.approx(landed[1], abs=1.5e-3) and landed[0] > substepped.time_of_overturn
+    assert abs(substepped.theta[-1, 0]) == pytest.approx(np.pi / 2, abs=1e-3)
+    assert substepped.relative_x[-1, 0] == pytest.approx(fine.relative_x[-1, 0], abs=2e-3)
+
+
 def test_duration_defaults_to_the_record_length():
     motion = excitation.record("kalamata_1986")
     r = dem_core.simulate(scenes.block(1.0, 1.0), motion, output_dt=0.1)
@@ -88,8 +122,12 @@ def test_a_column_collapses_through_to_rest_when_asked_to_go_on():
 def test_automatic_time_step_is_the_step_simulate_takes():
     for scene in (scenes.column(8), scenes.colonnade(3, 2, epistyle="b")):
         assert dem_core.simulate(scene, duration=1e-3).dt == dem_core.automatic_time_step(scene)
-        collapse = dem_core.simulate(scene, duration=1e-3, stop_at_overturn=False).dt
-        assert collapse == dem_core.automatic_time_step(scene, toppled=True) * COLLAPSE_STEP_FACTOR
+        # going on past an overturn keeps the step and takes the fewest substeps within the collapse step
+        goes_on = dem_core.simulate(scene, duration=1e-3, stop_at_overturn=False)
+        assert goes_on.dt == dem_core.automatic_time_step(scene)
+        n = goes_on.info["collapse_substeps"]
+        collapse = dem_core.automatic_time_step(scene, toppled=True) * COLLAPSE_STEP_FACTOR
+        assert n > 1 and goes_on.dt / n <= collapse < goes_on.dt / (n - 1)
 
 
 def test_a_step_fraction_runs_the_automatic_step_over_n_as_an_explicit_dt_does():

@@ -5,5 +5,8 @@
 * :mod:`.sweep_throughput` (``sweep-throughput``): runs per minute of a parameter sweep;
 * :mod:`.stability_probe` (``stability-probe``): the estimated stability limit against the real one;
 * :mod:`.calibrate_damping` (``calibrate-damping``): the contact damping that matches Housner's impact loss;
-* :mod:`.stiffness_ensembles` (``stiffness-ensembles``): whether multi-block answers depend on K_n.
+* :mod:`.stiffness_ensembles` (``stiffness-ensembles``): whether multi-block answers depend on K_n;
+* :mod:`.column_ensemble` (``column-ensemble``): the 8-drum column's ensemble, Moreau-Jean against the peers;
+* :mod:`.batch_throughput` (``batch-throughput``): member-runs per second of ``simulate_batch``;
+* :mod:`.overturn_rule` (``overturn-rule``): whether blocks that pass their critical angle come back.
 """

@@ -9,7 +9,9 @@ where ``s`` is the corner the block rocks on (+1 left, ``theta > 0``; -1 right).
 set at uplift (the sign of ``a_g`` then) and at each impact (the other corner), never read off
 the sign of ``theta`` at zero.  The block rests while ``|a_g| <= (g + a_v) tan(alpha)``; at an
 impact (``theta = 0``) ``omega -> e omega`` (Housner's restitution unless given); the run stops at
-overturning, ``s theta = alpha``.
+overturning, ``s theta = alpha`` (the project's rule, docs/method.md section 3) or, if asked, at a later angle up
+to ``pi/2``, where the block lands on its side: past alpha gravity turns the block further, but the ground
+can still bring it back.
 
 Method:
 
@@ -22,7 +24,7 @@ Method:
   that make ``p h <= STEP_TIMES_P``.
 * Events inside a step are located on the Runge-Kutta map itself (one step of length
   ``sigma`` from the step's start, as a function of ``sigma``) by Newton's method kept inside a
-  bracket by bisection: an impact (``theta = 0``), overturning (``s theta = alpha``) and each
+  bracket by bisection: an impact (``theta = 0``), overturning (``s theta`` reaching the overturn angle) and each
   extremum of ``theta`` (``omega = 0``), which gives the peak between samples and catches a
   ``theta`` that dips to zero and back inside one step.
 * Rest: after an impact whose rebound speed ``e |omega|`` is below
@@ -98,12 +100,13 @@ def _rk4(theta, omega, tau, sigma, forcing, side, p2, alpha, g):
 
 
 @nb.njit(cache=True)
-def _event_function(kind, theta, omega, tau, forcing, side, p2, alpha, g):
-    """Value and slope of an event function, positive before the event and zero at it."""
+def _event_function(kind, theta, omega, tau, forcing, side, p2, alpha, g, fall):
+    """Value and slope of an event function, positive before the event and zero at it; the block overturns at
+    ``s theta = fall``."""
     if kind == _IMPACT:
         return side * theta, side * omega
     if kind == _OVERTURN:
-        return alpha - side * theta, -side * omega
+        return fall - side * theta, -side * omega
     acc = _angular_acceleration(theta, forcing[0] + forcing[1] * tau, forcing[2] + forcing[3] * tau,
                                 side, p2, alpha, g)
     if kind == _MAXIMUM:
@@ -112,7 +115,7 @@ def _event_function(kind, theta, omega, tau, forcing, side, p2, alpha, g):
 
 
 @nb.njit(cache=True)
-def _locate(kind, lo, hi, theta, omega, tau, forcing, side, p2, alpha, g):
+def _locate(kind, lo, hi, theta, omega, tau, forcing, side, p2, alpha, g, fall):
     """Length ``sigma`` in ``(lo, hi]`` of the Runge-Kutta step from ``(theta, omega)`` at ``tau``
     that ends on the event: the function is positive at ``lo`` (or starts at zero there and
     leaves it positive) and not positive at ``hi``.  Newton's method, bisection when Newton
@@ -120,7 +123,7 @@ def _locate(kind, lo, hi, theta, omega, tau, forcing, side, p2, alpha, g):
     sigma = 0.5 * (lo + hi)
     for _ in range(EVENT_ITERATIONS):
         th, om = _rk4(theta, omega, tau, sigma, forcing, side, p2, alpha, g)
-        value, slope = _event_function(kind, th, om, tau + sigma, forcing, side, p2, alpha, g)
+        value, slope = _event_function(kind, th, om, tau + sigma, forcing, side, p2, alpha, g, fall)
         if value > 0.0:
             lo = sigma
         else:
@@ -169,32 +172,32 @@ def _write(out_t, out_theta, out_omega, j, t0, t1, th0, om0, acc0, th1, om1, acc
 
 
 @nb.njit(cache=True)
-def _event_in_step(theta, omega, th1, om1, tau, sigma, forcing, side, p2, alpha, g, peak):
+def _event_in_step(theta, omega, th1, om1, tau, sigma, forcing, side, p2, alpha, g, fall, peak):
     """The first event inside the Runge-Kutta step of length ``sigma`` from ``(theta, omega)`` at ``tau``
     to ``(th1, om1)``: ``(event, length to it, peak)``, ``event`` -1 and the whole length if none.
 
-    An extremum inside the step is found first: a maximum past alpha means the block overturned before it
-    (one short of alpha raises the peak), a minimum past zero that it impacted before it; otherwise the
+    An extremum inside the step is found first: a maximum past ``fall`` means the block overturned before it
+    (one short of it raises the peak), a minimum past zero that it impacted before it; otherwise the
     step's end is checked for either."""
     event, at, lo = -1, sigma, 0.0
     if side * omega >= 0.0 and side * om1 < 0.0:
-        top = _locate(_MAXIMUM, 0.0, sigma, theta, omega, tau, forcing, side, p2, alpha, g)
+        top = _locate(_MAXIMUM, 0.0, sigma, theta, omega, tau, forcing, side, p2, alpha, g, fall)
         th_top, _ = _rk4(theta, omega, tau, top, forcing, side, p2, alpha, g)
-        if side * th_top >= alpha:
-            event, at = _OVERTURN, _locate(_OVERTURN, 0.0, top, theta, omega, tau, forcing, side, p2, alpha, g)
+        if side * th_top >= fall:
+            event, at = _OVERTURN, _locate(_OVERTURN, 0.0, top, theta, omega, tau, forcing, side, p2, alpha, g, fall)
         else:
             peak = max(peak, side * th_top)
             lo = top
     elif side * omega < 0.0 and side * om1 > 0.0:
-        bottom = _locate(_MINIMUM, 0.0, sigma, theta, omega, tau, forcing, side, p2, alpha, g)
+        bottom = _locate(_MINIMUM, 0.0, sigma, theta, omega, tau, forcing, side, p2, alpha, g, fall)
         th_bottom, _ = _rk4(theta, omega, tau, bottom, forcing, side, p2, alpha, g)
         if side * th_bottom <= 0.0:
-            event, at = _IMPACT, _locate(_IMPACT, 0.0, bottom, theta, omega, tau, forcing, side, p2, alpha, g)
+            event, at = _IMPACT, _locate(_IMPACT, 0.0, bottom, theta, omega, tau, forcing, side, p2, alpha, g, fall)
     if event < 0:
-        if side * th1 >= alpha:
-            event, at = _OVERTURN, _locate(_OVERTURN, lo, sigma, theta, omega, tau, forcing, side, p2, alpha, g)
+        if side * th1 >= fall:
+            event, at = _OVERTURN, _locate(_OVERTURN, lo, sigma, theta, omega, tau, forcing, side, p2, alpha, g, fall)
         elif side * th1 <= 0.0:
-            event, at = _IMPACT, _locate(_IMPACT, lo, sigma, theta, omega, tau, forcing, side, p2, alpha, g)
+            event, at = _IMPACT, _locate(_IMPACT, lo, sigma, theta, omega, tau, forcing, side, p2, alpha, g, fall)
     return event, at, peak
 
 
@@ -224,7 +227,7 @@ def _rest_until_uplift(out_t, out_theta, out_omega, j, t_knot, tau, tau_end, for
 
 
 @nb.njit(cache=True)
-def _integrate(knot_t, knot_ah, knot_av, max_step, p2, alpha, g, restitution, rest_speed, theta0, omega0,
+def _integrate(knot_t, knot_ah, knot_av, max_step, p2, alpha, g, fall, restitution, rest_speed, theta0, omega0,
                out_t, max_steps):
     """The rocking history on ``out_t``; see the module docstring.
 
@@ -275,12 +278,12 @@ def _integrate(knot_t, knot_ah, knot_av, max_step, p2, alpha, g, restitution, re
                 sigma = tau_end - tau
                 th1, om1 = _rk4(theta, omega, tau, sigma, forcing, side, p2, alpha, g)
                 event, at, peak = _event_in_step(theta, omega, th1, om1, tau, sigma, forcing, side, p2, alpha, g,
-                                                 peak)
+                                                 fall, peak)
                 if event < 0:
                     th_end, om_end = th1, om1
                 else:
                     th_end, om_end = _rk4(theta, omega, tau, at, forcing, side, p2, alpha, g)
-                    th_end = 0.0 if event == _IMPACT else side * alpha
+                    th_end = 0.0 if event == _IMPACT else side * fall
                 j = _write_piece(out_t, out_theta, out_omega, j, t_knot, tau, at, theta, omega, th_end, om_end,
                                  forcing, side, p2, alpha, g)
                 tau = tau + at
@@ -288,7 +291,7 @@ def _integrate(knot_t, knot_ah, knot_av, max_step, p2, alpha, g, restitution, re
                     peak = max(peak, side * th1)
                     theta, omega = th1, om1
                 elif event == _OVERTURN:
-                    return (out_theta, out_omega, impacts[:n_impacts], uplift, t_knot + tau, alpha, _OVERTURNED,
+                    return (out_theta, out_omega, impacts[:n_impacts], uplift, t_knot + tau, fall, _OVERTURNED,
                             t_knot + tau, passes)
                 else:
                     if n_impacts == impacts.shape[0]:
@@ -304,7 +307,7 @@ def _integrate(knot_t, knot_ah, knot_av, max_step, p2, alpha, g, restitution, re
 def rocking_response(block: RockingBlock, ground, duration: float | None = None, *, dt: float | None = None,
                      vertical=None, theta0: float = 0.0, omega0: float = 0.0, restitution: float | None = None,
                      substeps: int | None = None, sample_dt: float = ANALYTIC_SAMPLE_DT, output_dt: float | None = None,
-                     max_steps: int | None = None) -> RockingHistory:
+                     max_steps: int | None = None, overturn_angle: float | None = None) -> RockingHistory:
     """Rocking of a rigid block on a rigid base without sliding under a ground motion (docs/method.md 4.3).
 
     block : the rectangular block (``p``, ``alpha``, ``g``).
@@ -320,11 +323,17 @@ def rocking_response(block: RockingBlock, ground, duration: float | None = None,
     sample_dt : s, the knot spacing of analytic components.
     output_dt : s between outputs (default: the Runge-Kutta step).
     max_steps : step budget (default ``STEP_BUDGET_PER_STEP`` per regular step).
+    overturn_angle : rad, the rotation at which the block counts as overturned and the run stops: alpha by
+        default; up to pi/2, where the block lands on its side and the equation ends.
     Returns a :class:`comparisons.references.analytical.RockingHistory` whose ``peak`` is the largest
     ``|theta|`` between samples too; ``theta`` and ``omega`` are NaN after an overturn.
     Raises :class:`StepBudgetExceeded` when the budget runs out.
     """
     knot_t, knot_ah, knot_av, spacing, duration = _knots(ground, duration, dt, vertical, sample_dt)
+    fall = block.alpha if overturn_angle is None else float(overturn_angle)
+    if not block.alpha <= fall <= 0.5 * math.pi:
+        raise ValueError(f"overturn_angle must lie between the block's critical angle {block.alpha:.6g} rad and "
+                         f"pi/2, got {overturn_angle}")
     substeps = default_substeps(block, spacing) if substeps is None else substeps
     if int(substeps) != substeps or substeps < 1:
         raise ValueError(f"substeps must be a positive integer, got {substeps}")
@@ -337,7 +346,7 @@ def rocking_response(block: RockingBlock, ground, duration: float | None = None,
     max_steps = STEP_BUDGET_PER_STEP * regular_steps if max_steps is None else int(max_steps)
     e = block.restitution if restitution is None else float(restitution)
     theta, omega, impacts, uplift, overturn, peak, status, reached, passes = _integrate(
-        knot_t, knot_ah, knot_av, step, block.p**2, block.alpha, block.g, e,
+        knot_t, knot_ah, knot_av, step, block.p**2, block.alpha, block.g, fall, e,
         REST_SPEED_FRACTION * block.p * block.alpha, float(theta0), float(omega0), out_t, max_steps)
     if status == _OUT_OF_BUDGET:
         raise StepBudgetExceeded(

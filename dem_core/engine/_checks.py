@@ -14,6 +14,22 @@ import numpy as np
 
 
 @nb.njit(cache=True, inline="always")
+def block_overturned(pos, b, critical_angle, y_start, drop_limit):
+    """Whether body ``b`` at ``pos`` (nb, 3) is past its critical angle or its centre of mass has fallen more than
+    ``drop_limit[b]`` below ``y_start[b]``."""
+    return abs(pos[b, 2]) > critical_angle[b] or y_start[b] - pos[b, 1] > drop_limit[b]
+
+
+@nb.njit(cache=True, inline="always")
+def any_block_overturned(pos, critical_angle, y_start, drop_limit):
+    """Whether some free body at ``pos`` (nb, 3; row 0 the base) is overturned by :func:`block_overturned` now."""
+    for b in range(1, pos.shape[0]):
+        if block_overturned(pos, b, critical_angle, y_start, drop_limit):
+            return True
+    return False
+
+
+@nb.njit(cache=True, inline="always")
 def mark_overturns(pos, critical_angle, y_start, drop_limit, mass, stack_id, bottom, stack_mass, foot,
                    overturn_step, stack_step, moment, step):
     """Record in ``overturn_step`` (nb,) and ``stack_step`` (ns,) the bodies and stacks that have
@@ -32,7 +48,7 @@ def mark_overturns(pos, critical_angle, y_start, drop_limit, mass, stack_id, bot
             moment[k] += pos[b, 0] * mass[b]
         if overturn_step[b] >= 0:
             continue
-        if abs(pos[b, 2]) > critical_angle[b] or y_start[b] - pos[b, 1] > drop_limit[b]:
+        if block_overturned(pos, b, critical_angle, y_start, drop_limit):
             overturn_step[b] = step
             if first < 0:
                 first = b

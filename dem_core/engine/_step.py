@@ -17,7 +17,9 @@ dashpots acting on the lagging half-step velocities.  Per step, in stages, each 
    the overlap polygon (:mod:`._polygon`), then the contact law (:mod:`._contact_law`)
    (:func:`corner_pair`, :func:`overlap_pair`); then per body the sum of its pairs' forces
    (:func:`gather_forces`), and a contact past the penetration limit stops the run (:func:`deepest_pair`);
-5. the ground's work (:func:`ground_work`), then velocities and positions advance (:func:`move`);
+5. the ground's work (:func:`ground_work`), then velocities and positions advance (:func:`move`).  While a
+   block is overturned and the run goes on past overturns, stages 2 to 5 run ``run.substeps`` times a step, on
+   substeps (the base between its places at the step's ends, :func:`place_base_within`);
 6. checks: non-finite state, a block off the base or flying off (:func:`check_bodies`), overturns
    (:mod:`._checks`), and every ``ENERGY_CHECK_INTERVAL`` steps the energy balance (:func:`energy_gained`).
 
@@ -35,12 +37,12 @@ import numba as nb
 import numpy as np
 
 from ._broadphase import bounding_boxes, candidate_keys, relist
-from ._checks import mark_overturns, mechanical_energy
+from ._checks import any_block_overturned, mark_overturns, mechanical_energy
 from ._contact_law import CORNER, dashpot, effective_mass, normal_force, tangential_force
 from ._manifold import FACE_BITS, corner_manifold
 from ._polygon import clip_convex, contact_frame, polygon_moments
-from .state import (C_N, C_R, C_T, K_N, K_T, MU, NARROW, OUTPUTS, PAIR_I, PAIR_INTERFACE, PAIR_J, POINT_FORCE,
-                    POINT_KEY, REBUILDS, REFERENCE, SLIP, STEP)
+from .state import (C_N, C_R, C_T, K_N, K_T, LAST_SUBSTEPS, MU, NARROW, OUTPUTS, PAIR_I, PAIR_INTERFACE, PAIR_J,
+                    POINT_FORCE, POINT_KEY, REBUILDS, REFERENCE, SLIP, STEP, SUBSTEPPED)
 
 STATUS_OK = 0
 STATUS_NONFINITE = 1
@@ -232,12 +234,15 @@ def incidence(ids, n_pairs, n_bodies):
 
 
 @nb.njit(cache=True, inline="always")
-def move(pos, vel, force, inv_mass, inv_inertia, gx, gy, dt):
-    """Central-difference update of every free body under ``force`` and the load (gx, gy) per unit mass."""
+def move(pos, vel, force, inv_mass, inv_inertia, gx, gy, kick, dt):
+    """Central-difference update of every free body under ``force`` and the load (gx, gy) per unit mass: the
+    velocities gain the acceleration times ``kick`` (s), the mean of the steps before and after this instant
+    (``dt`` itself while the step does not change), and the positions move by the new velocities times the
+    step ``dt`` (s)."""
     for b in range(1, pos.shape[0]):
-        vel[b, 0] += dt * (force[b, 0] * inv_mass[b] + gx)
-        vel[b, 1] += dt * (force[b, 1] * inv_mass[b] + gy)
-        vel[b, 2] += dt * force[b, 2] * inv_inertia[b]
+        vel[b, 0] += kick * (force[b, 0] * inv_mass[b] + gx)
+        vel[b, 1] += kick * (force[b, 1] * inv_mass[b] + gy)
+        vel[b, 2] += kick * force[b, 2] * inv_inertia[b]
         pos[b, 0] += dt * vel[b, 0]
         pos[b, 1] += dt * vel[b, 1]
         pos[b, 2] += dt * vel[b, 2]
@@ -262,6 +267,16 @@ def place_base(pos, vel, ground, k):
     pos[0, 1] = ground[3, k]
     vel[0, 0] = ground[4, k]
     vel[0, 1] = ground[5, k]
+
+
+@nb.njit(cache=True, inline="always")
+def place_base_within(pos, vel, ground, k, fraction):
+    """Stage 1 of a substep: the base ``fraction`` of the way from step ``k`` to step ``k + 1``, moving at the
+    velocity of that step's half step."""
+    pos[0, 0] = ground[2, k] + fraction * (ground[2, k + 1] - ground[2, k])
+    pos[0, 1] = ground[3, k] + fraction * (ground[3, k + 1] - ground[3, k])
+    vel[0, 0] = ground[4, k + 1]
+    vel[0, 1] = ground[5, k + 1]
 
 
 @nb.njit(cache=True, inline="always")
@@ -448,33 +463,48 @@ def _advance(model, run, pos, vel, contacts, retired, tracking, ground, n_steps,
         if k == n_steps or step >= run.last_step:
             break
 
-        world_geometry(pos, local_x, local_y, normal_x, normal_y, vstart, wx, wy, wnx, wny)
-        bounding_boxes(wx, wy, vstart, lo_x, hi_x, lo_y, hi_y)
-        if needs_relist(pos, radius, built_at, half_skin):
-            candidates = candidate_keys(lo_x, hi_x, lo_y, hi_y, half_skin)
-            contacts, retired = relist(bodies, law, model.interface_keys, contacts, retired, candidates)
-            ids, constants, memory, forces = contacts.ids, contacts.constants, contacts.memory, contacts.forces
-            n_pairs = contacts.count[0]
-            pair_force, pair_touching, pair_excess, points, keys, ox, oy, clip_scratch = _pair_buffers(
-                n_pairs, corner, clip)
-            start, entries = incidence(ids, n_pairs, nb_)
-            built_at[:, :] = pos
-            counters[REBUILDS] += 1
-
-        for p in nb.prange(n_pairs):  # prange runs as range in the serial kernel
-            pair_forces(p, corner, ids, constants, memory, forces, interface_slip, pos, vel, pair_force,
-                        pair_touching, pair_excess, wx, wy, wnx, wny, vstart, inv_mass, inv_inertia, zeta_n, zeta_t,
-                        limits, dt, boxes, points, keys, ox, oy, clip_scratch)
-        for b in nb.prange(nb_):
-            gather_forces(b, start, entries, pair_force, force)
-        deep = deepest_pair(pair_touching, pair_excess, n_pairs, counters)
-        if deep >= 0:
-            return STATUS_DEEP_OVERLAP, ids[deep, PAIR_I], ids[deep, PAIR_J], contacts, retired
-
+        # past a critical angle a block may lie on a longer face, and fallen blocks pile up: such steps are
+        # taken in run.substeps substeps (the velocities' kick spans half the step before and half the step after)
+        substeps = 1
+        if run.substeps > 1 and any_block_overturned(pos, critical_angle, y_start, drop_limit):
+            substeps = run.substeps
+        h = dt / substeps
+        last = counters[LAST_SUBSTEPS]
+        kick = 0.5 * ((dt / last if last > 0 else dt) + h)
         load_x = ground[0, k]
         load_y = ground[1, k]
-        ground_work(force, vel, mass, load_x, load_y, dt, ledger)
-        move(pos, vel, force, inv_mass, inv_inertia, load_x, load_y - gravity, dt)
+        for sub in range(substeps):
+            if sub > 0:
+                place_base_within(pos, vel, ground, k, sub / substeps)
+            world_geometry(pos, local_x, local_y, normal_x, normal_y, vstart, wx, wy, wnx, wny)
+            bounding_boxes(wx, wy, vstart, lo_x, hi_x, lo_y, hi_y)
+            if needs_relist(pos, radius, built_at, half_skin):
+                candidates = candidate_keys(lo_x, hi_x, lo_y, hi_y, half_skin)
+                contacts, retired = relist(bodies, law, model.interface_keys, contacts, retired, candidates)
+                ids, constants, memory, forces = contacts.ids, contacts.constants, contacts.memory, contacts.forces
+                n_pairs = contacts.count[0]
+                pair_force, pair_touching, pair_excess, points, keys, ox, oy, clip_scratch = _pair_buffers(
+                    n_pairs, corner, clip)
+                start, entries = incidence(ids, n_pairs, nb_)
+                built_at[:, :] = pos
+                counters[REBUILDS] += 1
+
+            for p in nb.prange(n_pairs):  # prange runs as range in the serial kernel
+                pair_forces(p, corner, ids, constants, memory, forces, interface_slip, pos, vel, pair_force,
+                            pair_touching, pair_excess, wx, wy, wnx, wny, vstart, inv_mass, inv_inertia, zeta_n, zeta_t,
+                            limits, h, boxes, points, keys, ox, oy, clip_scratch)
+            for b in nb.prange(nb_):
+                gather_forces(b, start, entries, pair_force, force)
+            deep = deepest_pair(pair_touching, pair_excess, n_pairs, counters)
+            if deep >= 0:
+                return STATUS_DEEP_OVERLAP, ids[deep, PAIR_I], ids[deep, PAIR_J], contacts, retired
+
+            ground_work(force, vel, mass, load_x, load_y, h, ledger)
+            move(pos, vel, force, inv_mass, inv_inertia, load_x, load_y - gravity, kick, h)
+            kick = h
+        counters[LAST_SUBSTEPS] = substeps
+        if substeps > 1:
+            counters[SUBSTEPPED] += 1
         counters[STEP] = step + 1
 
         status, b = check_bodies(pos, vel, radius, model.floor, run.speed_limit, peak_theta)

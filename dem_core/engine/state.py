@@ -63,9 +63,10 @@ class Tracking(NamedTuple):
     interface_slip : (n_if,) m, slip accumulated at each recorded interface.
     built_at : (nb, 3) positions when the candidate pairs were last listed.
     ledger : (3,) J, the mechanical energy at the start, the ground's net work and its gross work.
-    counters : (8,) int64: steps done, narrow-phase tests (contact points solved, Moreau-Jean), broad-phase
-        rebuilds, outputs written, and for Moreau-Jean per (sub)step Gauss-Seidel sweeps, solves that ended
-        unconverged, direct passes and direct solves left to Gauss-Seidel.
+    counters : (10,) int64: steps done, narrow-phase tests (contact points solved, Moreau-Jean), broad-phase
+        rebuilds, outputs written, for Moreau-Jean per (sub)step Gauss-Seidel sweeps, solves that ended
+        unconverged, direct passes and direct solves left to Gauss-Seidel, and for central differences the
+        substeps the last step was taken in (0 before the first) and the steps taken in substeps.
     """
 
     peak_theta: np.ndarray
@@ -77,7 +78,8 @@ class Tracking(NamedTuple):
     counters: np.ndarray
 
 
-STEP, NARROW, REBUILDS, OUTPUTS, SOLVER_SWEEPS, UNCONVERGED, STATUS_PASSES, STATUS_FALLBACKS = range(8)
+(STEP, NARROW, REBUILDS, OUTPUTS, SOLVER_SWEEPS, UNCONVERGED, STATUS_PASSES, STATUS_FALLBACKS, LAST_SUBSTEPS,
+ SUBSTEPPED) = range(10)
 
 
 @dataclass
@@ -116,6 +118,6 @@ def initial_state(model) -> State:
         peak_theta=np.abs(b.angle0).copy(), overturn_step=np.full(nb, -1, np.int64),
         stack_step=np.full(len(model.stacks.bottom), -1, np.int64),
         interface_slip=np.zeros(len(model.interface_keys)), built_at=np.full((nb, 3), np.inf),
-        ledger=np.zeros(3), counters=np.zeros(8, np.int64))
+        ledger=np.zeros(3), counters=np.zeros(10, np.int64))
     return State(pos, vel, empty_contacts(1),
                  Retired(np.zeros(nb, np.int64), np.zeros(nb), np.zeros(1, np.int64)), tracking)
