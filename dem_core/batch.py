@@ -1,11 +1,11 @@
 """Many runs of one scene at once: ``simulate_batch(scene, motions, ...)``, one row of measures per member.
 
 A study is many runs of one scene under different ground motions (a threshold scan's scales, an ensemble's
-records, a fragility curve's stripes).  Each member here is the run :func:`~dem_core.simulate` gives with the
-same options, bit for bit: it is a :class:`~dem_core.simulation.Simulation` stepped by the same compiled
-kernel.  The kernels release the GIL, so the members run side by side on ``threads`` Python threads, one member
-per thread at a time; a member's time history is kept only where asked for, so memory does not grow with the
-number of members.
+records, a fragility curve's stripes), or with different parameters (friction, contact stiffness).  Each member
+here is the run :func:`~dem_core.simulate` gives with the same options, bit for bit: it is a
+:class:`~dem_core.simulation.Simulation` stepped by the same compiled kernel.  The kernels release the GIL, so
+the members run side by side on ``threads`` Python threads, one member per thread at a time; a member's time
+history is kept only where asked for, so memory does not grow with the number of members.
 """
 
 from __future__ import annotations
@@ -21,6 +21,8 @@ import numpy as np
 import pandas as pd
 
 from .engine.result import Result
+from .inputs.excitation import GroundMotion
+from .inputs.scene import Scene
 from .simulation import Simulation, SimulationUnstable, check_run_arguments
 
 #: where a batch can run: ``"auto"`` takes the CPU's threads (this version has no GPU kernels)
@@ -63,8 +65,10 @@ def simulate_batch(scene, motions, duration: float | None = None, *, device: str
                    **simulate_options) -> Batch:
     """Run ``scene`` under each of ``motions``; one row of measures per member.
 
-    scene : :class:`~dem_core.Scene`, shared by every member.
-    motions : sequence of M :class:`~dem_core.inputs.excitation.GroundMotion`, one per member.
+    scene : :class:`~dem_core.Scene`, shared by every member, or a list (or tuple) of M scenes, one per member:
+        the same blocks (by name) with parameters of their own (friction, contact stiffness, ...).
+    motions : sequence of M :class:`~dem_core.inputs.excitation.GroundMotion`, one per member, or one motion for
+        every member of a sequence of scenes.
     duration : s, as :func:`~dem_core.simulate` takes it (None: each motion's natural end).
     device : ``"auto"`` or ``"cpu"`` (Python threads, each running the compiled kernel, which releases the GIL);
         ``"gpu"`` is refused, naming why.
@@ -83,10 +87,10 @@ def simulate_batch(scene, motions, duration: float | None = None, *, device: str
     second) and raises :class:`BatchInterrupted` carrying the members that finished; any other exception (from
     ``measures``, say) stops the batch the same way and goes on.
     """
-    threads, motions, keep = _checked(scene, motions, device, threads, histories, simulate_options)
+    threads, scenes, motions, keep = _checked(scene, motions, device, threads, histories, simulate_options)
     started = time.perf_counter()
     rows, kept = {}, {}
-    first, built = _first_member(scene, motions, duration, simulate_options, rows)
+    first, built = _first_member(scenes, motions, duration, simulate_options, rows)
     stop = threading.Event()
 
     def halt(done, total):
@@ -96,7 +100,7 @@ def simulate_batch(scene, motions, duration: float | None = None, *, device: str
     def run_member(m: int) -> tuple:
         set_up = time.perf_counter()
         try:
-            run = built if m == first else Simulation(scene, motions[m], duration, **simulate_options)
+            run = built if m == first else Simulation(scenes[m], motions[m], duration, **simulate_options)
         except (ValueError, TypeError) as error:
             return _refused(m, motions[m], error), None
         try:
@@ -127,12 +131,12 @@ def _refused(m: int, motion, error: Exception) -> dict:
     return {"member": m, "motion": motion.name, "status": "refused", "error": str(error)}
 
 
-def _first_member(scene, motions, duration, simulate_options, rows: dict) -> tuple:
+def _first_member(scenes, motions, duration, simulate_options, rows: dict) -> tuple:
     """``(index, Simulation)`` of the first member that can be set up (which compiles the kernel), the members
     before it put in ``rows`` as refused; the error of member 0, naming it, when none can be."""
     for m, motion in enumerate(motions):
         try:
-            return m, Simulation(scene, motion, duration, **simulate_options)
+            return m, Simulation(scenes[m], motion, duration, **simulate_options)
         except (ValueError, TypeError) as error:
             rows[m] = _refused(m, motion, error)
             if m == 0:
@@ -190,21 +194,44 @@ def check_device(device: str) -> None:
 
 
 def _checked(scene, motions, device, threads, histories, simulate_options) -> tuple:
-    """``(threads, motions as a list, members whose histories are kept)``, or the error naming what is wrong."""
+    """``(threads, the members' scenes and motions as lists, members whose histories are kept)``, or the error
+    naming what is wrong."""
     check_device(device)
     if "parallel" in simulate_options:
         raise TypeError("simulate_batch spreads its members over threads; 'parallel' (one run over threads) does "
                         "not apply")
     threads = _thread_count(threads)
-    motions = list(motions)
-    if not motions:
-        raise ValueError("motions is empty: give one ground motion per member")
-    for m, motion in enumerate(motions):
+    scenes, motions = _member_inputs(scene, motions)
+    for m, (member_scene, motion) in enumerate(zip(scenes, motions)):
         try:
-            check_run_arguments(scene, motion)
+            check_run_arguments(member_scene, motion)
         except TypeError as error:
             raise TypeError(f"member {m}: {error}") from None
-    return threads, motions, _members(histories, len(motions))
+    return threads, scenes, motions, _members(histories, len(motions))
+
+
+def _member_inputs(scene, motions) -> tuple:
+    """The members' scenes and motions, two lists of M: a scene or a motion given once stands for every member."""
+    scenes = list(scene) if isinstance(scene, (list, tuple)) else None
+    if isinstance(motions, GroundMotion):
+        if scenes is None:
+            raise TypeError("motions is one ground motion: give a sequence, one per member, or a sequence of scenes")
+        motions = [motions] * len(scenes)
+    motions = list(motions)
+    if scenes is None:
+        scenes = [scene] * len(motions)
+    if not motions:
+        raise ValueError("motions is empty: give one ground motion per member")
+    if len(scenes) != len(motions):
+        raise ValueError(f"{len(scenes)} scenes and {len(motions)} motions: give one of each per member, or one "
+                         f"motion for every scene")
+    names = getattr(scenes[0], "block_names", None)
+    for m, member_scene in enumerate(scenes[1:], start=1):
+        if isinstance(member_scene, Scene) and isinstance(scenes[0], Scene) and member_scene.block_names != names:
+            raise ValueError(f"member {m}'s scene has blocks {list(member_scene.block_names)}, member 0's "
+                             f"{list(names)}: the members of a batch share their blocks (the table has a column "
+                             f"per block)")
+    return scenes, motions
 
 
 def member_row(member: int, motion: str, result: Result, status: str, error: str, wall_time: float) -> dict:

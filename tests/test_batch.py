@@ -61,6 +61,23 @@ def test_a_column_batch_is_the_same_on_one_thread_and_on_two():
     assert len([c for c in one.table if c.startswith("peak_abs_theta_rad[")]) == 3
 
 
+def test_members_with_their_own_friction_are_the_runs_simulate_gives():
+    """A list of scenes gives each member its parameters: a squat block under one pulse slides less on more friction,
+    each member bit for bit its simulate run."""
+    blocks = [scenes.block(1.0, 0.5, friction=mu, base_width=20.0) for mu in (0.2, 0.3, 0.5)]
+    motion = excitation.sine_pulse(4.0, 0.5)
+    table = simulate_batch(blocks, motion, 1.5, threads=2).table
+    slid = table["sliding_m[block]"].tolist()
+    assert slid == [dem_core.simulate(block, motion, 1.5).block_sliding[0] for block in blocks]
+    assert slid[0] > slid[1] > slid[2] >= 0.0
+    with pytest.raises(ValueError, match="3 scenes and 2 motions"):
+        simulate_batch(blocks, [motion, motion], 1.5)
+    with pytest.raises(ValueError, match="member 1's scene has blocks"):
+        simulate_batch([blocks[0], scenes.column(2)], motion, 1.5)
+    with pytest.raises(TypeError, match="one ground motion"):
+        simulate_batch(blocks[0], motion, 1.5)
+
+
 def test_an_unstable_member_keeps_its_partial_measures_and_a_refused_one_its_reason():
     block = scenes.block(0.6, 3.0)
     beyond = 3.0 * stability.stability_limit(compile_model(block))
