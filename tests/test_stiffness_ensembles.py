@@ -1,11 +1,13 @@
 """The stiffness-ensemble summary (comparisons/benchmarks/stiffness_ensembles.py) on ensembles whose answers are
-known."""
+known, and its runs: a batch of the runs simulate gives."""
 
 import numpy as np
 import pandas as pd
 import pytest
 
-from comparisons.benchmarks.stiffness_ensembles import compare, median_change_interval, summarise
+import dem_core
+from comparisons.benchmarks.stiffness_ensembles import compare, median_change_interval, peaks, summarise
+from comparisons.cases.strong_motion import strong_motion
 
 
 def _table(**runs):
@@ -52,3 +54,14 @@ def test_a_member_that_overturns_in_any_run_leaves_the_peak_measures():
     lines = summarise(table)
     assert "1 standing in every run" in lines[0]
     assert "agrees on overturning 33%" in lines[1]
+
+
+def test_the_ensemble_runs_as_a_batch_of_the_runs_simulate_gives():
+    block = dem_core.scenes.block(1.0, 6.0)
+    ensemble = [("el_centro_1940", 1.5), ("el_centro_1940", 3.0)]
+    peak, over = peaks(block, 1.0, ensemble)
+    uplift = block.gravity * np.tan(block.rocking_slenderness)
+    for m, (name, scale) in enumerate(ensemble):
+        motion = strong_motion(name, scale * uplift)
+        alone = dem_core.simulate(block, motion, duration=motion.end_time)
+        assert peak[m] == np.max(alone.peak_theta) and over[m] == alone.overturned

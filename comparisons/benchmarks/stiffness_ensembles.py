@@ -44,20 +44,19 @@ def members(n_scales: int) -> list:
 
 def peaks(scene, factor: float, ensemble: list, amplitude_factor: float = 1.0) -> tuple:
     """(peak |theta| (members,) rad, overturned (members,) bool) of ``ensemble`` at ``factor`` x K_n, every
-    amplitude times ``amplitude_factor``; a run that lost stability counts as overturned, with a NaN peak."""
+    amplitude times ``amplitude_factor``, run as one batch on every core (:func:`dem_core.simulate_batch`); a run
+    that lost stability counts as overturned, with a NaN peak."""
     scene = scene.replace(contact=dem_core.contact.stiffer(scene.contact, factor))
     uplift = scene.gravity * np.tan(scene.rocking_slenderness)
-    out, over = [], []
-    for name, scale in ensemble:
-        motion = strong_motion(name, scale * amplitude_factor * uplift)
-        try:
-            result = dem_core.simulate(scene, motion, duration=motion.end_time)
-            out.append(float(np.max(result.peak_theta)))
-            over.append(bool(result.overturned))
-        except dem_core.SimulationUnstable:
-            out.append(np.nan)
-            over.append(True)
-    return np.array(out), np.array(over)
+    motions = [strong_motion(name, scale * amplitude_factor * uplift) for name, scale in ensemble]
+    table = dem_core.simulate_batch(scene, motions).table
+    refused = table[table["status"] == "refused"]
+    if len(refused):
+        raise ValueError(f"member {refused['member'].iloc[0]} ({refused['motion'].iloc[0]}) could not be run: "
+                         f"{refused['error'].iloc[0]}")
+    unstable = (table["status"] == "unstable").to_numpy()
+    peak = np.where(unstable, np.nan, table["max_peak_abs_theta_rad"].to_numpy(float))
+    return peak, unstable | table["overturned"].to_numpy(bool)
 
 
 def median_change_interval(peak, reference, level: float = 0.9, seed: int = 0) -> tuple:
