@@ -13,6 +13,7 @@ from __future__ import annotations
 import itertools
 import threading
 import time
+import warnings
 from concurrent.futures import FIRST_COMPLETED, ThreadPoolExecutor, wait
 from dataclasses import dataclass, field
 
@@ -23,7 +24,7 @@ import pandas as pd
 from .engine.result import Result
 from .inputs.excitation import GroundMotion
 from .inputs.scene import Scene
-from .simulation import Simulation, SimulationUnstable, check_run_arguments
+from .simulation import Simulation, SimulationUnstable, check_run_arguments, warn_caller
 
 #: where a batch can run: ``"auto"`` takes the CPU's threads (this version has no GPU kernels)
 DEVICES = ("auto", "cpu", "gpu")
@@ -31,6 +32,9 @@ DEVICES = ("auto", "cpu", "gpu")
 IN_FLIGHT_PER_THREAD = 4
 #: s the main thread waits for a member at most before it looks again: a Ctrl-C is taken between two looks
 WAKE_SECONDS = 0.2
+#: one member at a time records the warnings of its set-up (the warnings module's filters are global, not per
+#: thread); the caller's thread gives each distinct one once, attributed to the caller's line, holding it too
+_RECORDING = threading.Lock()
 #: the per-block measures of a row, as :meth:`Result.metrics` names them, and the peak displacement
 BLOCK_MEASURES = ("peak_abs_theta_rad", "peak_abs_displacement_m", "residual_displacement_m", "sliding_m",
                   "overturn_time_s")
@@ -85,12 +89,15 @@ def simulate_batch(scene, motions, duration: float | None = None, *, device: str
     options are checked before any member runs (``TypeError``/``ValueError`` naming the culprit, or member 0 when
     every member is refused).  Ctrl-C stops the running members after their current chunk (a quarter of a
     second) and raises :class:`BatchInterrupted` carrying the members that finished; any other exception (from
-    ``measures``, say) stops the batch the same way and goes on.
+    ``measures``, say) stops the batch the same way and goes on.  The members' warnings (a motion beyond 50 g, a
+    long run) are given on the caller's thread as members start, each distinct one once, at the caller's line.
     """
     threads, scenes, motions, keep = _checked(scene, motions, device, threads, histories, simulate_options)
     started = time.perf_counter()
     rows, kept = {}, {}
-    first, built = _first_member(scenes, motions, duration, simulate_options, rows)
+    given = set()
+    first, built, said = _first_member(scenes, motions, duration, simulate_options, rows)
+    _give(said, given)
     stop = threading.Event()
 
     def halt(done, total):
@@ -100,13 +107,13 @@ def simulate_batch(scene, motions, duration: float | None = None, *, device: str
     def run_member(m: int) -> tuple:
         set_up = time.perf_counter()
         try:
-            run = built if m == first else Simulation(scenes[m], motions[m], duration, **simulate_options)
+            run, said = (built, []) if m == first else _set_up(scenes[m], motions[m], duration, simulate_options)
         except (ValueError, TypeError) as error:
-            return _refused(m, motions[m], error), None
+            return _refused(m, motions[m], error), None, []
         try:
             run.run(progress=halt)
         except _Stopped:
-            return None, None
+            return None, None, said
         try:
             result, status, error = run.result(), "ok", ""
         except SimulationUnstable as unstable:
@@ -114,10 +121,11 @@ def simulate_batch(scene, motions, duration: float | None = None, *, device: str
         row = member_row(m, motions[m].name, result, status, error, time.perf_counter() - set_up)
         if measures is not None:
             row.update(measures(result))
-        return row, (result if m in keep else None)
+        return row, (result if m in keep else None), said
 
     try:
-        _run_members(run_member, range(first, len(motions)), threads, stop, progress, rows, kept, len(motions))
+        _run_members(run_member, range(first, len(motions)), threads, stop, progress, rows, kept, given,
+                     len(motions))
     except KeyboardInterrupt:
         raise BatchInterrupted(_batch(rows, kept, threads, started)) from None
     return _batch(rows, kept, threads, started)
@@ -127,16 +135,33 @@ class _Stopped(Exception):
     """A member's run stopped between its chunks because the batch was interrupted."""
 
 
+def _set_up(scene, motion, duration, simulate_options) -> tuple:
+    """``(Simulation, [the warnings its set-up gave])``, the warnings kept off the screen."""
+    with _RECORDING, warnings.catch_warnings(record=True) as said:
+        warnings.simplefilter("always")
+        return Simulation(scene, motion, duration, **simulate_options), said
+
+
+def _give(said: list, given: set) -> None:
+    """The warnings ``said`` that are not in ``given`` (message and category), warned on this thread and added."""
+    with _RECORDING:
+        for warning in said:
+            key = (str(warning.message), warning.category)
+            if key not in given:
+                given.add(key)
+                warn_caller(*key)
+
+
 def _refused(m: int, motion, error: Exception) -> dict:
     return {"member": m, "motion": motion.name, "status": "refused", "error": str(error)}
 
 
 def _first_member(scenes, motions, duration, simulate_options, rows: dict) -> tuple:
-    """``(index, Simulation)`` of the first member that can be set up (which compiles the kernel), the members
-    before it put in ``rows`` as refused; the error of member 0, naming it, when none can be."""
+    """``(index, Simulation, its warnings)`` of the first member that can be set up (which compiles the kernel),
+    the members before it put in ``rows`` as refused; the error of member 0, naming it, when none can be."""
     for m, motion in enumerate(motions):
         try:
-            return m, Simulation(scenes[m], motion, duration, **simulate_options)
+            return (m, *_set_up(scenes[m], motion, duration, simulate_options))
         except (ValueError, TypeError) as error:
             rows[m] = _refused(m, motion, error)
             if m == 0:
@@ -145,10 +170,10 @@ def _first_member(scenes, motions, duration, simulate_options, rows: dict) -> tu
 
 
 def _run_members(run_member, members, threads: int, stop: threading.Event, progress, rows: dict, kept: dict,
-                 total: int) -> None:
+                 given: set, total: int) -> None:
     """``run_member(m)`` for each of ``members`` on ``threads`` threads, at most IN_FLIGHT_PER_THREAD of them
-    queued per thread, its ``(row, result or None)`` put in ``rows`` and ``kept`` as it finishes; ``progress(done,
-    total)`` after each.  On any exception (Ctrl-C among them) the running members stop after their chunk
+    queued per thread, its ``(row, result or None, warnings)`` put in ``rows`` and ``kept`` as it finishes and the
+    warnings not ``given`` yet warned on this thread (:func:`_give`); ``progress(done, total)`` after each.  On any exception (Ctrl-C among them) the running members stop after their chunk
     (``stop``), those not started are dropped, and the exception goes on once the running ones have handed back
     what they have."""
     waiting = iter(members)
@@ -156,7 +181,8 @@ def _run_members(run_member, members, threads: int, stop: threading.Event, progr
         pending = {}
 
         def collect(future, m):
-            row, result = future.result()
+            row, result, said = future.result()
+            _give(said, given)
             if row is not None:
                 rows[m] = row
             if result is not None:

@@ -4,6 +4,7 @@ their member; bad input is refused before any member runs."""
 import ctypes
 import threading
 import time
+import warnings
 
 import numpy as np
 import pandas as pd
@@ -76,6 +77,16 @@ def test_members_with_their_own_friction_are_the_runs_simulate_gives():
         simulate_batch([blocks[0], scenes.column(2)], motion, 1.5)
     with pytest.raises(TypeError, match="one ground motion"):
         simulate_batch(blocks[0], motion, 1.5)
+
+
+def test_the_members_warnings_point_at_the_callers_line_and_one_said_by_many_members_shows_once():
+    motions = [excitation.sine_pulse(a, 0.2) for a in (600.0, 600.0, 700.0, 600.0, 600.0)]  # beyond 50 g: announced
+    with warnings.catch_warnings(record=True) as said:
+        warnings.simplefilter("always")
+        simulate_batch(scenes.block(1.0, 6.0), motions, 0.2, threads=2)
+    assert sorted(str(w.message)[:40] for w in said) == sorted(f"the ground motion '{m.name}'"[:40] for m in
+                                                               (motions[0], motions[2]))
+    assert {w.filename for w in said} == {__file__}
 
 
 def test_an_unstable_member_keeps_its_partial_measures_and_a_refused_one_its_reason():
