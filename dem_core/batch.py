@@ -11,6 +11,7 @@ history is kept only where asked for, so memory does not grow with the number of
 from __future__ import annotations
 
 import itertools
+import queue
 import threading
 import time
 import warnings
@@ -90,14 +91,20 @@ def simulate_batch(scene, motions, duration: float | None = None, *, device: str
     every member is refused).  Ctrl-C stops the running members after their current chunk (a quarter of a
     second) and raises :class:`BatchInterrupted` carrying the members that finished; any other exception (from
     ``measures``, say) stops the batch the same way and goes on.  The members' warnings (a motion beyond 50 g, a
-    long run) are given on the caller's thread as members start, each distinct one once, at the caller's line.
+    long run) are given on the caller's thread as members start (within WAKE_SECONDS), each distinct one once, at the
+    caller's line.
     """
     threads, scenes, motions, keep = _checked(scene, motions, device, threads, histories, simulate_options)
     started = time.perf_counter()
     rows, kept = {}, {}
-    given = set()
+    given, heard = set(), queue.SimpleQueue()
     first, built, said = _first_member(scenes, motions, duration, simulate_options, rows)
     _give(said, given)
+
+    def give_heard():
+        while not heard.empty():
+            _give(heard.get(), given)
+
     stop = threading.Event()
 
     def halt(done, total):
@@ -107,13 +114,17 @@ def simulate_batch(scene, motions, duration: float | None = None, *, device: str
     def run_member(m: int) -> tuple:
         set_up = time.perf_counter()
         try:
-            run, said = (built, []) if m == first else _set_up(scenes[m], motions[m], duration, simulate_options)
+            if m == first:
+                run = built
+            else:
+                run, said = _set_up(scenes[m], motions[m], duration, simulate_options)
+                heard.put(said)
         except (ValueError, TypeError) as error:
-            return _refused(m, motions[m], error), None, []
+            return _refused(m, motions[m], error), None
         try:
             run.run(progress=halt)
         except _Stopped:
-            return None, None, said
+            return None, None
         try:
             result, status, error = run.result(), "ok", ""
         except SimulationUnstable as unstable:
@@ -121,13 +132,15 @@ def simulate_batch(scene, motions, duration: float | None = None, *, device: str
         row = member_row(m, motions[m].name, result, status, error, time.perf_counter() - set_up)
         if measures is not None:
             row.update(measures(result))
-        return row, (result if m in keep else None), said
+        return row, (result if m in keep else None)
 
     try:
-        _run_members(run_member, range(first, len(motions)), threads, stop, progress, rows, kept, given,
+        _run_members(run_member, range(first, len(motions)), threads, stop, progress, rows, kept, give_heard,
                      len(motions))
     except KeyboardInterrupt:
         raise BatchInterrupted(_batch(rows, kept, threads, started)) from None
+    finally:
+        give_heard()
     return _batch(rows, kept, threads, started)
 
 
@@ -170,10 +183,10 @@ def _first_member(scenes, motions, duration, simulate_options, rows: dict) -> tu
 
 
 def _run_members(run_member, members, threads: int, stop: threading.Event, progress, rows: dict, kept: dict,
-                 given: set, total: int) -> None:
+                 give_heard, total: int) -> None:
     """``run_member(m)`` for each of ``members`` on ``threads`` threads, at most IN_FLIGHT_PER_THREAD of them
-    queued per thread, its ``(row, result or None, warnings)`` put in ``rows`` and ``kept`` as it finishes and the
-    warnings not ``given`` yet warned on this thread (:func:`_give`); ``progress(done, total)`` after each.  On any exception (Ctrl-C among them) the running members stop after their chunk
+    queued per thread, its ``(row, result or None)`` put in ``rows`` and ``kept`` as it finishes; ``progress(done,
+    total)`` after each; ``give_heard()`` on this thread at every look (the warnings of the members set up since).  On any exception (Ctrl-C among them) the running members stop after their chunk
     (``stop``), those not started are dropped, and the exception goes on once the running ones have handed back
     what they have."""
     waiting = iter(members)
@@ -181,8 +194,7 @@ def _run_members(run_member, members, threads: int, stop: threading.Event, progr
         pending = {}
 
         def collect(future, m):
-            row, result, said = future.result()
-            _give(said, given)
+            row, result = future.result()
             if row is not None:
                 rows[m] = row
             if result is not None:
@@ -193,6 +205,7 @@ def _run_members(run_member, members, threads: int, stop: threading.Event, progr
                 pending[pool.submit(run_member, m)] = m
             while pending:
                 done, _ = wait(pending, timeout=WAKE_SECONDS, return_when=FIRST_COMPLETED)
+                give_heard()
                 for future in done:
                     collect(future, pending.pop(future))
                     if progress is not None:
