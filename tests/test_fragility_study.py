@@ -1,6 +1,7 @@
 """The fragility study's pieces: intensity measures, the damage ratio against the governing critical angle, the
 exceedance rule, the stripes, and the study's counts against its own runs."""
 
+import dataclasses
 import math
 
 import numpy as np
@@ -64,6 +65,11 @@ def test_the_study_counts_each_stripes_runs_as_the_runs_themselves_say():
                 for name in records) for level in (2.0, 4.0, 6.0, 8.0, 10.0)]
     assert study.fits[0.5].exceed.tolist() == half
     np.testing.assert_allclose(study.runs.loc[study.runs.level == 10.0, "scale"], 10.0)
+    assert (study.counts()["unfinished"] == 0).all()
+    lost = study.runs.assign(status=np.where(study.runs.index == 3, "unstable", study.runs["status"]))
+    counts = dataclasses.replace(study, runs=lost).counts()
+    assert counts.groupby("level")["unfinished"].first().to_dict() == {
+        level: int(level == study.runs["level"][3]) for level in (2.0, 4.0, 6.0, 8.0, 10.0)}
 
 
 def test_a_colonnades_drums_answer_to_their_columns_and_its_epistyle_to_itself():

@@ -66,8 +66,11 @@ class FragilityStudy:
         return pd.DataFrame(rows)
 
     def counts(self) -> pd.DataFrame:
-        """One row per stripe and state: ``level``, ``state``, ``runs``, ``exceeded``."""
-        return pd.DataFrame([{"level": level, "state": state, "runs": int(n), "exceeded": int(z)}
+        """One row per stripe and state: ``level``, ``state``, ``runs`` (that finished), ``exceeded`` and
+        ``unfinished`` (the stripe's runs that lost stability or were refused, in neither count)."""
+        unfinished = (self.runs["status"] != "ok").groupby(self.runs["level"]).sum()
+        return pd.DataFrame([{"level": level, "state": state, "runs": int(n), "exceeded": int(z),
+                              "unfinished": int(unfinished.get(level, 0))}
                              for state, fit in self.fits.items()
                              for level, n, z in zip(fit.levels, fit.runs, fit.exceed)])
 
