@@ -24,7 +24,6 @@ import pandas as pd
 
 from .engine.result import Result
 from .inputs.excitation import GroundMotion
-from .inputs.scene import Scene
 from .simulation import Simulation, SimulationUnstable, check_run_arguments, warn_caller
 
 #: where a batch can run: ``"auto"`` takes the CPU's threads (this version has no GPU kernels)
@@ -246,6 +245,10 @@ def _checked(scene, motions, device, threads, histories, simulate_options) -> tu
             check_run_arguments(member_scene, motion)
         except TypeError as error:
             raise TypeError(f"member {m}: {error}") from None
+        if member_scene.block_names != scenes[0].block_names:
+            raise ValueError(f"member {m}'s scene has blocks {member_scene.block_names}, member 0's "
+                             f"{scenes[0].block_names}: the members of a batch share their blocks (the table has a "
+                             f"column per block)")
     return threads, scenes, motions, _members(histories, len(motions))
 
 
@@ -264,12 +267,6 @@ def _member_inputs(scene, motions) -> tuple:
     if len(scenes) != len(motions):
         raise ValueError(f"{len(scenes)} scenes and {len(motions)} motions: give one of each per member, or one "
                          f"motion for every scene")
-    names = getattr(scenes[0], "block_names", None)
-    for m, member_scene in enumerate(scenes[1:], start=1):
-        if isinstance(member_scene, Scene) and isinstance(scenes[0], Scene) and member_scene.block_names != names:
-            raise ValueError(f"member {m}'s scene has blocks {list(member_scene.block_names)}, member 0's "
-                             f"{list(names)}: the members of a batch share their blocks (the table has a column "
-                             f"per block)")
     return scenes, motions
 
 

@@ -1348,7 +1348,6 @@ def _measure_text(value: float, unit: str, signed: bool = False) -> str:
 
 def _fragility(args) -> int:
     from .analyses.fragility_study import DEFAULT_TOP, INTENSITY_MEASURES, fragility_study, state_label, stripes
-
     from .batch import check_device
 
     try:

@@ -53,7 +53,7 @@ def native_counts(ens: Ensemble, integrator: str) -> tuple[int, int, int]:
         result = dem_core.simulate(ens.scene(m.block), strong_motion(m.record, m.pga), duration=m.duration,
                                    stop_at_overturn=False, integrator=integrator)
         passed += result.overturned
-        came_back += result.overturned and abs(result.theta[-1, 0]) < np.arctan(m.block[0] / m.block[1])
+        came_back += result.overturned and abs(result.theta[-1, 0]) < result.critical_angle[0]
     return len(members), passed, came_back
 
 
