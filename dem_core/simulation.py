@@ -25,6 +25,7 @@ import numpy as np
 
 from .engine import _moreau, _step, stability
 from .engine._checks import mechanical_energy
+from .engine._ground import ground_input
 from .engine.contact import LAWS
 from .engine.model import Model, compile_model, interface_pairs
 from .engine.result import Result
@@ -320,28 +321,20 @@ class Simulation:
             chunk = int(min(max(chunk * CHUNK_SECONDS / max(took, 1e-6), 100), 50 * chunk))
 
     def _ground(self, first: int, steps: int) -> np.ndarray:
-        """(6, steps + 1): inertial load x, y (m/s^2), base position x, y (m) and base velocity x, y
-        (m/s) at the half step before each of steps ``first`` .. ``first + steps``.
+        """(6, steps + 1): the ground's input to this run's steps ``first`` .. ``first + steps``
+        (:func:`dem_core.engine._ground.ground_input`)."""
+        return ground_input(self.excitation, self.dt, self.model.bodies.centroid0[0], self.inertial,
+                            self.ground_lead, first, steps)
 
-        The load of step k is the ground's mean acceleration over the step's cell, the difference of its
-        exact velocity over dt: ``[t_k - dt/2, t_k + dt/2]``, which the velocity update of central differences
-        spans, or ``[t_k, t_k+1]``, Moreau-Jean's; so the impulse the blocks receive is exact whatever the
-        motion (a pulse that ends between steps, a record's piecewise-linear samples)."""
-        dt = self.dt
-        t = (first + np.arange(steps + 1)) * dt
-        ground = np.zeros((6, steps + 1))
-        start = self.model.bodies.centroid0[0]
-        if self.ground_motion == "inertial":
-            lead = 0.0 if self.integrator == "moreau" else 0.5
-            edges = (first + np.arange(steps + 2) - lead) * dt
-            velocity = np.array(self.excitation.velocity(edges))
-            ground[0:2] = -np.diff(velocity, axis=1) / dt
-            ground[2] = start[0]
-            ground[3] = start[1]
-        else:
-            ground[2:4] = start[:, None] + np.array(self.excitation.displacement(t))
-            ground[4:6] = np.array(self.excitation.velocity(t - 0.5 * dt))
-        return ground
+    @property
+    def inertial(self) -> bool:
+        """Whether the blocks move relative to the ground under its inertial load (else the base moves)."""
+        return self.ground_motion == "inertial"
+
+    @property
+    def ground_lead(self) -> float:
+        """Steps by which a step's load cell starts before it: 0.5 for central differences, 0 for Moreau-Jean."""
+        return 0.0 if self.integrator == "moreau" else 0.5
 
     def result(self) -> Result:
         """The run so far as a :class:`Result`; raises :class:`SimulationUnstable`, carrying that
