@@ -22,11 +22,14 @@ import numba
 import numpy as np
 import pandas as pd
 
+from . import batch_gpu
+from .batch_gpu import gpu_available
 from .engine.result import Result
 from .inputs.excitation import GroundMotion
 from .simulation import Simulation, SimulationUnstable, check_run_arguments, warn_caller
 
-#: where a batch can run: ``"auto"`` takes the CPU's threads (this version has no GPU kernels)
+#: where a batch can run: ``"auto"`` takes the GPU where numba-cuda finds one and the integrator is the explicit
+#: one, else the CPU's threads
 DEVICES = ("auto", "cpu", "gpu")
 #: members queued per thread at a time (so that waiting for the next to finish does not grow with the batch)
 IN_FLIGHT_PER_THREAD = 4
@@ -74,9 +77,11 @@ def simulate_batch(scene, motions, duration: float | None = None, *, device: str
     motions : sequence of M :class:`~dem_core.inputs.excitation.GroundMotion`, one per member, or one motion for
         every member of a sequence of scenes.
     duration : s, as :func:`~dem_core.simulate` takes it (None: each motion's natural end).
-    device : ``"auto"`` or ``"cpu"`` (Python threads, each running the compiled kernel, which releases the GIL);
-        ``"gpu"`` is refused, naming why.
-    threads : how many members run at once (default ``numba.get_num_threads()``, all cores).
+    device : ``"cpu"`` (Python threads, each running the compiled kernel, which releases the GIL), ``"gpu"``
+        (every member at once on an NVIDIA GPU, :mod:`dem_core.batch_gpu`; central differences only, refused
+        naming why where numba-cuda finds no GPU), or ``"auto"``: the GPU where there is one and the integrator is
+        the explicit one, else the CPU.  :attr:`Batch.device` says which ran.
+    threads : how many members run at once on the CPU (default ``numba.get_num_threads()``, all cores).
     histories : indices of the members whose :class:`Result` is kept (in :attr:`Batch.histories`).
     measures : optional ``function(result) -> dict`` whose items are added to each member's row.
     progress : optional ``function(done, total)`` called as members finish.
@@ -94,11 +99,15 @@ def simulate_batch(scene, motions, duration: float | None = None, *, device: str
     caller's line.
     """
     threads, scenes, motions, keep = _checked(scene, motions, device, threads, histories, simulate_options)
+    gpu = _gpu_for(device, simulate_options)
     started = time.perf_counter()
     rows, kept = {}, {}
     given, heard = set(), queue.SimpleQueue()
     first, built, said = _first_member(scenes, motions, duration, simulate_options, rows)
     _give(said, given)
+    if gpu:
+        return _on_gpu(gpu, scenes, motions, duration, simulate_options, keep, measures, progress, rows, first,
+                       built, given, started)
 
     def give_heard():
         while not heard.empty():
@@ -137,10 +146,10 @@ def simulate_batch(scene, motions, duration: float | None = None, *, device: str
         _run_members(run_member, range(first, len(motions)), threads, stop, progress, rows, kept, give_heard,
                      len(motions))
     except KeyboardInterrupt:
-        raise BatchInterrupted(_batch(rows, kept, threads, started)) from None
+        raise BatchInterrupted(_batch(rows, kept, _cpu(threads), started)) from None
     finally:
         give_heard()
-    return _batch(rows, kept, threads, started)
+    return _batch(rows, kept, _cpu(threads), started)
 
 
 class _Stopped(Exception):
@@ -185,9 +194,9 @@ def _run_members(run_member, members, threads: int, stop: threading.Event, progr
                  give_heard, total: int) -> None:
     """``run_member(m)`` for each of ``members`` on ``threads`` threads, at most IN_FLIGHT_PER_THREAD of them
     queued per thread, its ``(row, result or None)`` put in ``rows`` and ``kept`` as it finishes; ``progress(done,
-    total)`` after each; ``give_heard()`` on this thread at every look (the warnings of the members set up since).  On any exception (Ctrl-C among them) the running members stop after their chunk
-    (``stop``), those not started are dropped, and the exception goes on once the running ones have handed back
-    what they have."""
+    total)`` after each; ``give_heard()`` on this thread at every look (the warnings of the members set up since).
+    On any exception (Ctrl-C among them) the running members stop after their chunk (``stop``), those not started
+    are dropped, and the exception goes on once the running ones have handed back what they have."""
     waiting = iter(members)
     with ThreadPoolExecutor(threads, thread_name_prefix="dem-batch") as pool:
         pending = {}
@@ -223,12 +232,68 @@ def _run_members(run_member, members, threads: int, stop: threading.Event, progr
 
 
 def check_device(device: str) -> None:
-    """``ValueError`` naming why a batch cannot run on ``device``: not one of :data:`DEVICES`, or ``"gpu"``."""
+    """``ValueError`` naming why a batch cannot run on ``device``: not one of :data:`DEVICES`, or ``"gpu"`` where
+    numba-cuda finds no GPU."""
     if device not in DEVICES:
         raise ValueError(f"device must be one of {DEVICES}, got {device!r}")
-    if device == "gpu":
-        raise ValueError("device='gpu' needs CUDA kernels, which this version of dem_core does not have; "
-                         "device='cpu' or 'auto' runs the members on the CPU's threads")
+    if device == "gpu" and not gpu_available():
+        raise ValueError("device='gpu': numba-cuda finds no CUDA GPU here (install the GPU extra, pip install -e "
+                         "'.[gpu]', on a machine with an NVIDIA GPU and its driver); device='cpu' or 'auto' runs the "
+                         "members on the CPU's threads")
+
+
+def _gpu_for(device: str, simulate_options: dict) -> str:
+    """The GPU's name if the batch runs there, else ''; ``ValueError`` for ``device="gpu"`` with Moreau-Jean."""
+    explicit = simulate_options.get("integrator", "explicit") == "explicit"
+    if device == "gpu" and not explicit:
+        raise ValueError("device='gpu' steps by central differences (integrator='explicit'); Moreau-Jean's members "
+                         "run on the CPU (device='cpu' or 'auto')")
+    return gpu_available() if device in ("gpu", "auto") and explicit else ""
+
+
+def _on_gpu(gpu: str, scenes, motions, duration, simulate_options, keep, measures, progress, rows: dict,
+            first: int, built, given: set, started: float) -> Batch:
+    """The batch's members set up on this thread and stepped together on the GPU (:func:`batch_gpu.run_members`);
+    the members before ``first`` are refused in ``rows``, ``built`` is member ``first`` set up."""
+    runs, set_up = {first: built}, {first: 0.0}
+    for m in range(first + 1, len(motions)):
+        began = time.perf_counter()
+        try:
+            runs[m], said = _set_up(scenes[m], motions[m], duration, simulate_options)
+        except (ValueError, TypeError) as error:
+            rows[m] = _refused(m, motions[m], error)
+            continue
+        _give(said, given)
+        set_up[m] = time.perf_counter() - began
+    members = sorted(runs)
+    kept = {}
+    try:
+        took = batch_gpu.run_members([runs[m] for m in members], progress=(
+            None if progress is None else lambda done, total: progress(done + len(rows), len(motions))))
+    except KeyboardInterrupt:
+        _gpu_rows(runs, members, motions, measures, keep, rows, kept, set_up, 0.0, ended_only=True)
+        raise BatchInterrupted(_batch(rows, kept, f"gpu, {gpu}", started)) from None
+    _gpu_rows(runs, members, motions, measures, keep, rows, kept, set_up, took / len(members))
+    return _batch(rows, kept, f"gpu, {gpu}", started)
+
+
+def _gpu_rows(runs: dict, members: list, motions, measures, keep, rows: dict, kept: dict, set_up: dict,
+              share: float, ended_only: bool = False) -> None:
+    """The rows (and kept results) of the GPU's members, ``share`` (s) of the kernel's time added to each one's
+    set-up; with ``ended_only`` only the members whose runs ended."""
+    for m in members:
+        run = runs[m]
+        if ended_only and run.status is None:
+            continue
+        try:
+            result, status, error = run.result(), "ok", ""
+        except SimulationUnstable as unstable:
+            result, status, error = unstable.partial, "unstable", str(unstable)
+        rows[m] = member_row(m, motions[m].name, result, status, error, set_up[m] + share)
+        if measures is not None:
+            rows[m].update(measures(result))
+        if m in keep:
+            kept[m] = result
 
 
 def _checked(scene, motions, device, threads, histories, simulate_options) -> tuple:
@@ -295,12 +360,15 @@ def member_row(member: int, motion: str, result: Result, status: str, error: str
     return row
 
 
-def _batch(rows: dict, kept: dict, threads: int, started: float) -> Batch:
+def _cpu(threads: int) -> str:
+    return f"cpu, {threads} thread{'s' * (threads > 1)}"
+
+
+def _batch(rows: dict, kept: dict, device: str, started: float) -> Batch:
     table = pd.DataFrame([rows[m] for m in sorted(rows)])
     if "overturned" in table:  # a refused member's row has none: missing, not True
         table["overturned"] = table["overturned"].astype("boolean")
-    return Batch(table, {m: kept[m] for m in sorted(kept)}, f"cpu, {threads} thread{'s' * (threads > 1)}",
-                 time.perf_counter() - started)
+    return Batch(table, {m: kept[m] for m in sorted(kept)}, device, time.perf_counter() - started)
 
 
 def _thread_count(threads) -> int:

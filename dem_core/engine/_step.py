@@ -395,6 +395,48 @@ def energy_gained(pos, vel, mass, inv_inertia, gravity, ledger, tolerance, scale
     return energy - ledger[0] - ledger[1] > tolerance * (scale + ledger[2])
 
 
+@nb.njit(cache=True, inline="always")
+def step_division(pos, critical_angle, y_start, drop_limit, substeps_past_alpha, counters, dt):
+    """Stage 5's division of a step of ``dt`` (s): ``(substeps, h, kick)``.  Past a critical angle a block may
+    lie on a longer face, and fallen blocks pile up: while a block is overturned (:func:`any_block_overturned`)
+    the step is taken in ``substeps_past_alpha`` substeps of ``h`` (s), else in one; ``kick`` (s) spans half the
+    step or substep before (``counters[LAST_SUBSTEPS]``) and half of the first one taken now."""
+    substeps = 1
+    if substeps_past_alpha > 1 and any_block_overturned(pos, critical_angle, y_start, drop_limit):
+        substeps = substeps_past_alpha
+    h = dt / substeps
+    last = counters[LAST_SUBSTEPS]
+    kick = 0.5 * ((dt / last if last > 0 else dt) + h)
+    return substeps, h, kick
+
+
+@nb.njit(cache=True, inline="always")
+def end_step(pos, vel, radius, floor, speed_limit, peak_theta, critical_angle, y_start, drop_limit, mass, inv_inertia,
+             stack_id, bottom, stack_mass, foot, overturn_step, stack_step, stack_moment, counters, substeps,
+             stop_at_overturn, gravity, ledger, energy_tolerance, energy_scale):
+    """Stage 6, after a step taken in ``substeps``: the counters, then :func:`check_bodies`, the overturns
+    (:func:`~dem_core.engine._checks.mark_overturns`) and every ``ENERGY_CHECK_INTERVAL`` steps
+    :func:`energy_gained`.  Returns ``(status, body)``: STATUS_OK and 0 when the run goes on, STATUS_OVERTURNED
+    and the block when one overturned and ``stop_at_overturn`` (the caller writes the state as the last
+    output), else the failed check's status."""
+    step = counters[STEP]
+    counters[LAST_SUBSTEPS] = substeps
+    if substeps > 1:
+        counters[SUBSTEPPED] += 1
+    counters[STEP] = step + 1
+    status, b = check_bodies(pos, vel, radius, floor, speed_limit, peak_theta)
+    if status != STATUS_OK:
+        return status, b
+    toppled = mark_overturns(pos, critical_angle, y_start, drop_limit, mass, stack_id, bottom, stack_mass, foot,
+                             overturn_step, stack_step, stack_moment, step + 1)
+    if toppled >= 0 and stop_at_overturn:
+        return STATUS_OVERTURNED, toppled
+    if step % ENERGY_CHECK_INTERVAL == 0 and energy_gained(pos, vel, mass, inv_inertia, gravity, ledger,
+                                                           energy_tolerance, energy_scale):
+        return STATUS_ENERGY, 0
+    return STATUS_OK, 0
+
+
 def _advance(model, run, pos, vel, contacts, retired, tracking, ground, n_steps, out_pos, out_slip, out_step):
     """Take up to ``n_steps`` steps from the state (``pos``, ``vel``, ``contacts``, ``retired``,
     ``tracking``), in place.
@@ -463,14 +505,7 @@ def _advance(model, run, pos, vel, contacts, retired, tracking, ground, n_steps,
         if k == n_steps or step >= run.last_step:
             break
 
-        # past a critical angle a block may lie on a longer face, and fallen blocks pile up: such steps are
-        # taken in run.substeps substeps (the velocities' kick spans half the step before and half the step after)
-        substeps = 1
-        if run.substeps > 1 and any_block_overturned(pos, critical_angle, y_start, drop_limit):
-            substeps = run.substeps
-        h = dt / substeps
-        last = counters[LAST_SUBSTEPS]
-        kick = 0.5 * ((dt / last if last > 0 else dt) + h)
+        substeps, h, kick = step_division(pos, critical_angle, y_start, drop_limit, run.substeps, counters, dt)
         load_x = ground[0, k]
         load_y = ground[1, k]
         for sub in range(substeps):
@@ -502,23 +537,15 @@ def _advance(model, run, pos, vel, contacts, retired, tracking, ground, n_steps,
             ground_work(force, vel, mass, load_x, load_y, h, ledger)
             move(pos, vel, force, inv_mass, inv_inertia, load_x, load_y - gravity, kick, h)
             kick = h
-        counters[LAST_SUBSTEPS] = substeps
-        if substeps > 1:
-            counters[SUBSTEPPED] += 1
-        counters[STEP] = step + 1
-
-        status, b = check_bodies(pos, vel, radius, model.floor, run.speed_limit, peak_theta)
-        if status != STATUS_OK:
-            return status, b, b, contacts, retired
-        toppled = mark_overturns(pos, critical_angle, y_start, drop_limit, mass, stack_id, bottom, stack_mass, foot,
-                                 overturn_step, stack_step, stack_moment, step + 1)
-        if toppled >= 0 and run.stop_at_overturn:
+        status, b = end_step(pos, vel, radius, model.floor, run.speed_limit, peak_theta, critical_angle, y_start,
+                             drop_limit, mass, inv_inertia, stack_id, bottom, stack_mass, foot, overturn_step,
+                             stack_step, stack_moment, counters, substeps, run.stop_at_overturn, gravity, ledger,
+                             run.energy_tolerance, run.energy_scale)
+        if status == STATUS_OVERTURNED:
             place_base(pos, vel, ground, k + 1)
             write_output(pos, interface_slip, counters, out_pos, out_slip, out_step)
-            return STATUS_OVERTURNED, toppled, toppled, contacts, retired
-        if step % ENERGY_CHECK_INTERVAL == 0 and energy_gained(pos, vel, mass, inv_inertia, gravity, ledger,
-                                                               run.energy_tolerance, run.energy_scale):
-            return STATUS_ENERGY, 0, 0, contacts, retired
+        if status != STATUS_OK:
+            return status, b, b, contacts, retired
     return STATUS_OK, 0, 0, contacts, retired
 
 
