@@ -10,6 +10,7 @@ scale it, and each member's thread scales it.
 
 from __future__ import annotations
 
+import inspect
 import time
 from dataclasses import dataclass
 
@@ -115,7 +116,7 @@ _MODEL = {
     "bottom": ("stacks.bottom", np.int64), "stack_mass": ("stacks.mass", float), "foot": ("stacks.foot", float),
 }
 #: the tracking arrays of each member's state, by the kernel's argument names (the same as the fields')
-_TRACKING = ("interface_slip", "peak_theta", "overturn_step", "stack_step", "ledger", "counters")
+_TRACKING = ("interface_slip", "peak_theta", "overturn_step", "stack_step", "ledger", "counters", "built_at")
 
 
 def _pack(runs: list, motions: _Motions) -> dict:
@@ -127,7 +128,6 @@ def _pack(runs: list, motions: _Motions) -> dict:
     nb, nv, ns, n_if = _shape(runs[0])
     stores = [_all_pairs(run) for run in runs]
     n_pairs = int(stores[0].count[0])
-    incidences = [_step.incidence(store.ids, n_pairs, nb) for store in stores]
     corner = all(run.model.law.law == CORNER for run in runs)
     clip = 2 * max(3, int(np.max(np.diff(runs[0].model.bodies.vstart)))) + 2
     polygons = 1 if corner else n_pairs
@@ -141,14 +141,17 @@ def _pack(runs: list, motions: _Motions) -> dict:
     arrays.update({name: stacked([getattr(run.state.tracking, name) for run in runs],
                                  np.int64 if name in ("overturn_step", "stack_step", "counters") else float)
                    for name in _TRACKING})
+    # the list is made at the first step (built_at is infinite): none listed before
+    arrays.update(listed=np.zeros((count, n_pairs), np.int64), in_list=np.zeros((count, n_pairs), np.int64),
+                  n_listed=np.zeros(count, np.int64), fill=np.zeros((count, nb), np.int64))
     real = np.zeros((count, k.REAL_SETTINGS))
     integer = np.zeros((count, k.INTEGER_SETTINGS), np.int64)
     for m, run in enumerate(runs):
         s, law, model = run.settings, run.model.law, run.model
         real[m, [k.DT, k.SPEED_LIMIT, k.ENERGY_TOLERANCE, k.ENERGY_SCALE, k.GRAVITY, k.FLOOR, k.ZETA_N, k.ZETA_T,
-                 k.SCALE, k.START_X, k.START_Y]] = (
+                 k.SCALE, k.START_X, k.START_Y, k.HALF_SKIN]] = (
             s.dt, s.speed_limit, s.energy_tolerance, s.energy_scale, model.gravity, model.floor, law.zeta_n,
-            law.zeta_t, motions.scale[m], *model.bodies.centroid0[0])
+            law.zeta_t, motions.scale[m], *model.bodies.centroid0[0], 0.5 * law.skin)
         integer[m, [k.STRIDE, k.LAST_STEP, k.STOP_AT_OVERTURN, k.SUBSTEPS, k.CORNER_LAW, k.INERTIAL, k.MOTION]] = (
             s.stride, s.last_step, s.stop_at_overturn, s.substeps, law.law == CORNER, run.inertial,
             motions.index[m])
@@ -160,8 +163,7 @@ def _pack(runs: list, motions: _Motions) -> dict:
         constants=stacked([store.constants[:n_pairs] for store in stores]),
         memory=stacked([store.memory[:n_pairs] for store in stores], np.int64),
         forces=stacked([store.forces[:n_pairs] for store in stores]),
-        start=stacked([start for start, _ in incidences], np.int64),
-        entries=stacked([entries for _, entries in incidences], np.int64),
+        start=np.zeros((count, nb + 1), np.int64), entries=np.zeros((count, 2 * n_pairs), np.int64),
         pos=stacked([run.state.pos for run in runs]), vel=stacked([run.state.vel for run in runs]),
         out_pos=np.full((count, n_out, nb, 3), np.nan), out_slip=np.full((count, n_out, n_if), np.nan),
         out_step=np.zeros((count, n_out), np.int64),
@@ -182,17 +184,14 @@ def _field(model, where: str):
     return getattr(getattr(model, part), name)
 
 
-#: the arguments of the kernel, in order (``samples`` and ``n_steps`` are the chunk's)
-KERNEL_ARGUMENTS = (
-    "local_x", "local_y", "normal_x", "normal_y", "vstart", "mass", "inv_mass", "inv_inertia", "radius",
-    "critical_angle", "y_start", "drop_limit", "limits", "stack_id", "bottom", "stack_mass", "foot", "ids",
-    "constants", "start", "entries", "real", "integer", "samples", "n_steps", "pos", "vel", "memory", "forces",
-    "interface_slip", "peak_theta", "overturn_step", "stack_step", "ledger", "counters", "out_pos", "out_slip",
-    "out_step", "status", "wx", "wy", "wnx", "wny", "boxes", "force", "stack_moment", "window", "pair_force",
-    "pair_touching", "pair_excess", "points", "keys", "ox", "oy", "clip_scratch")
 #: the arrays a finished batch hands back to its runs
-STATE_ARRAYS = ("pos", "vel", "memory", "forces", "interface_slip", "peak_theta", "overturn_step", "stack_step",
-                "ledger", "counters", "out_pos", "out_slip", "out_step", "status")
+STATE_ARRAYS = ("pos", "vel", "memory", "forces", *_TRACKING, "out_pos", "out_slip", "out_step", "status")
+
+
+def _kernel_arguments(kernel) -> tuple:
+    """The names of ``kernel``'s arguments, in order (the keys of :func:`_pack`'s arrays, and the chunk's
+    ``samples`` and ``n_steps``)."""
+    return tuple(inspect.signature(getattr(kernel, "py_func", kernel)).parameters)  # a function without JIT
 
 
 def cuda_launcher():
@@ -200,18 +199,19 @@ def cuda_launcher():
     first call and kept there; ``fetch(name)`` copies one back."""
     from numba import cuda
 
-    from .engine._members import THREADS_PER_BLOCK, advance_members
+    from .engine._members import THREADS_PER_BLOCK, advance_members, advance_members_serial
 
+    names = _kernel_arguments(advance_members_serial)
     on_device = {}
 
     def launch(arrays: dict, samples: np.ndarray, n_steps: int) -> np.ndarray:
         if not on_device:
-            on_device.update({name: cuda.to_device(arrays[name]) for name in KERNEL_ARGUMENTS
+            on_device.update({name: cuda.to_device(arrays[name]) for name in names
                               if name not in ("samples", "n_steps")})
         given = dict(on_device, samples=cuda.to_device(samples), n_steps=n_steps)
         members = arrays["pos"].shape[0]
         blocks = (members + THREADS_PER_BLOCK - 1) // THREADS_PER_BLOCK
-        advance_members[blocks, THREADS_PER_BLOCK](*(given[name] for name in KERNEL_ARGUMENTS))
+        advance_members[blocks, THREADS_PER_BLOCK](*(given[name] for name in names))
         cuda.synchronize()
         return on_device["status"].copy_to_host()
 
@@ -284,9 +284,11 @@ def serial_launcher():
     (:func:`~dem_core.engine._members.advance_members_serial`): the GPU path checked without a GPU."""
     from .engine._members import advance_members_serial
 
+    names = _kernel_arguments(advance_members_serial)
+
     def launch(arrays: dict, samples: np.ndarray, n_steps: int) -> np.ndarray:
         given = dict(arrays, samples=samples, n_steps=n_steps)
-        advance_members_serial(*(given[name] for name in KERNEL_ARGUMENTS))
+        advance_members_serial(*(given[name] for name in names))
         return arrays["status"]
 
     return launch, lambda arrays: None

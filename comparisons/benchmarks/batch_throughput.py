@@ -9,11 +9,12 @@ second, and the speed-up over one thread.  The loop of ``simulate`` (one thread)
 ``--loop-up-to``, and then every member's peak |theta| is compared with the batch's (they are the same runs, bit
 for bit).  pymunk (1e-3 s, the report's step) runs the same members on a process per core where M is at most
 ``--peers-up-to``, beside the batch with ``stop_at_overturn=False``: pymunk runs every member to the end.  Up to
-``--loop-up-to`` each timing is the least of ``--repeats``.  The GPU line says why it is absent: this version has
-no CUDA kernels.
+``--loop-up-to`` each timing is the least of ``--repeats``.  Where numba-cuda finds a GPU, the explicit integrator's
+members also run there (``device="gpu"``, its wall time including the members' set-up on the CPU), and the line
+gives the largest relative difference of a member's peak from the CPU's; the header says when there is none.
 
     python -m comparisons batch-throughput [--scenes block column] [--integrators moreau explicit] \
-        [--members 1 64 4096] [--duration 20]
+        [--members 1 64 4096 65536] [--duration 20]
 """
 
 import argparse
@@ -30,6 +31,7 @@ import adapters
 import dem_core
 from dem_core import excitation, scenes
 from dem_core.batch import simulate_batch
+from dem_core.batch_gpu import gpu_available
 from dem_core.inputs.records import G_STANDARD
 
 #: scene name -> (builder, its rocking threshold's tan(alpha))
@@ -84,18 +86,20 @@ def _line(label: str, members: int, wall: float, steps: int, one: float | None) 
 def run(args: argparse.Namespace) -> None:
     """Run with the options of :func:`arguments` and print the results."""
     warnings.simplefilter("ignore")
-    cores, threads = os.cpu_count(), numba.get_num_threads()
+    cores, threads, gpu = os.cpu_count(), numba.get_num_threads(), gpu_available()
     print(f"batch throughput: {args.duration:g} s of {RECORD} at {LOWEST:g} to {HIGHEST:g} g tan(alpha); {cores} "
-          f"cores, numba {threads} threads; GPU: none used (this version has no CUDA kernels); MJX: "
+          f"cores, numba {threads} threads; GPU: {gpu or 'none found by numba-cuda'}; MJX: "
           f"{'installed, not run here' if _installed('mujoco.mjx') else 'not installed'}")
     print(f"  {'':40s} {'':8s} {'wall':>11s} {'':>16s} {'':>25s} {'vs 1 thread':>8s}")
     for name in args.scenes:
         build, tan_alpha = SCENES[name]
         scene = build()
         for integrator in args.integrators:
-            simulate_batch(scene, motions(tan_alpha, 2), 0.2, integrator=integrator)  # compiled, cached
+            simulate_batch(scene, motions(tan_alpha, 2), 0.2, integrator=integrator, device="cpu")  # compiled
+            if gpu and integrator == "explicit":
+                simulate_batch(scene, motions(tan_alpha, 2), 0.2, device="gpu")
             for members in args.members:
-                _measure(name, scene, integrator, motions(tan_alpha, members), args, threads)
+                _measure(name, scene, integrator, motions(tan_alpha, members), args, threads, gpu)
 
 
 def _timed(function, repeats: int):
@@ -108,20 +112,26 @@ def _timed(function, repeats: int):
     return best, value
 
 
-def _measure(name, scene, integrator, members_motions, args, threads) -> None:
+def _measure(name, scene, integrator, members_motions, args, threads, gpu: str) -> None:
     members = len(members_motions)
     repeats = args.repeats if members <= args.loop_up_to else 1
     print(f"{name}, {integrator}, M = {members} (best of {repeats}):", flush=True)
     one, single = _timed(lambda: simulate_batch(scene, members_motions, args.duration, integrator=integrator,
-                                                threads=1), repeats)
+                                                device="cpu", threads=1), repeats)
     steps = int(single.table["steps"].sum())
     print(_line("simulate_batch, 1 thread", members, one, steps, one), flush=True)
     if threads > 1:
         wall, spread = _timed(lambda: simulate_batch(scene, members_motions, args.duration, integrator=integrator,
-                                                     threads=threads), repeats)
+                                                     device="cpu", threads=threads), repeats)
         same = spread.table["max_peak_abs_theta_rad"].equals(single.table["max_peak_abs_theta_rad"])
         print(_line(f"simulate_batch, {threads} threads", members, wall, steps, one)
               + ("" if same else "  PEAKS DIFFER FROM 1 THREAD"), flush=True)
+    if gpu and integrator == "explicit":
+        wall, on_gpu = _timed(lambda: simulate_batch(scene, members_motions, args.duration, device="gpu"), repeats)
+        cpu_peaks = single.table["max_peak_abs_theta_rad"].to_numpy()
+        differs = np.max(np.abs(on_gpu.table["max_peak_abs_theta_rad"].to_numpy() - cpu_peaks) / cpu_peaks)
+        print(_line(f"simulate_batch, GPU ({gpu})", members, wall, steps, one)
+              + f"  peaks within {differs:.1e} (relative) of the CPU's", flush=True)
     if members <= args.loop_up_to:
         wall, loop = _timed(lambda: [dem_core.simulate(scene, m, args.duration, integrator=integrator)
                                      for m in members_motions], repeats)
@@ -132,7 +142,7 @@ def _measure(name, scene, integrator, members_motions, args, threads) -> None:
     print(f"  {overturned} of {members} members overturned (a run stops there)", flush=True)
     if members <= args.peers_up_to and integrator == args.integrators[0]:
         wall, whole = _timed(lambda: simulate_batch(scene, members_motions, args.duration, integrator=integrator,
-                                                    threads=threads, stop_at_overturn=False), repeats)
+                                                    device="cpu", threads=threads, stop_at_overturn=False), repeats)
         print(_line(f"simulate_batch, {threads} threads, to the end", members, wall,
                     int(whole.table["steps"].sum()), one)
               + "  (stop_at_overturn=False, as pymunk below)", flush=True)

@@ -5,9 +5,10 @@ Private module.  :func:`member_steps` takes one member through the steps of a ch
 kernel that runs it for every member of a batch, a thread each (numba-cuda, float64).  Two things differ from
 the CPU kernel, neither in the physics:
 
-- the contact store holds every pair of bodies, listed once at the start, so that no thread allocates: a pair
-  whose boxes do not overlap is skipped and its memory cleared by :func:`~dem_core.engine._step.pair_forces`, as
-  the CPU kernel does for a listed pair, and the pairs the CPU's list leaves out are exactly those;
+- the contact store holds every pair of bodies, set up once, so that no thread allocates; the broad phase
+  (:func:`list_pairs`) lists the candidates among them by the CPU's rule, when the CPU's kernel does, in key
+  order, and a pair that leaves the list forgets its contact as it does there (its slip stays in its row, where
+  the CPU's list hands it to the retired pairs: a pair that leaves and comes back sums its slip in another order);
 - the ground's input comes from the samples of the member's motion at unit scale, shared by every member of a
   scaled record (:func:`~dem_core.engine._ground.ground_at`), into a window of the step and the next.
 
@@ -21,15 +22,16 @@ from numba import cuda
 
 from ._ground import ground_at
 from ._step import (STATUS_DEEP_OVERLAP, STATUS_OK, STATUS_OVERTURNED, bounding_boxes, deepest_pair, end_step,
-                    gather_forces, ground_work, move, output_due, pair_forces, place_base,
+                    gather_forces, ground_work, move, needs_relist, output_due, pair_forces, place_base,
                     place_base_within, step_division, world_geometry, write_output)
-from .state import PAIR_I, PAIR_J, STEP
+from .state import PAIR_I, PAIR_J, POINT_FORCE, REBUILDS, STEP
 
 #: columns of a member's real settings: dt (s), speed limit (m/s), energy tolerance and scale (J), gravity
-#: (m/s^2), the base's top relative to its centre (m), the dashpots' damping ratios, the motion's scale and the
-#: base's starting centre (m)
-DT, SPEED_LIMIT, ENERGY_TOLERANCE, ENERGY_SCALE, GRAVITY, FLOOR, ZETA_N, ZETA_T, SCALE, START_X, START_Y = range(11)
-REAL_SETTINGS = 11
+#: (m/s^2), the base's top relative to its centre (m), the dashpots' damping ratios, the motion's scale, the
+#: base's starting centre (m) and half the broad phase's skin (m)
+(DT, SPEED_LIMIT, ENERGY_TOLERANCE, ENERGY_SCALE, GRAVITY, FLOOR, ZETA_N, ZETA_T, SCALE, START_X, START_Y,
+ HALF_SKIN) = range(12)
+REAL_SETTINGS = 12
 #: columns of a member's integer settings: output stride (steps), last step, whether an overturn stops it,
 #: substeps past alpha, 1 for the corner law, 1 for the inertial frame, and the row of its motion's samples
 STRIDE, LAST_STEP, STOP_AT_OVERTURN, SUBSTEPS, CORNER_LAW, INERTIAL, MOTION = range(7)
@@ -40,12 +42,59 @@ RUNNING = -1
 THREADS_PER_BLOCK = 64
 
 
+@nb.njit(cache=True, inline="always")
+def list_pairs(lo_x, hi_x, lo_y, hi_y, margin, ids, listed, in_list, memory, forces, pair_force, pair_touching,
+               pair_excess, start, entries, fill):
+    """Stage 3 on a store of every pair (ids (P, 4) in key order): the candidates, the pairs whose boxes grown by
+    ``margin`` (m) overlap (the rule of :func:`~dem_core.engine._broadphase.candidate_keys`), their rows into
+    ``listed`` (P,) in key order and their incidence into ``start`` (nb + 1,), ``entries`` (2 P,) as
+    :func:`~dem_core.engine._step.incidence` gives it (``fill`` (nb,) scratch).  ``in_list`` (P,) marks the
+    listed rows; a row that leaves the list forgets its contact points, their springs and its last forces.
+    Returns how many pairs are listed."""
+    reach = 2.0 * margin
+    n_bodies = start.shape[0] - 1
+    for b in range(n_bodies + 1):
+        start[b] = 0
+    count = 0
+    for p in range(ids.shape[0]):
+        i = ids[p, PAIR_I]
+        j = ids[p, PAIR_J]
+        if not (lo_x[j] > hi_x[i] + reach or lo_x[i] > hi_x[j] + reach or lo_y[j] > hi_y[i] + reach
+                or lo_y[i] > hi_y[j] + reach):
+            listed[count] = p
+            count += 1
+            in_list[p] = 1
+            start[i + 1] += 1
+            start[j + 1] += 1
+        elif in_list[p] == 1:
+            in_list[p] = 0
+            for c in range(memory.shape[1]):
+                memory[p, c] = -1
+            forces[p, POINT_FORCE] = 0.0
+            forces[p, POINT_FORCE + 1] = 0.0
+            for c in range(pair_force.shape[1]):
+                pair_force[p, c] = 0.0
+            pair_touching[p] = 0
+            pair_excess[p] = 0.0
+    for b in range(n_bodies):
+        start[b + 1] += start[b]
+        fill[b] = start[b]
+    for c in range(count):
+        p = listed[c]
+        for end in range(2):
+            b = ids[p, PAIR_I + end]
+            entries[fill[b]] = 2 * p + end
+            fill[b] += 1
+    return count
+
+
 @nb.njit(cache=True)
 def member_steps(local_x, local_y, normal_x, normal_y, vstart, mass, inv_mass, inv_inertia, radius, critical_angle,
                  y_start, drop_limit, limits, stack_id, bottom, stack_mass, foot, ids, constants, start, entries, real,
                  integer, samples, n_steps, pos, vel, memory, forces, interface_slip, peak_theta, overturn_step,
-                 stack_step, ledger, counters, out_pos, out_slip, out_step, wx, wy, wnx, wny, boxes, force,
-                 stack_moment, window, pair_force, pair_touching, pair_excess, points, keys, ox, oy, clip_scratch):
+                 stack_step, ledger, counters, built_at, out_pos, out_slip, out_step, listed, in_list, n_listed, wx, wy,
+                 wnx, wny, boxes, force, stack_moment, window, fill, pair_force, pair_touching, pair_excess, points,
+                 keys, ox, oy, clip_scratch):
     """Up to ``n_steps`` steps of one member, in place; returns ``(status, i, j)`` as the CPU kernel does.
 
     Model (one member's rows): local_x, local_y, normal_x, normal_y (nv,); vstart (nb + 1,); mass, inv_mass,
@@ -54,9 +103,10 @@ def member_steps(local_x, local_y, normal_x, normal_y, vstart, mass, inv_mass, i
     Pairs: ids (P, 4), constants (P, 6) of every pair of bodies in key order, start (nb + 1,) and entries (2 P,)
     their incidence (:func:`~dem_core.engine._step.incidence`).  real (REAL_SETTINGS,), integer
     (INTEGER_SETTINGS,) the member's settings by this module's columns; samples (4, n_steps + 2) of its motion
-    at unit scale from the chunk's first step.  State and outputs: as the CPU kernel's, one member's.  The rest
-    is scratch: wx, wy, wnx, wny (nv,), boxes (4, nb), force (nb, 3), stack_moment (ns,), window (6, 2), and
-    the pairs' buffers of :func:`~dem_core.engine._step._pair_buffers`.
+    at unit scale from the chunk's first step.  State and outputs: as the CPU kernel's, one member's, with the
+    broad phase's list of :func:`list_pairs`: ``listed`` (P,), ``in_list`` (P,) and ``n_listed`` (1,) its length.
+    The rest is scratch: wx, wy, wnx, wny (nv,), boxes (4, nb), force (nb, 3), stack_moment (ns,), window (6, 2),
+    fill (nb,) and the pairs' buffers of :func:`~dem_core.engine._step._pair_buffers`.
     """
     dt = real[DT]
     inertial = integer[INERTIAL] == 1
@@ -80,8 +130,15 @@ def member_steps(local_x, local_y, normal_x, normal_y, vstart, mass, inv_mass, i
                 place_base_within(pos, vel, window, 0, sub / substeps)
             world_geometry(pos, local_x, local_y, normal_x, normal_y, vstart, wx, wy, wnx, wny)
             bounding_boxes(wx, wy, vstart, lo_x, hi_x, lo_y, hi_y)
-            for p in range(n_pairs):
-                pair_forces(p, corner, ids, constants, memory, forces, interface_slip, pos, vel, pair_force,
+            if needs_relist(pos, radius, built_at, real[HALF_SKIN]):
+                n_listed[0] = list_pairs(lo_x, hi_x, lo_y, hi_y, real[HALF_SKIN], ids, listed, in_list, memory, forces,
+                                         pair_force, pair_touching, pair_excess, start, entries, fill)
+                for b in range(pos.shape[0]):
+                    for d in range(3):
+                        built_at[b, d] = pos[b, d]
+                counters[REBUILDS] += 1
+            for c in range(n_listed[0]):
+                pair_forces(listed[c], corner, ids, constants, memory, forces, interface_slip, pos, vel, pair_force,
                             pair_touching, pair_excess, wx, wy, wnx, wny, vstart, inv_mass, inv_inertia, real[ZETA_N],
                             real[ZETA_T], limits, h, boxes, points, keys, ox, oy, clip_scratch)
             for b in range(pos.shape[0]):
@@ -105,26 +162,26 @@ def member_steps(local_x, local_y, normal_x, normal_y, vstart, mass, inv_mass, i
 
 
 @nb.njit(cache=True)
-def member_chunk(m, local_x, local_y, normal_x, normal_y, vstart, mass, inv_mass, inv_inertia, radius,
-                    critical_angle, y_start, drop_limit, limits, stack_id, bottom, stack_mass, foot, ids, constants,
-                    start, entries, real, integer, samples, n_steps, pos, vel, memory, forces, interface_slip,
-                    peak_theta, overturn_step, stack_step, ledger, counters, out_pos, out_slip, out_step, status, wx,
-                    wy, wnx, wny, boxes, force, stack_moment, window, pair_force, pair_touching, pair_excess, points,
-                    keys, ox, oy, clip_scratch):
+def member_chunk(m, local_x, local_y, normal_x, normal_y, vstart, mass, inv_mass, inv_inertia, radius, critical_angle,
+                 y_start, drop_limit, limits, stack_id, bottom, stack_mass, foot, ids, constants, start, entries, real,
+                 integer, samples, n_steps, pos, vel, memory, forces, interface_slip, peak_theta, overturn_step,
+                 stack_step, ledger, counters, built_at, out_pos, out_slip, out_step, status, listed, in_list, n_listed,
+                 wx, wy, wnx, wny, boxes, force, stack_moment, window, fill, pair_force, pair_touching, pair_excess,
+                 points, keys, ox, oy, clip_scratch):
     """Member ``m`` through up to ``n_steps`` steps by :func:`member_steps` if it is running (``status[m, 0] ==
-    RUNNING``); the arguments are the batch's arrays with the members on their first axis, ``samples``
-    (G, 4, n_steps + 2) the motions' (``integer[m, MOTION]`` the member's row).  A member that ends gets its run's
-    ``(status, i, j)`` in ``status[m]``, or STATUS_OK and 0, 0 at its last step."""
+    RUNNING``); the arguments are the batch's arrays with the members on their first axis (``n_listed`` (M,)),
+    ``samples`` (G, 4, n_steps + 2) the motions' (``integer[m, MOTION]`` the member's row).  A member that ends
+    gets its run's ``(status, i, j)`` in ``status[m]``, or STATUS_OK and 0, 0 at its last step."""
     if status[m, 0] != RUNNING:
         return
     code, i, j = member_steps(
         local_x[m], local_y[m], normal_x[m], normal_y[m], vstart[m], mass[m], inv_mass[m], inv_inertia[m], radius[m],
-        critical_angle[m], y_start[m], drop_limit[m], limits[m], stack_id[m], bottom[m], stack_mass[m], foot[m],
-        ids[m], constants[m], start[m], entries[m], real[m], integer[m], samples[integer[m, MOTION]], n_steps,
-        pos[m], vel[m], memory[m], forces[m], interface_slip[m], peak_theta[m], overturn_step[m], stack_step[m],
-        ledger[m], counters[m], out_pos[m], out_slip[m], out_step[m], wx[m], wy[m], wnx[m], wny[m], boxes[m],
-        force[m], stack_moment[m], window[m], pair_force[m], pair_touching[m], pair_excess[m], points[m], keys[m],
-        ox[m], oy[m], clip_scratch[m])
+        critical_angle[m], y_start[m], drop_limit[m], limits[m], stack_id[m], bottom[m], stack_mass[m], foot[m], ids[m],
+        constants[m], start[m], entries[m], real[m], integer[m], samples[integer[m, MOTION]], n_steps, pos[m], vel[m],
+        memory[m], forces[m], interface_slip[m], peak_theta[m], overturn_step[m], stack_step[m], ledger[m], counters[m],
+        built_at[m], out_pos[m], out_slip[m], out_step[m], listed[m], in_list[m], n_listed[m:m + 1], wx[m], wy[m],
+        wnx[m], wny[m], boxes[m], force[m], stack_moment[m], window[m], fill[m], pair_force[m], pair_touching[m],
+        pair_excess[m], points[m], keys[m], ox[m], oy[m], clip_scratch[m])
     if code != STATUS_OK or counters[m, STEP] >= integer[m, LAST_STEP]:
         status[m, 0] = code
         status[m, 1] = i
@@ -132,36 +189,37 @@ def member_chunk(m, local_x, local_y, normal_x, normal_y, vstart, mass, inv_mass
 
 
 @cuda.jit
-def advance_members(local_x, local_y, normal_x, normal_y, vstart, mass, inv_mass, inv_inertia, radius,
-                    critical_angle, y_start, drop_limit, limits, stack_id, bottom, stack_mass, foot, ids, constants,
-                    start, entries, real, integer, samples, n_steps, pos, vel, memory, forces, interface_slip,
-                    peak_theta, overturn_step, stack_step, ledger, counters, out_pos, out_slip, out_step, status, wx,
-                    wy, wnx, wny, boxes, force, stack_moment, window, pair_force, pair_touching, pair_excess, points,
-                    keys, ox, oy, clip_scratch):
+def advance_members(local_x, local_y, normal_x, normal_y, vstart, mass, inv_mass, inv_inertia, radius, critical_angle,
+                    y_start, drop_limit, limits, stack_id, bottom, stack_mass, foot, ids, constants, start, entries,
+                    real, integer, samples, n_steps, pos, vel, memory, forces, interface_slip, peak_theta,
+                    overturn_step, stack_step, ledger, counters, built_at, out_pos, out_slip, out_step, status, listed,
+                    in_list, n_listed, wx, wy, wnx, wny, boxes, force, stack_moment, window, fill, pair_force,
+                    pair_touching, pair_excess, points, keys, ox, oy, clip_scratch):
     """The GPU kernel: thread m takes member m through the chunk (:func:`member_chunk`)."""
     m = cuda.grid(1)
     if m < pos.shape[0]:
         member_chunk(m, local_x, local_y, normal_x, normal_y, vstart, mass, inv_mass, inv_inertia, radius,
                      critical_angle, y_start, drop_limit, limits, stack_id, bottom, stack_mass, foot, ids, constants,
                      start, entries, real, integer, samples, n_steps, pos, vel, memory, forces, interface_slip,
-                     peak_theta, overturn_step, stack_step, ledger, counters, out_pos, out_slip, out_step, status, wx,
-                     wy, wnx, wny, boxes, force, stack_moment, window, pair_force, pair_touching, pair_excess, points,
-                     keys, ox, oy, clip_scratch)
+                     peak_theta, overturn_step, stack_step, ledger, counters, built_at, out_pos, out_slip, out_step,
+                     status, listed, in_list, n_listed, wx, wy, wnx, wny, boxes, force, stack_moment, window, fill,
+                     pair_force, pair_touching, pair_excess, points, keys, ox, oy, clip_scratch)
 
 
 @nb.njit(cache=True)
 def advance_members_serial(local_x, local_y, normal_x, normal_y, vstart, mass, inv_mass, inv_inertia, radius,
                            critical_angle, y_start, drop_limit, limits, stack_id, bottom, stack_mass, foot, ids,
                            constants, start, entries, real, integer, samples, n_steps, pos, vel, memory, forces,
-                           interface_slip, peak_theta, overturn_step, stack_step, ledger, counters, out_pos,
-                           out_slip, out_step, status, wx, wy, wnx, wny, boxes, force, stack_moment, window,
-                           pair_force, pair_touching, pair_excess, points, keys, ox, oy, clip_scratch):
+                           interface_slip, peak_theta, overturn_step, stack_step, ledger, counters, built_at, out_pos,
+                           out_slip, out_step, status, listed, in_list, n_listed, wx, wy, wnx, wny, boxes, force,
+                           stack_moment, window, fill, pair_force, pair_touching, pair_excess, points, keys, ox, oy,
+                           clip_scratch):
     """The same chunk for every member in turn on one CPU thread: the GPU kernel's code at the CPU's speed, to
     check it against the CPU kernel where there is no GPU."""
     for m in range(pos.shape[0]):
         member_chunk(m, local_x, local_y, normal_x, normal_y, vstart, mass, inv_mass, inv_inertia, radius,
                      critical_angle, y_start, drop_limit, limits, stack_id, bottom, stack_mass, foot, ids, constants,
                      start, entries, real, integer, samples, n_steps, pos, vel, memory, forces, interface_slip,
-                     peak_theta, overturn_step, stack_step, ledger, counters, out_pos, out_slip, out_step, status, wx,
-                     wy, wnx, wny, boxes, force, stack_moment, window, pair_force, pair_touching, pair_excess, points,
-                     keys, ox, oy, clip_scratch)
+                     peak_theta, overturn_step, stack_step, ledger, counters, built_at, out_pos, out_slip, out_step,
+                     status, listed, in_list, n_listed, wx, wy, wnx, wny, boxes, force, stack_moment, window, fill,
+                     pair_force, pair_touching, pair_excess, points, keys, ox, oy, clip_scratch)

@@ -1,0 +1,139 @@
+"""The batch's GPU path (dem_core.batch_gpu, engine/_members.py): its kernel's code, compiled for one CPU thread,
+gives each member the run simulate gives bit for bit; the CUDA kernel itself, run by numba's CUDA simulator in a
+process of its own, gives simulate_batch's rows on the CPU; and what the GPU cannot take is refused naming it."""
+
+import json
+import os
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import dem_core
+from dem_core import ContactParameters, scenes, simulate_batch
+from dem_core.batch_gpu import check_members, run_members, serial_launcher
+from dem_core.inputs.excitation import record, scaled, sine_pulse
+from dem_core.simulation import Simulation
+
+REPOSITORY = Path(__file__).resolve().parents[1]
+EL_CENTRO = record("el_centro_1940")
+
+
+def _assert_same_run(cpu, gpu):
+    """Bit for bit: outputs, peaks, overturns, slips, steps and why the run stopped."""
+    assert np.array_equal(cpu.t, gpu.t)
+    for name in ("x", "y", "theta", "base_x", "base_y", "peak_theta", "slip_history"):
+        assert np.array_equal(getattr(cpu, name), getattr(gpu, name)), name
+    assert np.array_equal(cpu.overturn_time, gpu.overturn_time, equal_nan=True)
+    assert cpu.interface_slip == gpu.interface_slip
+    for key in ("steps", "stopped", "substepped_steps", "tipped_stacks", "pair_lists", "narrow_phase_per_step"):
+        assert cpu.info.get(key) == gpu.info.get(key), key
+
+
+CASES = {
+    # a rocking block thrown by one-sine pulses below and above its overturning amplitude's neighbourhood
+    "block under pulses": (scenes.block(1.0, 6.0), [sine_pulse(a, 1.0) for a in (1.5, 2.5)], 3.0, {}),
+    # scaled copies of one record (sampled once, scaled per member): rocking, and an overturn that stops the run
+    "block under El Centro": (scenes.block(1.0, 6.0), [scaled(EL_CENTRO, f) for f in (1.0, 3.0)], 8.0, {}),
+    "block on a moving base": (scenes.block(1.0, 6.0), [scaled(EL_CENTRO, 1.2)], 4.0,
+                               {"ground_motion": "moving_base"}),
+    "8-drum column": (scenes.column(), [scaled(EL_CENTRO, 2.0)], 1.0, {}),
+    # the collapse, taken in substeps past alpha
+    "8-drum column to the end": (scenes.column(), [scaled(EL_CENTRO, 4.0)], 6.0, {"stop_at_overturn": False}),
+    "colonnade": (scenes.colonnade(), [scaled(EL_CENTRO, 2.0)], 1.0, {}),
+    "64 blocks: 9 columns of 7 drums and an epistyle": (scenes.colonnade(n_columns=9, n_drums=7),
+                                                         [sine_pulse(4.0, 0.3)], 0.3, {}),
+    "overlap-area law": (scenes.stack([(0.8, 1.0), (0.6, 0.8)], contact=ContactParameters(law="overlap_area")),
+                         [sine_pulse(4.0, 0.5)], 1.5, {}),
+}
+
+
+@pytest.mark.parametrize("case", CASES)
+def test_the_gpu_kernels_code_gives_each_member_the_run_simulate_gives(case):
+    scene, motions, duration, options = CASES[case]
+    runs = [Simulation(scene, motion, duration, **options) for motion in motions]
+    run_members(runs, launcher=serial_launcher())
+    for motion, run in zip(motions, runs):
+        _assert_same_run(dem_core.simulate(scene, motion, duration, **options), run.result())
+
+
+def test_an_unstable_member_stops_alone_and_says_where():
+    """A member beyond its stability limit stops with the CPU's error; the other member runs to its end."""
+    scene = scenes.block(1.0, 6.0)
+    with pytest.warns(RuntimeWarning, match="times the stability limit"):
+        runs = [Simulation(scene, sine_pulse(2.5, 1.0), 1.0, dt=d, enforce_stability_limit=False)
+                for d in (5e-5, 1e-3)]
+    run_members(runs, launcher=serial_launcher())
+    runs[0].result()
+    with pytest.raises(dem_core.SimulationUnstable) as gpu:
+        runs[1].result()
+    with pytest.raises(dem_core.SimulationUnstable) as cpu, pytest.warns(RuntimeWarning):
+        dem_core.simulate(scene, sine_pulse(2.5, 1.0), 1.0, dt=1e-3, enforce_stability_limit=False)
+    assert str(gpu.value) == str(cpu.value)
+
+
+def test_what_the_gpu_kernel_cannot_take_is_refused_naming_the_member():
+    block = Simulation(scenes.block(1.0, 6.0), sine_pulse(2.0, 0.5), 0.1)
+    with pytest.raises(ValueError, match="member 1: the GPU kernel steps by central differences"):
+        check_members([block, Simulation(scenes.block(1.0, 6.0), sine_pulse(2.0, 0.5), 0.1, integrator="moreau")])
+    with pytest.raises(ValueError, match="member 1's scene has"):
+        check_members([block, Simulation(scenes.stack([(1.0, 3.0), (1.0, 3.0)]), sine_pulse(2.0, 0.5), 0.1)])
+
+
+def test_without_a_gpu_auto_runs_on_the_cpu_and_gpu_is_refused():
+    batch = simulate_batch(scenes.block(1.0, 6.0), [sine_pulse(2.0, 0.5)], 0.1, device="auto", threads=1)
+    assert batch.device == "cpu, 1 thread"
+    with pytest.raises(ValueError, match="numba-cuda finds no CUDA GPU"):
+        simulate_batch(scenes.block(1.0, 6.0), [sine_pulse(2.0, 0.5)], 0.1, device="gpu")
+
+
+#: run by numba's CUDA simulator (with the CPU's JIT off, so that the simulator's arrays reach the stages): the
+#: CUDA kernel through simulate_batch, two members of a block (a pulse and a scaled record) and a stack of three
+SIMULATED = """
+import json, sys
+import dem_core
+from dem_core import scenes, simulate_batch
+from dem_core.inputs.excitation import record, scaled, sine_pulse
+seen = []
+block = simulate_batch(scenes.block(1.0, 6.0), [sine_pulse(3.0, 0.2), scaled(record("el_centro_1940"), 4.0)], 0.1,
+                       device="auto", histories=[1], measures=lambda result: {"outputs": len(result.t)},
+                       progress=lambda done, total: seen.append((done, total)))
+stack = simulate_batch(scenes.stack([(0.8, 1.0), (0.7, 0.9), (0.6, 0.8)]), [sine_pulse(6.0, 0.1)], 0.01,
+                       device="gpu")
+try:
+    simulate_batch(scenes.block(1.0, 6.0), [sine_pulse(3.0, 0.2)], 0.1, device="gpu", integrator="moreau")
+    refusal = ""
+except ValueError as error:
+    refusal = str(error)
+json.dump({"devices": [block.device, stack.device], "refusal": refusal, "kept": list(block.histories),
+           "progress": seen[-1],
+           "block": block.table.drop(columns="wall_time_s").to_dict("list"),
+           "stack": stack.table.drop(columns="wall_time_s").to_dict("list")}, sys.stdout)
+"""
+
+
+def test_the_cuda_kernel_under_the_simulator_gives_the_cpus_rows():
+    env = dict(os.environ, NUMBA_ENABLE_CUDASIM="1", NUMBA_DISABLE_JIT="1", PYTHONPATH=str(REPOSITORY))
+    done = subprocess.run([sys.executable, "-c", SIMULATED], capture_output=True, text=True, env=env, timeout=600)
+    assert done.returncode == 0, done.stderr[-3000:]
+    simulated = json.loads(done.stdout)
+    assert simulated["devices"] == ["gpu, CUDA simulator", "gpu, CUDA simulator"]
+    assert "Moreau-Jean's members run on the CPU" in simulated["refusal"]
+    assert simulated["kept"] == [1] and simulated["progress"] == [2, 2]
+    block = simulate_batch(scenes.block(1.0, 6.0), [sine_pulse(3.0, 0.2), scaled(EL_CENTRO, 4.0)], 0.1, device="cpu",
+                           measures=lambda result: {"outputs": len(result.t)}).table.drop(columns="wall_time_s")
+    stack = simulate_batch(scenes.stack([(0.8, 1.0), (0.7, 0.9), (0.6, 0.8)]), [sine_pulse(6.0, 0.1)], 0.01,
+                           device="cpu").table.drop(columns="wall_time_s")
+    for name, cpu in (("block", block), ("stack", stack)):
+        gpu = simulated[name]
+        assert list(gpu) == list(cpu.columns)
+        for column in cpu.columns:
+            if cpu[column].dtype.kind == "f":
+                np.testing.assert_allclose(np.array(gpu[column], float), cpu[column].to_numpy(float), rtol=1e-9,
+                                           atol=0.0, err_msg=f"{name} {column}")
+            else:
+                assert gpu[column] == cpu[column].tolist(), f"{name} {column}"
+    # the pulse lifted the block (a block at rest settles on its springs by about 1e-6 rad): not a comparison of rest
+    assert max(block["max_peak_abs_theta_rad"]) > 1e-4
