@@ -28,9 +28,13 @@ from .engine.result import Result
 from .inputs.excitation import GroundMotion
 from .simulation import Simulation, SimulationUnstable, check_run_arguments, warn_caller
 
-#: where a batch can run: ``"auto"`` takes the GPU where numba-cuda finds one and the integrator is the explicit
-#: one, else the CPU's threads
+#: where a batch can run: ``"auto"`` takes the GPU where numba-cuda finds one, the integrator is the explicit one
+#: and the batch has at least GPU_MEMBERS_PER_THREAD members per CPU thread, else the CPU's threads
 DEVICES = ("auto", "cpu", "gpu")
+#: a GPU thread steps a member about 16 times slower than a CPU core (the H100 prototype of the issue that asked for
+#: the GPU path: 6.0e10 member-steps per second over 65,536 members, 9.2e5 each, against 1.5e7 on one core), so
+#: the GPU is the faster where a batch has more members than this many per CPU thread
+GPU_MEMBERS_PER_THREAD = 16
 #: members queued per thread at a time (so that waiting for the next to finish does not grow with the batch)
 IN_FLIGHT_PER_THREAD = 4
 #: s the main thread waits for a member at most before it looks again: a Ctrl-C is taken between two looks
@@ -79,8 +83,9 @@ def simulate_batch(scene, motions, duration: float | None = None, *, device: str
     duration : s, as :func:`~dem_core.simulate` takes it (None: each motion's natural end).
     device : ``"cpu"`` (Python threads, each running the compiled kernel, which releases the GIL), ``"gpu"``
         (every member at once on an NVIDIA GPU, :mod:`dem_core.batch_gpu`; central differences only, refused
-        naming why where numba-cuda finds no GPU), or ``"auto"``: the GPU where there is one and the integrator is
-        the explicit one, else the CPU.  :attr:`Batch.device` says which ran.
+        naming why where numba-cuda finds no GPU), or ``"auto"``: the GPU where there is one, the integrator is
+        the explicit one and there are at least GPU_MEMBERS_PER_THREAD members per thread, else the CPU.
+        :attr:`Batch.device` says which ran.
     threads : how many members run at once on the CPU (default ``numba.get_num_threads()``, all cores).
     histories : indices of the members whose :class:`Result` is kept (in :attr:`Batch.histories`).
     measures : optional ``function(result) -> dict`` whose items are added to each member's row.
@@ -99,7 +104,7 @@ def simulate_batch(scene, motions, duration: float | None = None, *, device: str
     caller's line.
     """
     threads, scenes, motions, keep = _checked(scene, motions, device, threads, histories, simulate_options)
-    gpu = _gpu_for(device, simulate_options)
+    gpu = _gpu_for(device, simulate_options, len(motions), threads)
     started = time.perf_counter()
     rows, kept = {}, {}
     given, heard = set(), queue.SimpleQueue()
@@ -242,13 +247,16 @@ def check_device(device: str) -> None:
                          "members on the CPU's threads")
 
 
-def _gpu_for(device: str, simulate_options: dict) -> str:
-    """The GPU's name if the batch runs there, else ''; ``ValueError`` for ``device="gpu"`` with Moreau-Jean."""
+def _gpu_for(device: str, simulate_options: dict, members: int, threads: int) -> str:
+    """The GPU's name if the batch of ``members`` runs there, else ''; ``ValueError`` for ``device="gpu"`` with
+    Moreau-Jean."""
     explicit = simulate_options.get("integrator", "explicit") == "explicit"
     if device == "gpu" and not explicit:
         raise ValueError("device='gpu' steps by central differences (integrator='explicit'); Moreau-Jean's members "
                          "run on the CPU (device='cpu' or 'auto')")
-    return gpu_available() if device in ("gpu", "auto") and explicit else ""
+    if device == "gpu" or (device == "auto" and explicit and members >= GPU_MEMBERS_PER_THREAD * threads):
+        return gpu_available()
+    return ""
 
 
 def _on_gpu(gpu: str, scenes, motions, duration, simulate_options, keep, measures, progress, rows: dict,

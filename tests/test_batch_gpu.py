@@ -96,9 +96,13 @@ import json, sys
 import dem_core
 from dem_core import scenes, simulate_batch
 from dem_core.inputs.excitation import record, scaled, sine_pulse
+from dem_core.batch import GPU_MEMBERS_PER_THREAD
+assert GPU_MEMBERS_PER_THREAD > 1
+few = simulate_batch(scenes.block(1.0, 6.0), [sine_pulse(3.0, 0.2)], 0.01, device="auto", threads=1)
 seen = []
+dem_core.batch.GPU_MEMBERS_PER_THREAD = 2  # two members on one thread fill the simulated GPU
 block = simulate_batch(scenes.block(1.0, 6.0), [sine_pulse(3.0, 0.2), scaled(record("el_centro_1940"), 4.0)], 0.1,
-                       device="auto", histories=[1], measures=lambda result: {"outputs": len(result.t)},
+                       device="auto", threads=1, histories=[1], measures=lambda result: {"outputs": len(result.t)},
                        progress=lambda done, total: seen.append((done, total)))
 stack = simulate_batch(scenes.stack([(0.8, 1.0), (0.7, 0.9), (0.6, 0.8)]), [sine_pulse(6.0, 0.1)], 0.01,
                        device="gpu")
@@ -107,7 +111,7 @@ try:
     refusal = ""
 except ValueError as error:
     refusal = str(error)
-json.dump({"devices": [block.device, stack.device], "refusal": refusal, "kept": list(block.histories),
+json.dump({"devices": [few.device, block.device, stack.device], "refusal": refusal, "kept": list(block.histories),
            "progress": seen[-1],
            "block": block.table.drop(columns="wall_time_s").to_dict("list"),
            "stack": stack.table.drop(columns="wall_time_s").to_dict("list")}, sys.stdout)
@@ -119,7 +123,8 @@ def test_the_cuda_kernel_under_the_simulator_gives_the_cpus_rows():
     done = subprocess.run([sys.executable, "-c", SIMULATED], capture_output=True, text=True, env=env, timeout=600)
     assert done.returncode == 0, done.stderr[-3000:]
     simulated = json.loads(done.stdout)
-    assert simulated["devices"] == ["gpu, CUDA simulator", "gpu, CUDA simulator"]
+    # auto takes the GPU for a batch of many members per CPU thread, not for one member
+    assert simulated["devices"] == ["cpu, 1 thread", "gpu, CUDA simulator", "gpu, CUDA simulator"]
     assert "Moreau-Jean's members run on the CPU" in simulated["refusal"]
     assert simulated["kept"] == [1] and simulated["progress"] == [2, 2]
     block = simulate_batch(scenes.block(1.0, 6.0), [sine_pulse(3.0, 0.2), scaled(EL_CENTRO, 4.0)], 0.1, device="cpu",
