@@ -10,6 +10,7 @@ history is kept only where asked for, so memory does not grow with the number of
 
 from __future__ import annotations
 
+import inspect
 import itertools
 import queue
 import threading
@@ -26,7 +27,7 @@ from . import batch_gpu
 from .batch_gpu import gpu_available
 from .engine.result import Result
 from .inputs.excitation import GroundMotion
-from .simulation import Simulation, SimulationUnstable, check_run_arguments, warn_caller
+from .simulation import Simulation, SimulationUnstable, check_run_arguments, set_up_scene, warn_caller
 
 #: where a batch can run: ``"auto"`` takes the GPU where numba-cuda finds one, the integrator is the explicit one
 #: and the batch has at least GPU_MEMBERS_PER_THREAD members per CPU thread, else the CPU's threads
@@ -43,6 +44,8 @@ WAKE_SECONDS = 0.2
 #: thread); the caller's thread gives each distinct one once, attributed to the caller's line, holding it too
 _RECORDING = threading.Lock()
 #: the per-block measures of a row, as :meth:`Result.metrics` names them, and the peak displacement
+#: the options of simulate that a scene's set-up depends on (set_up_scene's keywords)
+STEP_OPTIONS = tuple(inspect.signature(set_up_scene).parameters)[1:]
 BLOCK_MEASURES = ("peak_abs_theta_rad", "peak_abs_displacement_m", "residual_displacement_m", "sliding_m",
                   "overturn_time_s")
 
@@ -108,11 +111,12 @@ def simulate_batch(scene, motions, duration: float | None = None, *, device: str
     started = time.perf_counter()
     rows, kept = {}, {}
     given, heard = set(), queue.SimpleQueue()
-    first, built, said = _first_member(scenes, motions, duration, simulate_options, rows)
+    shared = {}
+    first, built, said = _first_member(scenes, motions, duration, simulate_options, rows, shared)
     _give(said, given)
     if gpu:
         return _on_gpu(gpu, scenes, motions, duration, simulate_options, keep, measures, progress, rows, first,
-                       built, given, started)
+                       built, given, started, shared)
 
     def give_heard():
         while not heard.empty():
@@ -130,7 +134,7 @@ def simulate_batch(scene, motions, duration: float | None = None, *, device: str
             if m == first:
                 run = built
             else:
-                run, said = _set_up(scenes[m], motions[m], duration, simulate_options)
+                run, said = _set_up(scenes[m], motions[m], duration, simulate_options, shared)
                 heard.put(said)
         except (ValueError, TypeError) as error:
             return _refused(m, motions[m], error), None
@@ -161,11 +165,16 @@ class _Stopped(Exception):
     """A member's run stopped between its chunks because the batch was interrupted."""
 
 
-def _set_up(scene, motion, duration, simulate_options) -> tuple:
-    """``(Simulation, [the warnings its set-up gave])``, the warnings kept off the screen."""
+def _set_up(scene, motion, duration, simulate_options, scenes_set_up: dict) -> tuple:
+    """``(Simulation, [the warnings its set-up gave])``, the warnings kept off the screen.  The scene's
+    :func:`~dem_core.simulation.set_up_scene` (its model and time step) is made once per scene object and kept in
+    ``scenes_set_up`` (by the object's id: the batch holds the scenes) for the members that share it."""
     with _RECORDING, warnings.catch_warnings(record=True) as said:
         warnings.simplefilter("always")
-        return Simulation(scene, motion, duration, **simulate_options), said
+        if id(scene) not in scenes_set_up:
+            scenes_set_up[id(scene)] = set_up_scene(scene, **{name: simulate_options[name] for name in STEP_OPTIONS
+                                                              if name in simulate_options})
+        return Simulation(scene, motion, duration, scene_set_up=scenes_set_up[id(scene)], **simulate_options), said
 
 
 def _give(said: list, given: set) -> None:
@@ -182,12 +191,13 @@ def _refused(m: int, motion, error: Exception) -> dict:
     return {"member": m, "motion": motion.name, "status": "refused", "error": str(error)}
 
 
-def _first_member(scenes, motions, duration, simulate_options, rows: dict) -> tuple:
+def _first_member(scenes, motions, duration, simulate_options, rows: dict, shared: dict) -> tuple:
     """``(index, Simulation, its warnings)`` of the first member that can be set up (which compiles the kernel),
-    the members before it put in ``rows`` as refused; the error of member 0, naming it, when none can be."""
+    the members before it put in ``rows`` as refused; the error of member 0, naming it, when none can be.
+    ``shared``: the scenes' set-ups (:func:`_set_up`)."""
     for m, motion in enumerate(motions):
         try:
-            return (m, *_set_up(scenes[m], motion, duration, simulate_options))
+            return (m, *_set_up(scenes[m], motion, duration, simulate_options, shared))
         except (ValueError, TypeError) as error:
             rows[m] = _refused(m, motion, error)
             if m == 0:
@@ -260,14 +270,15 @@ def _gpu_for(device: str, simulate_options: dict, members: int, threads: int) ->
 
 
 def _on_gpu(gpu: str, scenes, motions, duration, simulate_options, keep, measures, progress, rows: dict,
-            first: int, built, given: set, started: float) -> Batch:
+            first: int, built, given: set, started: float, shared: dict) -> Batch:
     """The batch's members set up on this thread and stepped together on the GPU (:func:`batch_gpu.run_members`);
-    the members before ``first`` are refused in ``rows``, ``built`` is member ``first`` set up."""
+    the members before ``first`` are refused in ``rows``, ``built`` is member ``first`` set up, ``shared`` the
+    scenes' set-ups (:func:`_set_up`)."""
     runs, set_up = {first: built}, {first: 0.0}
     for m in range(first + 1, len(motions)):
         began = time.perf_counter()
         try:
-            runs[m], said = _set_up(scenes[m], motions[m], duration, simulate_options)
+            runs[m], said = _set_up(scenes[m], motions[m], duration, simulate_options, shared)
         except (ValueError, TypeError) as error:
             rows[m] = _refused(m, motions[m], error)
             continue

@@ -184,11 +184,63 @@ class RunSettings(NamedTuple):
     shortest_substep: float = MOREAU_SHORTEST_SUBSTEP
 
 
+class SceneSetUp(NamedTuple):
+    """What a run's set-up derives from its scene and step options alone (:func:`set_up_scene`), shared by runs of
+    one scene under different motions (a batch's members): the ``scene`` and the ``options`` it was made with, the
+    ``stacks``, the compiled ``model`` and the ``columns``; for central differences the stability ``limit`` and
+    the shortest ``impact`` (s), the step ``dt`` (s) and the ``substeps`` a step past alpha is taken in (Moreau-Jean:
+    inf, NaN, None, since its step depends on the motion, and 1)."""
+
+    scene: object
+    options: dict
+    stacks: list
+    model: Model
+    columns: tuple
+    limit: float
+    impact: float
+    dt: float | None
+    substeps: int
+
+
+def set_up_scene(scene, dt: float | None = None, *, safety: float = DEFAULT_SAFETY,
+                 steps_per_impact: float = DEFAULT_STEPS_PER_IMPACT, step_fraction: float = 1.0,
+                 stop_at_overturn: bool = True, enforce_stability_limit: bool = True,
+                 integrator: str = "explicit") -> SceneSetUp:
+    """The :class:`SceneSetUp` of ``scene`` with the step options of :class:`Simulation` (the same names and
+    defaults); ``ValueError`` naming a wrong option (Moreau-Jean's step options are checked with the motion, by
+    :func:`moreau_time_step`), and the warning of a step beyond the stability limit."""
+    options = dict(dt=dt, safety=safety, steps_per_impact=steps_per_impact, step_fraction=step_fraction,
+                   stop_at_overturn=stop_at_overturn, enforce_stability_limit=enforce_stability_limit,
+                   integrator=integrator)
+    if integrator not in INTEGRATORS:
+        raise ValueError(f"integrator must be one of {INTEGRATORS}, got {integrator!r}")
+    if integrator == "moreau" and scene.contact.law != "corner":
+        raise ValueError(f"the Moreau-Jean integrator works on the corner law's contact points; the scene's "
+                         f"contact law is {scene.contact.law!r}")
+    stacks = find_stacks(scene)
+    model = compile_model(scene, stacks)
+    if integrator == "moreau":
+        return SceneSetUp(scene, options, stacks, model, columns(scene, stacks), math.inf, math.nan, None, 1)
+    limit = stability.stability_limit(model)
+    impact = stability.impact_duration(model)
+    dt = _time_step(model, dt, limit, impact, safety, steps_per_impact, step_fraction, enforce_stability_limit)
+    if dt > limit:
+        warn_caller(f"dt = {dt:.4g} s is {dt / limit:.2f} times the stability limit {limit:.4g} s "
+                    f"(enforce_stability_limit=False): the result says so in info['beyond_stability_limit']")
+    substeps = 1
+    if not stop_at_overturn:
+        collapse = COLLAPSE_STEP_FACTOR * _time_step(model, None, stability.stability_limit(model, toppled=True),
+                                                     impact, safety, steps_per_impact, step_fraction, True)
+        substeps = max(1, math.ceil(dt / collapse - 1e-9))
+    return SceneSetUp(scene, options, stacks, model, columns(scene, stacks), limit, impact, dt, substeps)
+
+
 class Simulation:
     """One run of a scene: the compiled model, the state, the ground motion and the outputs so far.
 
-    ``Simulation(scene, excitation, duration, ...)`` takes the arguments of :func:`simulate`;
-    :meth:`advance` takes steps (all that remain by default), :meth:`result` gathers what was
+    ``Simulation(scene, excitation, duration, ...)`` takes the arguments of :func:`simulate`, and
+    ``scene_set_up``, the scene's :func:`set_up_scene` with the same step options, where runs of one scene share
+    it; :meth:`advance` takes steps (all that remain by default), :meth:`result` gathers what was
     computed.  ``status`` is None while the run can go on, else why it ended.
     """
 
@@ -196,47 +248,37 @@ class Simulation:
                  dt: float | None = None, output_dt: float | None = None, *, ground_motion: str = "inertial",
                  safety: float = DEFAULT_SAFETY, steps_per_impact: float = DEFAULT_STEPS_PER_IMPACT,
                  step_fraction: float = 1.0, stop_at_overturn: bool = True, enforce_stability_limit: bool = True,
-                 parallel: bool = False, integrator: str = "explicit", theta: float = MOREAU_THETA):
+                 parallel: bool = False, integrator: str = "explicit", theta: float = MOREAU_THETA,
+                 scene_set_up: SceneSetUp | None = None):
         excitation = check_run_arguments(scene, excitation)
         if ground_motion not in GROUND_MOTION_MODES:
             raise ValueError(f"ground_motion must be one of {GROUND_MOTION_MODES}, got {ground_motion!r}")
-        if integrator not in INTEGRATORS:
-            raise ValueError(f"integrator must be one of {INTEGRATORS}, got {integrator!r}")
         if not 0.5 <= theta <= 1.0:
             raise ValueError(f"theta weighs the new velocity in Moreau-Jean's position update; it must be in "
                              f"[0.5, 1], got {theta}")
-        if integrator == "moreau" and scene.contact.law != "corner":
-            raise ValueError(f"the Moreau-Jean integrator works on the corner law's contact points; the scene's "
-                             f"contact law is {scene.contact.law!r}")
+        step_options = dict(dt=dt, safety=safety, steps_per_impact=steps_per_impact, step_fraction=step_fraction,
+                            stop_at_overturn=stop_at_overturn, enforce_stability_limit=enforce_stability_limit,
+                            integrator=integrator)
         duration = run_duration(excitation, duration)
         output_dt = 0.01 if output_dt is None else seconds("output_dt", output_dt)
         if _extreme(excitation):
             warn_caller(f"{_extreme(excitation)}; check its units and scale")
-        stacks = find_stacks(scene)
+        if scene_set_up is None:
+            scene_set_up = set_up_scene(scene, **step_options)
+        elif scene_set_up.scene is not scene or scene_set_up.options != step_options:
+            raise ValueError("scene_set_up was made for another scene or other step options than this run's")
         self.scene, self.excitation, self.ground_motion = scene, excitation, ground_motion
-        self.model: Model = compile_model(scene, stacks)
-        self.stacks = stacks
-        self.columns = columns(scene, stacks)
+        self.model: Model = scene_set_up.model
+        self.stacks = scene_set_up.stacks
+        self.columns = scene_set_up.columns
         self.integrator = integrator
+        self.limit, self.impact = scene_set_up.limit, scene_set_up.impact
         auto_dt = dt is None
-        substeps = 1
+        substeps = scene_set_up.substeps
         if integrator == "moreau":
-            self.limit, self.impact = math.inf, math.nan
             dt = moreau_time_step(self.model, excitation, dt, step_fraction)
         else:
-            self.limit = stability.stability_limit(self.model)
-            self.impact = stability.impact_duration(self.model)
-            dt = _time_step(self.model, dt, self.limit, self.impact, safety, steps_per_impact, step_fraction,
-                            enforce_stability_limit)
-            if dt > self.limit:
-                warn_caller(f"dt = {dt:.4g} s is {dt / self.limit:.2f} times the stability limit {self.limit:.4g} "
-                            f"s (enforce_stability_limit=False): the result says so in "
-                            f"info['beyond_stability_limit']")
-            if not stop_at_overturn:
-                collapse = COLLAPSE_STEP_FACTOR * _time_step(
-                    self.model, None, stability.stability_limit(self.model, toppled=True), self.impact, safety,
-                    steps_per_impact, step_fraction, True)
-                substeps = max(1, math.ceil(dt / collapse - 1e-9))
+            dt = scene_set_up.dt
         n_steps = math.ceil(duration / dt - 1e-9)
         stride = max(1, round(output_dt / dt))
         n_out = n_steps // stride + 2
