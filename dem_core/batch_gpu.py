@@ -20,7 +20,7 @@ from .engine import _step
 from .engine._broadphase import relist
 from .engine._contact_law import CORNER
 from .engine._ground import ground_samples
-from .engine.state import STEP, Retired, empty_contacts
+from .engine.state import Retired, empty_contacts
 from .inputs.excitation import GroundMotion, Scaled
 from .simulation import CHUNK_SECONDS, Simulation
 
@@ -195,8 +195,9 @@ def _kernel_arguments(kernel) -> tuple:
 
 
 def cuda_launcher():
-    """``launch(arrays, samples, n_steps)``: the CUDA kernel over the members, the arrays moved to the GPU at its
-    first call and kept there; ``fetch(name)`` copies one back."""
+    """``(launch, fetch)``: ``launch(arrays, samples, n_steps)`` runs the CUDA kernel over the members for a chunk
+    and returns their status (M, 3), the arrays moved to the GPU at its first call and kept there;
+    ``fetch(arrays)`` copies the state (:data:`STATE_ARRAYS`) back into ``arrays``."""
     from numba import cuda
 
     from .engine._members import THREADS_PER_BLOCK, advance_members, advance_members_serial
@@ -222,13 +223,15 @@ def cuda_launcher():
     return launch, fetch
 
 
-def run_members(runs: list, progress=None, halt=None, launcher=None) -> float:
+def run_members(runs: list, progress=None, launcher=None) -> float:
     """Advance every run of ``runs`` (explicit :class:`Simulation` runs set up and not yet stepped) to its end on
     the GPU, each left as its own :meth:`Simulation.run` would leave it; returns the kernel's wall time (s).
 
-    progress : optional ``function(done, total)`` after each chunk, ``done`` the members that ended.
-    halt : optional ``function()`` called between chunks; what it raises stops the batch (the runs keep the
-    state of the last chunk).  launcher : ``(launch, fetch)`` (default :func:`cuda_launcher`)."""
+    progress : optional ``function(done, total)`` after each chunk, ``done`` the members that ended; what it raises
+    (Ctrl-C too) stops the batch, each run keeping the state of the last chunk.  launcher : ``(launch, fetch)``
+    (default :func:`cuda_launcher`)."""
+    from .engine._members import RUNNING
+
     check_members(runs)
     motions = _motions(runs)
     arrays = _pack(runs, motions)
@@ -244,11 +247,9 @@ def run_members(runs: list, progress=None, halt=None, launcher=None) -> float:
             took += spent
             step += n_steps
             if progress is not None:
-                progress(int(np.sum(status[:, 0] != -1)), len(runs))
-            if np.all(status[:, 0] != -1):
+                progress(int(np.sum(status[:, 0] != RUNNING)), len(runs))
+            if np.all(status[:, 0] != RUNNING):
                 break
-            if halt is not None:
-                halt()
             chunk = int(min(max(chunk * CHUNK_SECONDS / max(spent, 1e-6), 100), 50 * chunk))
     finally:
         fetch(arrays)
@@ -259,6 +260,8 @@ def run_members(runs: list, progress=None, halt=None, launcher=None) -> float:
 def _hand_back(runs: list, arrays: dict, took: float) -> None:
     """Each run's state, outputs and status from the batch's arrays (its share of the kernel's wall time as
     its run time)."""
+    from .engine._members import RUNNING
+
     for m, run in enumerate(runs):
         s = run.state
         s.pos[:], s.vel[:] = arrays["pos"][m], arrays["vel"][m]
@@ -274,7 +277,7 @@ def _hand_back(runs: list, arrays: dict, took: float) -> None:
         run.out_slip[:] = arrays["out_slip"][m, :n_out]
         run.out_step[:] = arrays["out_step"][m, :n_out]
         code, i, j = (int(x) for x in arrays["status"][m])
-        if code != -1:
+        if code != RUNNING:
             run.status, run.stopped_by = code, ((i, j) if code != _step.STATUS_OK else None)
         run.run_time = took / len(runs)
 

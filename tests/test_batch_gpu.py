@@ -106,12 +106,19 @@ block = simulate_batch(scenes.block(1.0, 6.0), [sine_pulse(3.0, 0.2), scaled(rec
                        progress=lambda done, total: seen.append((done, total)))
 stack = simulate_batch(scenes.stack([(0.8, 1.0), (0.7, 0.9), (0.6, 0.8)]), [sine_pulse(6.0, 0.1)], 0.01,
                        device="gpu")
+def interrupt(done, total):
+    raise KeyboardInterrupt
+try:  # the short pulse's member ends within the first chunk, the other does not
+    simulate_batch(scenes.block(1.0, 6.0), [sine_pulse(3.0, 0.005), sine_pulse(3.0, 0.2)], device="gpu",
+                   progress=interrupt)
+except dem_core.batch.BatchInterrupted as stopped:
+    finished = stopped.partial.table["member"].tolist()
 try:
     simulate_batch(scenes.block(1.0, 6.0), [sine_pulse(3.0, 0.2)], 0.1, device="gpu", integrator="moreau")
     refusal = ""
 except ValueError as error:
     refusal = str(error)
-json.dump({"devices": [few.device, block.device, stack.device], "refusal": refusal, "kept": list(block.histories),
+json.dump({"devices": [few.device, block.device, stack.device], "refusal": refusal, "finished": finished, "kept": list(block.histories),
            "progress": seen[-1],
            "block": block.table.drop(columns="wall_time_s").to_dict("list"),
            "stack": stack.table.drop(columns="wall_time_s").to_dict("list")}, sys.stdout)
@@ -127,6 +134,7 @@ def test_the_cuda_kernel_under_the_simulator_gives_the_cpus_rows():
     assert simulated["devices"] == ["cpu, 1 thread", "gpu, CUDA simulator", "gpu, CUDA simulator"]
     assert "Moreau-Jean's members run on the CPU" in simulated["refusal"]
     assert simulated["kept"] == [1] and simulated["progress"] == [2, 2]
+    assert simulated["finished"] == [0]  # Ctrl-C: the member that ended is handed back
     block = simulate_batch(scenes.block(1.0, 6.0), [sine_pulse(3.0, 0.2), scaled(EL_CENTRO, 4.0)], 0.1, device="cpu",
                            measures=lambda result: {"outputs": len(result.t)}).table.drop(columns="wall_time_s")
     stack = simulate_batch(scenes.stack([(0.8, 1.0), (0.7, 0.9), (0.6, 0.8)]), [sine_pulse(6.0, 0.1)], 0.01,

@@ -5,7 +5,7 @@ import pytest
 
 import dem_core
 from dem_core import excitation, scenes
-from dem_core.simulation import COLLAPSE_STEP_FACTOR
+from dem_core.simulation import COLLAPSE_STEP_FACTOR, Simulation, set_up_scene
 
 
 def _mode_difference(scene, motion, duration, refine=1):
@@ -237,3 +237,18 @@ def test_ctrl_c_stops_a_run_between_chunks_and_it_can_go_on():
     assert 0 < run.step < run.settings.last_step
     resumed = run.run().result()
     assert np.array_equal(resumed.theta, whole.theta) and np.array_equal(resumed.x, whole.x)
+
+
+def test_runs_of_one_scene_sharing_its_set_up_are_the_runs_each_sets_up_alone():
+    """set_up_scene, made once, serves runs of its scene under other motions (a batch's members) bit for bit,
+    and no other scene or step options."""
+    scene = scenes.column(3)
+    shared = set_up_scene(scene, stop_at_overturn=False)
+    for pga in (2.0, 6.0):
+        motion = excitation.sine_pulse(pga, 0.5)
+        alone = dem_core.simulate(scene, motion, 1.0, stop_at_overturn=False)
+        together = Simulation(scene, motion, 1.0, stop_at_overturn=False, scene_set_up=shared).run().result()
+        assert np.array_equal(alone.theta, together.theta) and alone.info["steps"] == together.info["steps"]
+    for other_scene, options in ((scenes.column(3), {"stop_at_overturn": False}), (scene, {})):
+        with pytest.raises(ValueError, match="another scene or other step options"):
+            Simulation(other_scene, excitation.sine_pulse(2.0, 0.5), 1.0, scene_set_up=shared, **options)
