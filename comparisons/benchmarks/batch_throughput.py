@@ -11,7 +11,9 @@ for bit).  pymunk (1e-3 s, the report's step) runs the same members on a process
 ``--peers-up-to``, beside the batch with ``stop_at_overturn=False``: pymunk runs every member to the end.  Up to
 ``--loop-up-to`` each timing is the least of ``--repeats``.  Where numba-cuda finds a GPU, the explicit integrator's
 members also run there (``device="gpu"``, its wall time including the members' set-up on the CPU), and the line
-gives the largest relative difference of a member's peak from the CPU's; the header says when there is none.
+gives the largest relative difference of a member's peak from the CPU's; the header says when there is none.  Up to
+``--loop-up-to`` the GPU kernel's code also runs on one CPU thread (``dem_core.batch_gpu.serial_launcher``), its
+members' set-up included, against the batch on one thread: what the GPU path costs a member besides the GPU.
 
     python -m comparisons batch-throughput [--scenes block column] [--integrators moreau explicit] \
         [--members 1 64 4096 65536] [--duration 20]
@@ -31,7 +33,8 @@ import adapters
 import dem_core
 from dem_core import excitation, scenes
 from dem_core.batch import simulate_batch
-from dem_core.batch_gpu import gpu_available
+from dem_core.batch_gpu import gpu_available, run_members, serial_launcher
+from dem_core.simulation import Simulation, set_up_scene
 from dem_core.inputs.records import G_STANDARD
 
 #: scene name -> (builder, its rocking threshold's tan(alpha))
@@ -112,6 +115,14 @@ def _timed(function, repeats: int):
     return best, value
 
 
+def _gpu_code_on_cpu(scene, members_motions, duration: float) -> list:
+    """The members set up as simulate_batch sets them up and run by the GPU kernel's code on one CPU thread."""
+    shared = set_up_scene(scene)
+    runs = [Simulation(scene, motion, duration, scene_set_up=shared) for motion in members_motions]
+    run_members(runs, launcher=serial_launcher())
+    return runs
+
+
 def _measure(name, scene, integrator, members_motions, args, threads, gpu: str) -> None:
     members = len(members_motions)
     repeats = args.repeats if members <= args.loop_up_to else 1
@@ -132,6 +143,12 @@ def _measure(name, scene, integrator, members_motions, args, threads, gpu: str) 
         differs = np.max(np.abs(on_gpu.table["max_peak_abs_theta_rad"].to_numpy() - cpu_peaks) / cpu_peaks)
         print(_line(f"simulate_batch, GPU ({gpu})", members, wall, steps, one)
               + f"  peaks within {differs:.1e} (relative) of the CPU's", flush=True)
+    if integrator == "explicit" and members <= args.loop_up_to:
+        wall, runs = _timed(lambda: _gpu_code_on_cpu(scene, members_motions, args.duration), repeats)
+        same = all(float(np.max(r.result().peak_theta)) == p
+                   for r, p in zip(runs, single.table["max_peak_abs_theta_rad"]))
+        print(_line("GPU kernel's code, 1 CPU thread", members, wall, steps, one)
+              + f"  peaks {'identical to' if same else 'DIFFER FROM'} the batch's", flush=True)
     if members <= args.loop_up_to:
         wall, loop = _timed(lambda: [dem_core.simulate(scene, m, args.duration, integrator=integrator)
                                      for m in members_motions], repeats)
