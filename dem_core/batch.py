@@ -109,14 +109,21 @@ def simulate_batch(scene, motions, duration: float | None = None, *, device: str
     threads, scenes, motions, keep = _checked(scene, motions, device, threads, histories, simulate_options)
     gpu = _gpu_for(device, simulate_options, len(motions), threads)
     started = time.perf_counter()
-    rows, kept = {}, {}
-    given, heard = set(), queue.SimpleQueue()
-    shared = {}
+    rows, given, shared = {}, set(), {}
     first, built, said = _first_member(scenes, motions, duration, simulate_options, rows, shared)
     _give(said, given)
     if gpu:
         return _on_gpu(gpu, scenes, motions, duration, simulate_options, keep, measures, progress, rows, first,
                        built, given, started, shared)
+    return _on_cpu(threads, scenes, motions, duration, simulate_options, keep, measures, progress, rows, first,
+                   built, given, started, shared)
+
+
+def _on_cpu(threads: int, scenes, motions, duration, simulate_options, keep, measures, progress, rows: dict,
+            first: int, built, given: set, started: float, shared: dict) -> Batch:
+    """The batch's members from ``first`` on, on ``threads`` threads (:func:`_run_members`), each set up in its
+    thread and its warnings given on this one; the arguments as :func:`_on_gpu` takes them."""
+    kept, heard = {}, queue.SimpleQueue()
 
     def give_heard():
         while not heard.empty():
@@ -142,13 +149,7 @@ def simulate_batch(scene, motions, duration: float | None = None, *, device: str
             run.run(progress=halt)
         except _Stopped:
             return None, None
-        try:
-            result, status, error = run.result(), "ok", ""
-        except SimulationUnstable as unstable:
-            result, status, error = unstable.partial, "unstable", str(unstable)
-        row = member_row(m, motions[m].name, result, status, error, time.perf_counter() - set_up)
-        if measures is not None:
-            row.update(measures(result))
+        row, result = _measured(m, motions[m].name, run, time.perf_counter() - set_up, measures)
         return row, (result if m in keep else None)
 
     try:
@@ -159,6 +160,19 @@ def simulate_batch(scene, motions, duration: float | None = None, *, device: str
     finally:
         give_heard()
     return _batch(rows, kept, _cpu(threads), started)
+
+
+def _measured(m: int, motion: str, run: Simulation, seconds: float, measures) -> tuple:
+    """``(row, result)`` of member ``m``'s finished ``run`` (:func:`member_row`, ``seconds`` its wall time, with the
+    items of ``measures(result)``); an unstable run's row has its error and the measures of its partial result."""
+    try:
+        result, status, error = run.result(), "ok", ""
+    except SimulationUnstable as unstable:
+        result, status, error = unstable.partial, "unstable", str(unstable)
+    row = member_row(m, motion, result, status, error, seconds)
+    if measures is not None:
+        row.update(measures(result))
+    return row, result
 
 
 class _Stopped(Exception):
@@ -304,13 +318,7 @@ def _gpu_rows(runs: dict, members: list, motions, measures, keep, rows: dict, ke
         run = runs[m]
         if ended_only and run.status is None:
             continue
-        try:
-            result, status, error = run.result(), "ok", ""
-        except SimulationUnstable as unstable:
-            result, status, error = unstable.partial, "unstable", str(unstable)
-        rows[m] = member_row(m, motions[m].name, result, status, error, set_up[m] + share)
-        if measures is not None:
-            rows[m].update(measures(result))
+        rows[m], result = _measured(m, motions[m].name, run, set_up[m] + share, measures)
         if m in keep:
             kept[m] = result
 
