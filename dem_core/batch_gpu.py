@@ -128,9 +128,10 @@ def _pack(runs: list, motions: _Motions) -> dict:
     nb, nv, ns, n_if = _shape(runs[0])
     stores = [_all_pairs(run) for run in runs]
     n_pairs = int(stores[0].count[0])
-    corner = all(run.model.law.law == CORNER for run in runs)
+    corner = [run.model.law.law == CORNER for run in runs]
     clip = 2 * max(3, int(np.max(np.diff(runs[0].model.bodies.vstart)))) + 2
-    polygons = 1 if corner else n_pairs
+    points = n_pairs if any(corner) else 1  # the corner law's points, the overlap law's polygons, per pair
+    polygons = 1 if all(corner) else n_pairs
     n_out = max(len(run.out_step) for run in runs)
 
     def stacked(values, dtype=float):
@@ -172,8 +173,7 @@ def _pack(runs: list, motions: _Motions) -> dict:
         boxes=np.zeros((count, 4, nb)), force=np.zeros((count, nb, 3)), stack_moment=np.zeros((count, ns)),
         window=np.zeros((count, 6, 2)), pair_force=np.zeros((count, n_pairs, 6)),
         pair_touching=np.zeros((count, n_pairs), np.int64), pair_excess=np.zeros((count, n_pairs)),
-        points=np.zeros((count, n_pairs if corner else 1, 2, 3)),
-        keys=np.zeros((count, n_pairs if corner else 1, 2), np.int64),
+        points=np.zeros((count, points, 2, 3)), keys=np.zeros((count, points, 2), np.int64),
         ox=np.zeros((count, polygons, clip)), oy=np.zeros((count, polygons, clip)),
         clip_scratch=np.zeros((count, polygons, 2, 2, clip)), _stores=stores)
     return arrays
@@ -188,10 +188,12 @@ def _field(model, where: str):
 STATE_ARRAYS = ("pos", "vel", "memory", "forces", *_TRACKING, "out_pos", "out_slip", "out_step", "status")
 
 
-def _kernel_arguments(kernel) -> tuple:
-    """The names of ``kernel``'s arguments, in order (the keys of :func:`_pack`'s arrays, and the chunk's
-    ``samples`` and ``n_steps``)."""
-    return tuple(inspect.signature(getattr(kernel, "py_func", kernel)).parameters)  # a function without JIT
+def _kernel_arguments() -> tuple:
+    """The names of the kernels' arrays, in order: :func:`~dem_core.engine._members.member_chunk`'s arguments
+    after the member (the keys of :func:`_pack`'s arrays, and the chunk's ``samples`` and ``n_steps``)."""
+    from .engine._members import member_chunk
+
+    return tuple(inspect.signature(getattr(member_chunk, "py_func", member_chunk)).parameters)[1:]  # or, JIT off
 
 
 def cuda_launcher():
@@ -200,9 +202,9 @@ def cuda_launcher():
     ``fetch(arrays)`` copies the state (:data:`STATE_ARRAYS`) back into ``arrays``."""
     from numba import cuda
 
-    from .engine._members import THREADS_PER_BLOCK, advance_members, advance_members_serial
+    from .engine._members import THREADS_PER_BLOCK, advance_members
 
-    names = _kernel_arguments(advance_members_serial)
+    names = _kernel_arguments()
     on_device = {}
 
     def launch(arrays: dict, samples: np.ndarray, n_steps: int) -> np.ndarray:
@@ -287,11 +289,11 @@ def serial_launcher():
     (:func:`~dem_core.engine._members.advance_members_serial`): the GPU path checked without a GPU."""
     from .engine._members import advance_members_serial
 
-    names = _kernel_arguments(advance_members_serial)
+    names = _kernel_arguments()
 
     def launch(arrays: dict, samples: np.ndarray, n_steps: int) -> np.ndarray:
         given = dict(arrays, samples=samples, n_steps=n_steps)
-        advance_members_serial(*(given[name] for name in names))
+        advance_members_serial(arrays["pos"].shape[0], *(given[name] for name in names))
         return arrays["status"]
 
     return launch, lambda arrays: None

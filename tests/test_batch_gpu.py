@@ -13,7 +13,7 @@ import pytest
 
 import dem_core
 from dem_core import ContactParameters, scenes, simulate_batch
-from dem_core.batch_gpu import check_members, run_members, serial_launcher
+from dem_core.batch_gpu import check_members, gpu_available, run_members, serial_launcher
 from dem_core.inputs.excitation import record, scaled, sine_pulse
 from dem_core.simulation import Simulation
 
@@ -48,6 +48,9 @@ CASES = {
     "overlap-area law": (scenes.stack([(0.8, 1.0), (0.6, 0.8)], contact=ContactParameters(law="overlap_area")),
                          [sine_pulse(4.0, 0.5)], 1.5, {}),
 }
+#: members of one batch under either contact law (each law's buffers beside the other's)
+BOTH_LAWS = [scenes.stack([(0.8, 1.0), (0.6, 0.8)], contact=ContactParameters(law=law))
+             for law in ("corner", "overlap_area")]
 
 
 @pytest.mark.parametrize("case", CASES)
@@ -57,6 +60,14 @@ def test_the_gpu_kernels_code_gives_each_member_the_run_simulate_gives(case):
     run_members(runs, launcher=serial_launcher())
     for motion, run in zip(motions, runs):
         _assert_same_run(dem_core.simulate(scene, motion, duration, **options), run.result())
+
+
+def test_members_under_either_contact_law_share_a_batch():
+    motion = sine_pulse(4.0, 0.5)
+    runs = [Simulation(scene, motion, 1.0) for scene in BOTH_LAWS]
+    run_members(runs, launcher=serial_launcher())
+    for scene, run in zip(BOTH_LAWS, runs):
+        _assert_same_run(dem_core.simulate(scene, motion, 1.0), run.result())
 
 
 def test_an_unstable_member_stops_alone_and_says_where():
@@ -82,6 +93,7 @@ def test_what_the_gpu_kernel_cannot_take_is_refused_naming_the_member():
         check_members([block, Simulation(scenes.stack([(1.0, 3.0), (1.0, 3.0)]), sine_pulse(2.0, 0.5), 0.1)])
 
 
+@pytest.mark.skipif(bool(gpu_available()), reason="a GPU is here")
 def test_without_a_gpu_auto_runs_on_the_cpu_and_gpu_is_refused():
     batch = simulate_batch(scenes.block(1.0, 6.0), [sine_pulse(2.0, 0.5)], 0.1, device="auto", threads=1)
     assert batch.device == "cpu, 1 thread"

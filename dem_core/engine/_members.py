@@ -15,6 +15,8 @@ the CPU kernel, neither in the physics:
 The pairs are in the order of their keys in both, so a body's forces are summed in one order.  The arrays carry
 the members on their first axis; :func:`member_steps` takes one member's rows.  The kernel is defined at module
 level: numba's CUDA simulator replaces this module's ``cuda``, which a kernel made in a closure would not see.
+The CPU builds here are not cached on disk: they inline the stages of other modules, whose changes numba's cache
+would not notice (the CPU kernel has the engine's digest in its name for that).
 """
 
 import numba as nb
@@ -88,7 +90,7 @@ def list_pairs(lo_x, hi_x, lo_y, hi_y, margin, ids, listed, in_list, memory, for
     return count
 
 
-@nb.njit(cache=True)
+@nb.njit
 def member_steps(local_x, local_y, normal_x, normal_y, vstart, mass, inv_mass, inv_inertia, radius, critical_angle,
                  y_start, drop_limit, limits, stack_id, bottom, stack_mass, foot, ids, constants, start, entries, real,
                  integer, samples, n_steps, pos, vel, memory, forces, interface_slip, peak_theta, overturn_step,
@@ -161,7 +163,7 @@ def member_steps(local_x, local_y, normal_x, normal_y, vstart, mass, inv_mass, i
     return STATUS_OK, 0, 0
 
 
-@nb.njit(cache=True)
+@nb.njit
 def member_chunk(m, local_x, local_y, normal_x, normal_y, vstart, mass, inv_mass, inv_inertia, radius, critical_angle,
                  y_start, drop_limit, limits, stack_id, bottom, stack_mass, foot, ids, constants, start, entries, real,
                  integer, samples, n_steps, pos, vel, memory, forces, interface_slip, peak_theta, overturn_step,
@@ -206,20 +208,10 @@ def advance_members(local_x, local_y, normal_x, normal_y, vstart, mass, inv_mass
                      pair_force, pair_touching, pair_excess, points, keys, ox, oy, clip_scratch)
 
 
-@nb.njit(cache=True)
-def advance_members_serial(local_x, local_y, normal_x, normal_y, vstart, mass, inv_mass, inv_inertia, radius,
-                           critical_angle, y_start, drop_limit, limits, stack_id, bottom, stack_mass, foot, ids,
-                           constants, start, entries, real, integer, samples, n_steps, pos, vel, memory, forces,
-                           interface_slip, peak_theta, overturn_step, stack_step, ledger, counters, built_at, out_pos,
-                           out_slip, out_step, status, listed, in_list, n_listed, wx, wy, wnx, wny, boxes, force,
-                           stack_moment, window, fill, pair_force, pair_touching, pair_excess, points, keys, ox, oy,
-                           clip_scratch):
-    """The same chunk for every member in turn on one CPU thread: the GPU kernel's code at the CPU's speed, to
-    check it against the CPU kernel where there is no GPU."""
-    for m in range(pos.shape[0]):
-        member_chunk(m, local_x, local_y, normal_x, normal_y, vstart, mass, inv_mass, inv_inertia, radius,
-                     critical_angle, y_start, drop_limit, limits, stack_id, bottom, stack_mass, foot, ids, constants,
-                     start, entries, real, integer, samples, n_steps, pos, vel, memory, forces, interface_slip,
-                     peak_theta, overturn_step, stack_step, ledger, counters, built_at, out_pos, out_slip, out_step,
-                     status, listed, in_list, n_listed, wx, wy, wnx, wny, boxes, force, stack_moment, window, fill,
-                     pair_force, pair_touching, pair_excess, points, keys, ox, oy, clip_scratch)
+@nb.njit
+def advance_members_serial(members, *arrays):
+    """The same chunk for each of ``members`` in turn on one CPU thread, ``arrays`` the arguments of
+    :func:`member_chunk` after ``m``: the GPU kernel's code at the CPU's speed, to check it against the CPU kernel
+    where there is no GPU."""
+    for m in range(members):
+        member_chunk(m, *arrays)
