@@ -130,8 +130,8 @@ try:
     refusal = ""
 except ValueError as error:
     refusal = str(error)
-json.dump({"devices": [few.device, block.device, stack.device], "refusal": refusal, "finished": finished, "kept": list(block.histories),
-           "progress": seen[-1],
+json.dump({"devices": [few.device, block.device, stack.device], "refusal": refusal, "finished": finished,
+           "kept": list(block.histories), "progress": seen[-1],
            "block": block.table.drop(columns="wall_time_s").to_dict("list"),
            "stack": stack.table.drop(columns="wall_time_s").to_dict("list")}, sys.stdout)
 """
