@@ -15,6 +15,7 @@ the contact it runs with; Moreau-Jean: :func:`dem_core.simulation.moreau_time_st
 (``{"iterations": 200}``).
 """
 
+import contextlib
 import json
 import time
 import warnings
@@ -99,30 +100,80 @@ class Run:
     steps: float
 
 
-def run(scene, motion, duration: float, engine: str, step=None, settings: dict | None = None,
-        output_dt: float | None = None) -> Run:
-    """Run ``scene`` under ``motion`` for ``duration`` s in ``engine`` at ``step`` (default its usual one)."""
+def _options(engine: str, step, settings: dict | None) -> tuple:
+    """``(engine name for adapters.simulate, K_n factor, timing, settings, label)`` of a run of ``engine`` at
+    ``step`` (default its usual one) with ``settings``."""
     if engine not in ENGINES:
         raise ValueError(f"unknown engine {engine!r}; the harness judges {', '.join(ENGINES)}")
     step = USUAL_STEP[engine] if step is None else step
     settings = dict(settings or {})
     label = step_label(engine, step, settings)
+    if not is_native(engine):
+        return engine, 1.0, {"dt": float(step)}, settings, label
+    kn_factor = settings.pop("kn_factor", 1.0)
+    settings["integrator"] = NATIVE_INTEGRATORS[engine]
+    # a divisor of the automatic step, which the native core works out as it compiles the scene
+    return "dem", kn_factor, {"dt": None, "step_fraction": 1.0 / step}, settings, label
+
+
+@contextlib.contextmanager
+def _quietly():
+    """The warning every engine gives on a scene whose friction is the product of its blocks' coefficients, off."""
+    with warnings.catch_warnings():
+        warnings.filterwarnings("ignore", message=".*product of their coefficients")
+        yield
+
+
+def run(scene, motion, duration: float, engine: str, step=None, settings: dict | None = None,
+        output_dt: float | None = None) -> Run:
+    """Run ``scene`` under ``motion`` for ``duration`` s in ``engine`` at ``step`` (default its usual one)."""
+    name, kn_factor, timing, settings, label = _options(engine, step, settings)
     if is_native(engine):
-        scene = native_scene(scene, engine, settings.pop("kn_factor", 1.0))
-        # a divisor of the automatic step, which the native core works out as it compiles the scene
-        timing, name = {"dt": None, "step_fraction": 1.0 / step}, "dem"
-        settings["integrator"] = NATIVE_INTEGRATORS[engine]
-    else:
-        timing, name = {"dt": float(step)}, engine
+        scene = native_scene(scene, engine, kn_factor)
     start = time.perf_counter()
     try:
-        with warnings.catch_warnings():
-            warnings.filterwarnings("ignore", message=".*product of their coefficients")
+        with _quietly():
             result = adapters.simulate(scene, motion, duration, engine=name, output_dt=output_dt, **timing, **settings)
         status, message = "ok", ""
     except dem_core.SimulationUnstable as exc:
         result, status, message = exc.partial, "stopped", str(exc)
     wall = time.perf_counter() - start
+    return _run(result, status, message, timing, label, wall)
+
+
+def run_members(scene, motions, duration: float, engine: str, step=None, settings: dict | None = None,
+                output_dt: float | None = None, progress=None) -> list:
+    """:func:`run` of ``scene`` under each of ``motions`` (a list of M), one :class:`Run` per motion.
+
+    The native core's members run in one :func:`dem_core.simulate_batch` over the CPU's threads, each the run
+    :func:`run` gives, bit for bit, and each timed by its own time loop (``wall_time_s``: a run's time on one
+    core, as the other engines' are); the other engines' runs go one after another.  ``progress()`` is called as
+    each run ends.
+    """
+    if not is_native(engine):
+        runs = []
+        for motion in motions:
+            runs.append(run(scene, motion, duration, engine, step, settings, output_dt))
+            if progress is not None:
+                progress()
+        return runs
+    name, kn_factor, timing, settings, label = _options(engine, step, settings)
+    with _quietly():
+        batch = dem_core.simulate_batch(native_scene(scene, engine, kn_factor), motions, duration, device="cpu",
+                                        histories=range(len(motions)), output_dt=output_dt,
+                                        progress=None if progress is None else lambda done, total: progress(),
+                                        **timing, **settings)
+    runs = []
+    for member in batch.table.itertuples():
+        if member.status == "refused":
+            raise ValueError(f"{engine} at {label}, motion {member.motion!r}: {member.error}")
+        status, message = ("ok", "") if member.status == "ok" else ("stopped", member.error)
+        runs.append(_run(batch.histories[member.member], status, message, timing, label, member.wall_time_s))
+    return runs
+
+
+def _run(result, status: str, message: str, timing: dict, label: str, wall: float) -> Run:
+    """The :class:`Run` of ``result``; ``wall`` (s) stands for its time loop where the result has none."""
     info = result.info if result is not None else {}
     dt = timing["dt"] if timing["dt"] is not None else (result.dt if result is not None else np.nan)
     return Run(result, status, message, dt, label, float(info.get("run_time_s", wall)),

@@ -23,8 +23,9 @@ stopped as unstable has an infinite peak error and disagrees on overturning.
 
 Per engine and step: the median and 90th percentile of |peak error|, the share of members on which
 it agrees with the reference about overturning, and the median wall time of a run
-(:func:`summarise`).  :func:`run_ensemble` returns the tidy table of every run, for the report, a
-benchmark script or a test.
+(:func:`summarise`).  The native core's members run together on the CPU's threads
+(:func:`comparisons.harness.engines.run_members`), each timed by its own time loop.  :func:`run_ensemble` returns
+the tidy table of every run, for the report, a benchmark script or a test.
 """
 
 import sys
@@ -241,28 +242,49 @@ def run_ensemble(ens: Ensemble, engine_names=ENGINES, steps: dict | None = None,
     plan = _steps(ens, engine_names, steps, quick)
     members = ens.members()
     references = [reference(ens, m) for m in members]
-    runs = [(engine, step, settings, k) for engine, ladder in plan.items() for step, settings in ladder
-            for k in range(len(members))]
+    motions = [strong_motion(m.record, m.pga) for m in members]
+    runs = [(engine, step, settings) for engine, ladder in plan.items() for step, settings in ladder]
     rows = []
-    bar = tqdm(runs, desc=ens.name, unit="run", disable=not (progress and sys.stderr.isatty()))
-    for engine, step, settings, k in bar:
-        member, ref = members[k], references[k]
-        motion = strong_motion(member.record, member.pga)
-        run = engines.run(ens.scene(member.block), motion, member.duration, engine, step, settings,
-                          output_dt=min(0.005, motion.horizontal.dt / 2))
-        if run.status == "ok":
-            peak = _engine_peak(ens, run.result, ref.critical)
-            overturned = bool(run.result.overturned) if ens.kind == "rocking" else False
-            error = (peak - ref.peak) / max(ref.peak, ref.floor) if not ref.overturned else np.nan
-        else:
-            peak, overturned = np.nan, not ref.overturned
-            error = np.inf if not ref.overturned else np.nan
-        rows.append({"ensemble": ens.name, "engine": engine, "step": run.label, "dt": run.dt,
-                     "settings": settings_label(settings), "block": member.block_label, "record": member.record,
-                     "scale": member.scale, "pga": member.pga, "reference_peak": ref.peak,
-                     "reference_overturned": ref.overturned, "peak": peak, "overturned": overturned,
-                     "error": error, "status": run.status, "wall_time_s": run.wall_time_s})
+    bar = tqdm(total=len(runs) * len(members), desc=ens.name, unit="run",
+               disable=not (progress and sys.stderr.isatty()))
+    with bar:
+        for engine, step, settings in runs:
+            done = _members_run(ens, members, motions, engine, step, settings, bar.update)
+            for member, ref, run in zip(members, references, done):
+                rows.append(_row(ens, member, ref, engine, settings, run))
     return pd.DataFrame(rows)
+
+
+def _members_run(ens: Ensemble, members: list, motions: list, engine: str, step, settings: dict, ran) -> list:
+    """The :class:`~comparisons.harness.engines.Run` of each member in ``engine`` at ``step``, in order: the members
+    that share a block, a window and an output step run together (:func:`engines.run_members`); ``ran()`` after
+    each run."""
+    groups = {}
+    for k, (member, motion) in enumerate(zip(members, motions)):
+        groups.setdefault((member.block, member.duration, min(0.005, motion.horizontal.dt / 2)), []).append(k)
+    runs = [None] * len(members)
+    for (block, duration, output_dt), ks in groups.items():
+        done = engines.run_members(ens.scene(block), [motions[k] for k in ks], duration, engine, step, settings,
+                                   output_dt=output_dt, progress=ran)
+        for k, run in zip(ks, done):
+            runs[k] = run
+    return runs
+
+
+def _row(ens: Ensemble, member: Member, ref: _Reference, engine: str, settings: dict, run) -> dict:
+    """One run's row of :func:`run_ensemble`'s table."""
+    if run.status == "ok":
+        peak = _engine_peak(ens, run.result, ref.critical)
+        overturned = bool(run.result.overturned) if ens.kind == "rocking" else False
+        error = (peak - ref.peak) / max(ref.peak, ref.floor) if not ref.overturned else np.nan
+    else:
+        peak, overturned = np.nan, not ref.overturned
+        error = np.inf if not ref.overturned else np.nan
+    return {"ensemble": ens.name, "engine": engine, "step": run.label, "dt": run.dt,
+            "settings": settings_label(settings), "block": member.block_label, "record": member.record,
+            "scale": member.scale, "pga": member.pga, "reference_peak": ref.peak,
+            "reference_overturned": ref.overturned, "peak": peak, "overturned": overturned,
+            "error": error, "status": run.status, "wall_time_s": run.wall_time_s}
 
 
 def run_ensembles(quick: bool, engine_names=ENGINES, progress: bool = True) -> pd.DataFrame:

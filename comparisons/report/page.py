@@ -30,6 +30,10 @@ from comparisons.report.scoreboard import scoreboard, usual_steps
 
 STUDIES = REPOSITORY / "reports" / "studies"
 ENSEMBLE_SHARES = ("median_error", "p90_error", "overturn_agreement")
+#: how the native core's runs of an ensemble or a spectrum were made and timed (engines.run_members)
+BATCHED_RUNS = ("The native core's runs go in batches over the CPU's threads (dem_core.simulate_batch), each the run "
+                "it gives alone, bit for bit; a run's time is its own time loop, taken while other runs share the "
+                "machine.")
 STYLE = """body{font-family:sans-serif;max-width:1150px;margin:1em auto;padding:0 1em;color:#222;line-height:1.4}
 h1{margin:0.2em 0 0.1em;font-size:1.7em}
 p.prov{font-size:13px;color:#444;margin:0 0 0.6em}
@@ -142,7 +146,7 @@ def _ensemble_section(table, ens, out: Path) -> tuple[str, dict]:
     n = len(ens.members())
     text = (f"{n} runs per engine and step: {len(ens.blocks)} block(s) x {len(ens.records)} record(s) x "
             f"{len(ens.scales)} amplitudes; the reference overturns in {summary.reference_overturns.iloc[0]} "
-            f"of them." if len(summary) else "")
+            f"of them. {BATCHED_RUNS}" if len(summary) else "")
     section = (f'<section id="{ens.name}"><h3>{html.escape(ens.title)}</h3><p>{html.escape(text)}</p>'
                f'<p class="verdict">{html.escape(verdict["text"])}</p>'
                f'{_img(pareto, f"ensemble statistics against run time for {ens.name}", wide=True)}'
@@ -166,7 +170,8 @@ def _spectrum_section(table, spec, out: Path) -> tuple[str, dict]:
         extra = (f" The linearised closed form 1/(1 - exp(-p t_d)) is within {np.max(np.abs(gap)):.2%} of the "
                  "rocking equation's boundary at these columns." if len(gap) else "")
     section = (f'<section id="{spec.name}"><h3>{html.escape(spec.title)}</h3>'
-               f'<p>Reference: the rocking equation with Housner\'s impact rule.{html.escape(extra)}</p>'
+               f'<p>Reference: the rocking equation with Housner\'s impact rule.{html.escape(extra)} '
+               f'{html.escape(BATCHED_RUNS)}</p>'
                f'<p class="verdict">{html.escape(verdict["text"])}</p>'
                f'{_img(image, f"overturning spectrum {spec.name}, engine by engine", wide=True)}'
                f'{_table(_percent(summary.drop(columns=["spectrum"]), ["agreement"]))}</section>')
