@@ -10,7 +10,7 @@ import dem_core
 from comparisons.cases.strong_motion import strong_motion
 from comparisons.harness import engines
 from comparisons.harness.ensembles import ensemble
-from dem_core import excitation
+from dem_core import excitation, scenes
 
 #: the quick rocking ensemble's 1 x 6 m monolith under El Centro at 1.2 and 3 g tan(alpha) (rocks, overturns)
 SCALES = (1.2, 3.0)
@@ -25,7 +25,7 @@ def _members():
 @pytest.mark.parametrize("engine, step", [("dem", 1), ("dem-moreau", 1), ("dem-overlap", 2)])
 def test_a_native_member_is_its_single_run_bit_for_bit(engine, step):
     scene, motions, duration = _members()
-    batched = engines.run_members(scene, motions, duration, engine, step, output_dt=0.005)
+    batched = engines.run_members(scene, motions, duration, engine, step, output_dts=0.005)
     single = [engines.run(scene, motion, duration, engine, step, output_dt=0.005) for motion in motions]
     assert [r.result.overturned for r in single] == [False, True]  # one member rocks, one overturns
     for b, s in zip(batched, single):
@@ -33,6 +33,21 @@ def test_a_native_member_is_its_single_run_bit_for_bit(engine, step):
         np.testing.assert_array_equal(b.result.theta, s.result.theta)
         np.testing.assert_array_equal(b.result.peak_theta, s.result.peak_theta)
         assert b.wall_time_s > 0
+
+
+def test_members_of_other_scenes_and_lengths_come_back_in_their_order_bit_for_bit():
+    """Members batched by the scene, duration and output step they share (three batches here), handed back in the
+    order they were given."""
+    scene, motions, duration = _members()
+    other = scenes.block(1.5, 6.0)
+    member_scenes, lengths = [scene, other, scene, other], [duration, duration, duration / 2, duration]
+    members = list(zip(member_scenes, [motions[0], motions[0], motions[1], motions[1]], lengths))
+    batched = engines.run_members(member_scenes, [m for _, m, _ in members], lengths, "dem", output_dts=0.01)
+    for b, (member_scene, motion, length) in zip(batched, members):
+        single = engines.run(member_scene, motion, length, "dem", output_dt=0.01)
+        assert b.result.t[-1] == single.result.t[-1]
+        np.testing.assert_array_equal(b.result.theta, single.result.theta)
+    assert batched[1].result.peak_theta[0] != batched[0].result.peak_theta[0]  # another block, the same motion
 
 
 def test_a_stiffer_contact_is_passed_to_the_batch():

@@ -141,35 +141,50 @@ def run(scene, motion, duration: float, engine: str, step=None, settings: dict |
     return _run(result, status, message, timing, label, wall)
 
 
-def run_members(scene, motions, duration: float, engine: str, step=None, settings: dict | None = None,
-                output_dt: float | None = None, progress=None) -> list:
-    """:func:`run` of ``scene`` under each of ``motions`` (a list of M), one :class:`Run` per motion.
+def run_members(scenes, motions, durations, engine: str, step=None, settings: dict | None = None,
+                output_dts=None, progress=None) -> list:
+    """:func:`run` of each member, one :class:`Run` per motion, in order.
 
-    The native core's members run in one :func:`dem_core.simulate_batch` over the CPU's threads, each the run
-    :func:`run` gives, bit for bit, and each timed by its own time loop (``wall_time_s``: a run's time on one
-    core, as the other engines' are); the other engines' runs go one after another.  ``progress()`` is called as
-    each run ends.
+    scenes, durations (s), output_dts (s) : one value for every member or a list, one per member, as ``motions``
+        (a list of M ground motions) is.
+    The native core's members that share a scene (the same object), a duration and an output step run in one
+    :func:`dem_core.simulate_batch` over the CPU's threads, each the run :func:`run` gives, bit for bit; its
+    ``wall_time_s`` is its own time loop, taken while other members share the machine.  The other engines' runs go
+    one after another.  ``progress()`` is called as each run ends.
     """
+    count = len(motions)
+    scenes, durations, output_dts = (_per_member(value, count) for value in (scenes, durations, output_dts))
     if not is_native(engine):
         runs = []
-        for motion in motions:
+        for scene, motion, duration, output_dt in zip(scenes, motions, durations, output_dts):
             runs.append(run(scene, motion, duration, engine, step, settings, output_dt))
             if progress is not None:
                 progress()
         return runs
-    name, kn_factor, timing, settings, label = _options(engine, step, settings)
-    with _quietly():
-        batch = dem_core.simulate_batch(native_scene(scene, engine, kn_factor), motions, duration, device="cpu",
-                                        histories=range(len(motions)), output_dt=output_dt,
-                                        progress=None if progress is None else lambda done, total: progress(),
-                                        **timing, **settings)
-    runs = []
-    for member in batch.table.itertuples():
-        if member.status == "refused":
-            raise ValueError(f"{engine} at {label}, motion {member.motion!r}: {member.error}")
-        status, message = ("ok", "") if member.status == "ok" else ("stopped", member.error)
-        runs.append(_run(batch.histories[member.member], status, message, timing, label, member.wall_time_s))
+    _, kn_factor, timing, settings, label = _options(engine, step, settings)
+    batches = {}
+    for m in range(count):
+        batches.setdefault((id(scenes[m]), durations[m], output_dts[m]), []).append(m)
+    runs = [None] * count
+    for members in batches.values():
+        first = members[0]
+        with _quietly():
+            batch = dem_core.simulate_batch(native_scene(scenes[first], engine, kn_factor),
+                                            [motions[m] for m in members], durations[first], device="cpu",
+                                            histories=range(len(members)), output_dt=output_dts[first],
+                                            progress=None if progress is None else lambda done, total: progress(),
+                                            **timing, **settings)
+        for m, member in zip(members, batch.table.itertuples()):
+            if member.status == "refused":
+                raise ValueError(f"{engine} at {label}, motion {member.motion!r}: {member.error}")
+            status, message = ("ok", "") if member.status == "ok" else ("stopped", member.error)
+            runs[m] = _run(batch.histories[member.member], status, message, timing, label, member.wall_time_s)
     return runs
+
+
+def _per_member(value, count: int) -> list:
+    """``value`` as a list of ``count``: itself where it is a list or a tuple (one per member), else repeated."""
+    return list(value) if isinstance(value, (list, tuple)) else [value] * count
 
 
 def _run(result, status: str, message: str, timing: dict, label: str, wall: float) -> Run:

@@ -243,32 +243,20 @@ def run_ensemble(ens: Ensemble, engine_names=ENGINES, steps: dict | None = None,
     members = ens.members()
     references = [reference(ens, m) for m in members]
     motions = [strong_motion(m.record, m.pga) for m in members]
+    scene_of = {block: ens.scene(block) for block in ens.blocks}
+    member_scenes = [scene_of[m.block] for m in members]
+    output_dts = [min(0.005, motion.horizontal.dt / 2) for motion in motions]
     runs = [(engine, step, settings) for engine, ladder in plan.items() for step, settings in ladder]
     rows = []
     bar = tqdm(total=len(runs) * len(members), desc=ens.name, unit="run",
                disable=not (progress and sys.stderr.isatty()))
     with bar:
         for engine, step, settings in runs:
-            done = _members_run(ens, members, motions, engine, step, settings, bar.update)
+            done = engines.run_members(member_scenes, motions, [m.duration for m in members], engine, step, settings,
+                                       output_dts, progress=bar.update)
             for member, ref, run in zip(members, references, done):
                 rows.append(_row(ens, member, ref, engine, settings, run))
     return pd.DataFrame(rows)
-
-
-def _members_run(ens: Ensemble, members: list, motions: list, engine: str, step, settings: dict, ran) -> list:
-    """The :class:`~comparisons.harness.engines.Run` of each member in ``engine`` at ``step``, in order: the members
-    that share a block, a window and an output step run together (:func:`engines.run_members`); ``ran()`` after
-    each run."""
-    groups = {}
-    for k, (member, motion) in enumerate(zip(members, motions)):
-        groups.setdefault((member.block, member.duration, min(0.005, motion.horizontal.dt / 2)), []).append(k)
-    runs = [None] * len(members)
-    for (block, duration, output_dt), ks in groups.items():
-        done = engines.run_members(ens.scene(block), [motions[k] for k in ks], duration, engine, step, settings,
-                                   output_dt=output_dt, progress=ran)
-        for k, run in zip(ks, done):
-            runs[k] = run
-    return runs
 
 
 def _row(ens: Ensemble, member: Member, ref: _Reference, engine: str, settings: dict, run) -> dict:

@@ -211,22 +211,16 @@ def run_spectrum(spec: Spectrum, engine_names=ENGINES, steps: dict | None = None
     ``{engine: step}``): one row per run with the reference's outcome beside the engine's."""
     reference = reference_table(spec)
     judged = list(reference.itertuples(index=False))
-    motions = [spec.motion(point.column, point.amplitude) for point in judged]
-    by_duration = {}  # the points whose runs last as long run together (a column's points)
-    for k, (_, duration) in enumerate(motions):
-        by_duration.setdefault(duration, []).append(k)
+    motions, durations = zip(*(spec.motion(point.column, point.amplitude) for point in judged))
+    block = scenes.block(*spec.block)
     rows = []
     bar = tqdm(total=len(engine_names) * len(judged), desc=spec.name, unit="run",
                disable=not (progress and sys.stderr.isatty()))
     with bar:
         for engine in engine_names:
             step = (steps or {}).get(engine, engines.USUAL_STEP[engine])
-            runs = [None] * len(judged)
-            for duration, ks in by_duration.items():
-                done = engines.run_members(scenes.block(*spec.block), [motions[k][0] for k in ks], duration, engine,
-                                           step, output_dt=0.01, progress=bar.update)
-                for k, run in zip(ks, done):
-                    runs[k] = run
+            runs = engines.run_members(block, list(motions), list(durations), engine, step, output_dts=0.01,
+                                       progress=bar.update)
             for point, run in zip(judged, runs):
                 overturned = bool(run.result.overturned) if run.status == "ok" else not point.reference_overturned
                 rows.append({**point._asdict(), "engine": engine, "step": run.label, "overturned": overturned,
