@@ -10,17 +10,16 @@ scale it, and each member's thread scales it.
 
 from __future__ import annotations
 
-import inspect
 import time
 from dataclasses import dataclass
 
 import numpy as np
 
-from .engine import _step
-from .engine._broadphase import relist
-from .engine._contact_law import CORNER
+from .engine.model_arrays import NO_KEY, ModelArrays
+from .engine.scratch import make_scratch
+from .engine.settings import MOREAU, STATUS_FULL, STATUS_OK
+from .engine.state import Outputs, State, empty_outputs, with_capacities
 from .engine._ground import ground_samples
-from .engine.state import Retired, empty_contacts
 from .inputs.excitation import GroundMotion, Scaled
 from .simulation import CHUNK_SECONDS, Simulation
 
@@ -42,17 +41,18 @@ def gpu_available() -> str:
         return ""
 
 
-def check_members(runs: list) -> None:
-    """``ValueError`` naming the member the GPU kernel cannot take: Moreau-Jean's runs, or members whose scenes
-    differ in their numbers of bodies, vertices, stacks or recorded interfaces from member 0's."""
+def check_members(runs: list, on_gpu: bool = True) -> None:
+    """``ValueError`` naming the member a batch's kernel cannot take: members whose scenes differ in their numbers of
+    bodies, vertices, stacks or recorded interfaces from member 0's, and on a GPU (``on_gpu``) Moreau-Jean's runs,
+    whose GPU kernel is not yet measured (its CPU build runs them)."""
     shape0 = _shape(runs[0])
     for m, run in enumerate(runs):
-        if run.integrator != "explicit":
+        if on_gpu and run.settings.integrator == MOREAU:
             raise ValueError(f"member {m}: the GPU kernel steps by central differences (integrator='explicit'); "
                              f"Moreau-Jean's runs go on the CPU (device='cpu')")
         if _shape(run) != shape0:
             raise ValueError(f"member {m}'s scene has {_shape(run)} (bodies, vertices, stacks, interfaces), member "
-                             f"0's {shape0}: the members of a GPU batch share their shape")
+                             f"0's {shape0}: the members of a batch share their shape")
 
 
 def _shape(run: Simulation) -> tuple:
@@ -96,147 +96,117 @@ def _motions(runs: list) -> _Motions:
     return _Motions(units, index, scale)
 
 
-def _all_pairs(run: Simulation):
-    """The contact store of every pair of bodies, in key order (constants as the broad phase gives them)."""
-    n = len(run.model.bodies.mass)
-    keys = np.array([i * n + j for i in range(n) for j in range(i + 1, n)], np.int64)
-    retired = Retired(np.zeros(1, np.int64), np.zeros(1), np.zeros(1, np.int64))
-    contacts, _ = relist(run.model.bodies, run.model.law, run.model.interface_keys, empty_contacts(1), retired, keys)
-    return contacts
+@dataclass
+class Members:
+    """A batch's arrays: the driver's named tuples with the members on their first axis (:mod:`.engine._members`),
+    ``motion`` (M,) each member's row of the chunk's samples, ``status`` (M, 3) its run's end (RUNNING while it
+    goes on), and ``started`` each member's state as it started (a member whose store fills is run again from it
+    on the CPU)."""
+
+    model: ModelArrays
+    settings: tuple
+    state: State
+    outputs: Outputs
+    scratch: tuple
+    motion: np.ndarray
+    status: np.ndarray
+    started: list
 
 
-#: the model's arrays of each member, by the kernel's argument names: (where in the run, dtype)
-_MODEL = {
-    "local_x": ("bodies.local_x", float), "local_y": ("bodies.local_y", float),
-    "normal_x": ("bodies.normal_x", float), "normal_y": ("bodies.normal_y", float),
-    "vstart": ("bodies.vstart", np.int64), "mass": ("bodies.mass", float), "inv_mass": ("bodies.inv_mass", float),
-    "inv_inertia": ("bodies.inv_inertia", float), "radius": ("bodies.radius", float),
-    "critical_angle": ("bodies.critical_angle", float), "y_start": ("bodies.y_start", float),
-    "drop_limit": ("bodies.drop_limit", float), "stack_id": ("stacks.stack_id", np.int64),
-    "bottom": ("stacks.bottom", np.int64), "stack_mass": ("stacks.mass", float), "foot": ("stacks.foot", float),
-}
-#: the tracking arrays of each member's state, by the kernel's argument names (the same as the fields')
-_TRACKING = ("interface_slip", "peak_theta", "overturn_step", "stack_step", "ledger", "counters", "built_at")
+def _stacked(tuples: list):
+    """One named tuple of the members' named tuples, each field stacked on a new first axis."""
+    return type(tuples[0])(*(np.ascontiguousarray(np.stack(fields)) for fields in zip(*tuples)))
 
 
-def _pack(runs: list, motions: _Motions) -> dict:
-    """The kernel's arrays, members on the first axis, by the names of
-    :func:`~dem_core.engine._members.advance_members`' arguments; ``"_stores"`` the members' contact stores."""
-    from .engine import _members as k
+def _padded_frictions(arrays: list) -> list:
+    """The members' model arrays with their interfaces' own frictions padded to one length (NO_KEY matches none)."""
+    longest = max(len(a.friction_keys) for a in arrays)
 
-    count = len(runs)
-    nb, nv, ns, n_if = _shape(runs[0])
-    stores = [_all_pairs(run) for run in runs]
-    n_pairs = int(stores[0].count[0])
-    corner = [run.model.law.law == CORNER for run in runs]
-    clip = 2 * max(3, int(np.max(np.diff(runs[0].model.bodies.vstart)))) + 2
-    points = n_pairs if any(corner) else 1  # the corner law's points, the overlap law's polygons, per pair
-    polygons = 1 if all(corner) else n_pairs
-    n_out = max(len(run.out_step) for run in runs)
+    def pad(a):
+        extra = longest - len(a.friction_keys)
+        return a._replace(friction_keys=np.concatenate([a.friction_keys, np.full(extra, NO_KEY, np.int64)]),
+                          friction_values=np.concatenate([a.friction_values, np.full(extra, np.nan)]))
 
-    def stacked(values, dtype=float):
-        return np.ascontiguousarray(np.stack([np.asarray(v, dtype) for v in values]))
-
-    arrays = {name: stacked([_field(run.model, where) for run in runs], dtype)
-              for name, (where, dtype) in _MODEL.items()}
-    arrays.update({name: stacked([getattr(run.state.tracking, name) for run in runs],
-                                 np.int64 if name in ("overturn_step", "stack_step", "counters") else float)
-                   for name in _TRACKING})
-    # the list is made at the first step (built_at is infinite): none listed before
-    arrays.update(listed=np.zeros((count, n_pairs), np.int64), in_list=np.zeros((count, n_pairs), np.int64),
-                  n_listed=np.zeros(count, np.int64), fill=np.zeros((count, nb), np.int64))
-    real = np.zeros((count, k.REAL_SETTINGS))
-    integer = np.zeros((count, k.INTEGER_SETTINGS), np.int64)
-    for m, run in enumerate(runs):
-        s, law, model = run.settings, run.model.law, run.model
-        real[m, [k.DT, k.SPEED_LIMIT, k.ENERGY_TOLERANCE, k.ENERGY_SCALE, k.GRAVITY, k.FLOOR, k.ZETA_N, k.ZETA_T,
-                 k.SCALE, k.START_X, k.START_Y, k.HALF_SKIN]] = (
-            s.dt, s.speed_limit, s.energy_tolerance, s.energy_scale, model.gravity, model.floor, law.zeta_n,
-            law.zeta_t, motions.scale[m], *model.bodies.centroid0[0], 0.5 * law.skin)
-        integer[m, [k.STRIDE, k.LAST_STEP, k.STOP_AT_OVERTURN, k.SUBSTEPS, k.CORNER_LAW, k.INERTIAL, k.MOTION]] = (
-            s.stride, s.last_step, s.stop_at_overturn, s.substeps, law.law == CORNER, run.inertial,
-            motions.index[m])
-    arrays.update(
-        real=real, integer=integer,
-        limits=stacked([run.model.law.max_penetration * (run.model.bodies.size if run.model.law.law == CORNER
-                                                          else run.model.bodies.area) for run in runs]),
-        ids=stacked([store.ids[:n_pairs] for store in stores], np.int64),
-        constants=stacked([store.constants[:n_pairs] for store in stores]),
-        memory=stacked([store.memory[:n_pairs] for store in stores], np.int64),
-        forces=stacked([store.forces[:n_pairs] for store in stores]),
-        start=np.zeros((count, nb + 1), np.int64), entries=np.zeros((count, 2 * n_pairs), np.int64),
-        pos=stacked([run.state.pos for run in runs]), vel=stacked([run.state.vel for run in runs]),
-        out_pos=np.full((count, n_out, nb, 3), np.nan), out_slip=np.full((count, n_out, n_if), np.nan),
-        out_step=np.zeros((count, n_out), np.int64),
-        status=np.tile(np.array([k.RUNNING, 0, 0], np.int64), (count, 1)),
-        wx=np.zeros((count, nv)), wy=np.zeros((count, nv)), wnx=np.zeros((count, nv)), wny=np.zeros((count, nv)),
-        boxes=np.zeros((count, 4, nb)), force=np.zeros((count, nb, 3)), stack_moment=np.zeros((count, ns)),
-        window=np.zeros((count, 6, 2)), pair_force=np.zeros((count, n_pairs, 6)),
-        pair_touching=np.zeros((count, n_pairs), np.int64), pair_excess=np.zeros((count, n_pairs)),
-        points=np.zeros((count, points, 2, 3)), keys=np.zeros((count, points, 2), np.int64),
-        ox=np.zeros((count, polygons, clip)), oy=np.zeros((count, polygons, clip)),
-        clip_scratch=np.zeros((count, polygons, 2, 2, clip)), _stores=stores)
-    return arrays
+    return [pad(a) for a in arrays]
 
 
-def _field(model, where: str):
-    part, name = where.split(".")
-    return getattr(getattr(model, part), name)
+def pack(runs: list, motions: _Motions) -> Members:
+    """The batch's :class:`Members` of ``runs`` (set up, not yet stepped): every member with a store of every pair of
+    its bodies (a list cannot overflow it) and as many retired slips as the most any member starts with."""
+    from .engine._members import RUNNING
+
+    n_bodies = runs[0].arrays.body.shape[1]
+    pairs = max(1, n_bodies * (n_bodies - 1) // 2)
+    retired = max(run.state.capacities[1] for run in runs)
+    n_out = max(len(run.outputs.step) for run in runs)
+    states = [with_capacities(run.state, pairs, retired) for run in runs]
+    outputs = empty_outputs(n_out, n_bodies, runs[0].outputs.slip.shape[1])
+    scratch = make_scratch(runs[0].arrays, pairs, {run.settings.integrator for run in runs},
+                           {run.settings.contact_law for run in runs})
+    return Members(
+        model=_stacked(_padded_frictions([run.arrays for run in runs])),
+        settings=_stacked([run.settings.replace(scale=motions.scale[m]) for m, run in enumerate(runs)]),
+        state=_stacked(states), outputs=_stacked([outputs] * len(runs)), scratch=_stacked([scratch] * len(runs)),
+        motion=motions.index.copy(), status=np.tile(np.array([RUNNING, 0, 0], np.int64), (len(runs), 1)),
+        started=[run.state.copy() for run in runs])
 
 
-#: the arrays a finished batch hands back to its runs
-STATE_ARRAYS = ("pos", "vel", "memory", "forces", *_TRACKING, "out_pos", "out_slip", "out_step", "status")
+#: the parts of :class:`Members` a kernel writes, which a finished chunk hands back
+WRITTEN = ("state", "outputs", "status")
 
 
-def _kernel_arguments() -> tuple:
-    """The names of the kernels' arrays, in order: :func:`~dem_core.engine._members.member_chunk`'s arguments
-    after the member (the keys of :func:`_pack`'s arrays, and the chunk's ``samples`` and ``n_steps``)."""
-    from .engine._members import member_chunk
+def _on_device(members: Members, cuda) -> Members:
+    """``members`` with every array copied to the GPU (named tuples of device arrays)."""
+    def moved(part):
+        return type(part)(*(cuda.to_device(a) for a in part)) if isinstance(part, tuple) else cuda.to_device(part)
 
-    return tuple(inspect.signature(getattr(member_chunk, "py_func", member_chunk)).parameters)[1:]  # or, JIT off
+    return Members(*(moved(getattr(members, name)) if name != "started" else members.started
+                     for name in Members.__dataclass_fields__))
 
 
 def cuda_launcher():
-    """``(launch, fetch)``: ``launch(arrays, samples, n_steps)`` runs the CUDA kernel over the members for a chunk
+    """``(launch, fetch)``: ``launch(members, samples, n_steps)`` runs the CUDA kernel over the members for a chunk
     and returns their status (M, 3), the arrays moved to the GPU at its first call and kept there;
-    ``fetch(arrays)`` copies the state (:data:`STATE_ARRAYS`) back into ``arrays``."""
+    ``fetch(members)`` copies what the kernel writes (:data:`WRITTEN`) back into ``members``."""
     from numba import cuda
 
     from .engine._members import THREADS_PER_BLOCK, advance_members
 
-    names = _kernel_arguments()
-    on_device = {}
+    held = []
 
-    def launch(arrays: dict, samples: np.ndarray, n_steps: int) -> np.ndarray:
-        if not on_device:
-            on_device.update({name: cuda.to_device(arrays[name]) for name in names
-                              if name not in ("samples", "n_steps")})
-        given = dict(on_device, samples=cuda.to_device(samples), n_steps=n_steps)
-        members = arrays["pos"].shape[0]
-        blocks = (members + THREADS_PER_BLOCK - 1) // THREADS_PER_BLOCK
-        advance_members[blocks, THREADS_PER_BLOCK](*(given[name] for name in names))
+    def launch(members: Members, samples: np.ndarray, n_steps: int) -> np.ndarray:
+        if not held:
+            held.append(_on_device(members, cuda))
+        d = held[0]
+        blocks = (len(members.status) + THREADS_PER_BLOCK - 1) // THREADS_PER_BLOCK
+        advance_members[blocks, THREADS_PER_BLOCK](d.model, d.settings, d.state, d.outputs, d.scratch,
+                                                   cuda.to_device(samples), d.motion, n_steps, d.status)
         cuda.synchronize()
-        return on_device["status"].copy_to_host()
+        return d.status.copy_to_host()
 
-    def fetch(arrays: dict) -> None:
-        for name in STATE_ARRAYS:
-            arrays[name] = on_device[name].copy_to_host() if on_device else arrays[name]
+    def fetch(members: Members) -> None:
+        if held:
+            members.state = State(*(a.copy_to_host() for a in held[0].state))
+            members.outputs = Outputs(*(a.copy_to_host() for a in held[0].outputs))
+            members.status = held[0].status.copy_to_host()
 
     return launch, fetch
 
 
 def run_members(runs: list, progress=None, launcher=None) -> float:
-    """Advance every run of ``runs`` (explicit :class:`Simulation` runs set up and not yet stepped) to its end on
-    the GPU, each left as its own :meth:`Simulation.run` would leave it; returns the kernel's wall time (s).
+    """Advance every run of ``runs`` (:class:`Simulation` runs set up and not yet stepped) to its end on the GPU,
+    each left as its own :meth:`Simulation.run` would leave it; returns the kernel's wall time (s).  A member whose
+    store of retired slips fills is run again from its start on the CPU.
 
     progress : optional ``function(done, total)`` after each chunk, ``done`` the members that ended; what it raises
     (Ctrl-C too) stops the batch, each run keeping the state of the last chunk.  launcher : ``(launch, fetch)``
-    (default :func:`cuda_launcher`)."""
+    (default :func:`cuda_launcher`; :func:`serial_launcher` runs the kernel's code on the CPU, Moreau-Jean's
+    members too)."""
     from .engine._members import RUNNING
 
-    check_members(runs)
+    check_members(runs, on_gpu=launcher is None)
     motions = _motions(runs)
-    arrays = _pack(runs, motions)
+    members = pack(runs, motions)
     launch, fetch = launcher if launcher is not None else cuda_launcher()
     last = max(run.settings.last_step for run in runs)
     step, chunk, took = 0, FIRST_CHUNK, 0.0
@@ -244,7 +214,7 @@ def run_members(runs: list, progress=None, launcher=None) -> float:
         while step < last:
             n_steps = min(chunk, last - step)
             started = time.perf_counter()
-            status = launch(arrays, motions.samples(step, n_steps), n_steps)
+            status = launch(members, motions.samples(step, n_steps), n_steps)
             spent = time.perf_counter() - started
             took += spent
             step += n_steps
@@ -254,34 +224,28 @@ def run_members(runs: list, progress=None, launcher=None) -> float:
                 break
             chunk = int(min(max(chunk * CHUNK_SECONDS / max(spent, 1e-6), 100), 50 * chunk))
     finally:
-        fetch(arrays)
-        _hand_back(runs, arrays, took)
+        fetch(members)
+        _hand_back(runs, members, took)
     return took
 
 
-def _hand_back(runs: list, arrays: dict, took: float) -> None:
-    """Each run's state, outputs and status from the batch's arrays (its share of the kernel's wall time as
-    its run time)."""
+def _hand_back(runs: list, members: Members, took: float) -> None:
+    """Each run's state, outputs and status from the batch's arrays (its share of the kernel's wall time as its run
+    time); a member whose store filled is run again from its start on the CPU."""
     from .engine._members import RUNNING
 
     for m, run in enumerate(runs):
-        s = run.state
-        s.pos[:], s.vel[:] = arrays["pos"][m], arrays["vel"][m]
-        store = arrays["_stores"][m]
-        n_pairs = arrays["memory"].shape[1]
-        store.memory[:n_pairs], store.forces[:n_pairs] = arrays["memory"][m], arrays["forces"][m]
-        s.contacts = store
-        t = s.tracking
-        for name in _TRACKING:
-            getattr(t, name)[:] = arrays[name][m]
-        n_out = len(run.out_step)
-        run.out_pos[:] = arrays["out_pos"][m, :n_out]
-        run.out_slip[:] = arrays["out_slip"][m, :n_out]
-        run.out_step[:] = arrays["out_step"][m, :n_out]
-        code, i, j = (int(x) for x in arrays["status"][m])
-        if code != RUNNING:
-            run.status, run.stopped_by = code, ((i, j) if code != _step.STATUS_OK else None)
+        code, i, j = (int(x) for x in members.status[m])
         run.run_time = took / len(runs)
+        if code == STATUS_FULL:
+            run.state, run.scratch = members.started[m].copy(), None
+            run.run()
+            continue
+        run.state = State(*(a[m].copy() for a in members.state))
+        run.outputs = Outputs(*(a[m, :len(b)].copy() for a, b in zip(members.outputs, run.outputs)))
+        run.scratch = None
+        if code != RUNNING:
+            run.status, run.stopped_by = code, ((i, j) if code != STATUS_OK else None)
 
 
 def serial_launcher():
@@ -289,11 +253,9 @@ def serial_launcher():
     (:func:`~dem_core.engine._members.advance_members_serial`): the GPU path checked without a GPU."""
     from .engine._members import advance_members_serial
 
-    names = _kernel_arguments()
+    def launch(members: Members, samples: np.ndarray, n_steps: int) -> np.ndarray:
+        advance_members_serial(members.model, members.settings, members.state, members.outputs, members.scratch,
+                               samples, members.motion, n_steps, members.status)
+        return members.status
 
-    def launch(arrays: dict, samples: np.ndarray, n_steps: int) -> np.ndarray:
-        given = dict(arrays, samples=samples, n_steps=n_steps)
-        advance_members_serial(arrays["pos"].shape[0], *(given[name] for name in names))
-        return arrays["status"]
-
-    return launch, lambda arrays: None
+    return launch, lambda members: None

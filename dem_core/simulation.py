@@ -2,10 +2,10 @@
 
 This module joins what a run is given (:mod:`dem_core.inputs`: the scene, the ground motion) to the
 engine (:mod:`dem_core.engine`).  The scene compiles into an immutable
-:class:`~dem_core.engine.model.Model`, and after that the engine reads only the model; the mutable
-:class:`~dem_core.engine.state.State` is advanced by the compiled kernel
-(:func:`dem_core.engine._step.advance`) in chunks, and the outputs gathered into a
-:class:`~dem_core.engine.result.Result`.  :class:`Simulation` holds the three, so a run can be
+:class:`~dem_core.engine.model.Model`, and after that the engine reads only the model and the run's
+:class:`~dem_core.engine.settings.Settings`; the mutable :class:`~dem_core.engine.state.State` is advanced by the
+compiled driver (:mod:`dem_core.engine._driver`) in chunks, and the outputs gathered into a
+:class:`~dem_core.engine.result.Result`.  :class:`Simulation` holds them, so a run can be
 advanced a piece at a time, pickled and continued.  The scene is kept for the blocks' names.
 """
 
@@ -23,15 +23,23 @@ from typing import NamedTuple
 import numba
 import numpy as np
 
-from .engine import _moreau, _step, stability
+from .engine import _driver, stability
 from .engine._checks import mechanical_energy
-from .engine._ground import ground_input
+from .engine._ground import ground_samples
 from .engine.contact import LAWS
 from .engine.model import Model, compile_model, interface_pairs
+from .engine.model_arrays import ModelArrays, model_arrays
 from .engine.result import Result
+from .engine.scratch import make_scratch
+from .engine.settings import (EXPLICIT, INTEGRATORS, MOREAU, MOREAU_ACTIVE_GAP, MOREAU_DT, MOREAU_MAX_SUBSTEPS,
+                              MOREAU_MAX_SWEEPS, MOREAU_PROJECTION_SWEEPS, MOREAU_RESCUE_SWEEPS,
+                              MOREAU_SHORTEST_SUBSTEP, MOREAU_SLOP, MOREAU_SOLVER_FAILURE, MOREAU_SOLVER_TOLERANCE,
+                              MOREAU_STATUS_PASSES, MOREAU_THETA, MOREAU_TIME_FRACTION, STATUS_ENERGY,
+                              STATUS_FELL_OFF, STATUS_FULL, STATUS_NONFINITE, STATUS_OK, STATUS_OVERTURNED,
+                              STATUS_RUNAWAY, STATUS_UNCONVERGED, Settings, make_settings)
 from .engine.stacks import columns, find_stacks
-from .engine.state import (NARROW, OUTPUTS, PAIR_KEY, REBUILDS, SLIP, SOLVER_SWEEPS, STATUS_FALLBACKS, STATUS_PASSES,
-                           SUBSTEPPED, UNCONVERGED, State, initial_state)
+from .engine.state import (LISTED, NARROW, OUTPUTS, PAIR_KEY, REBUILDS, RETIRED, SOLVER_SWEEPS, STATUS_FALLBACKS,
+                           STATUS_PASSES, SUBSTEPPED, UNCONVERGED, Outputs, State, empty_outputs, initial_state)
 from .inputs.excitation import GroundMotion, still
 from .inputs.records import G_STANDARD
 from .inputs.scene import Scene
@@ -59,39 +67,6 @@ COLLAPSE_STEP_FACTOR = 0.25
 EXTREME_PGA_G = 50.0
 #: wall time (s) a chunk of steps aims at between progress updates
 CHUNK_SECONDS = 0.25
-#: the time-stepping schemes: central differences on the contact springs, and Moreau-Jean at the velocity level
-INTEGRATORS = ("explicit", "moreau")
-#: Moreau-Jean's weight of the new velocity in the positions' update.  The smooth forces (gravity, the ground's
-#: load) are constant over a step, so theta only shapes the position update: 0.5 is the trapezoidal rule, second
-#: order and free of numerical damping between impacts (the rocking equation conserves energy there); above 0.5
-#: it damps like implicit Euler and is first order.  Siconos' rocking block uses 0.50001 with an LCP solver.
-MOREAU_THETA = 0.5
-#: Moreau-Jean's step when none is given (s): the accuracy of the impacts, not stability, sets it
-MOREAU_DT = 1e-3
-#: and no more than this fraction of the shortest time of the motion (a pulse's duration, a harmonic's period) or
-#: of the scene (1/p of its most agile block, p = sqrt(3 g / (4 R)) the rocking frequency)
-MOREAU_TIME_FRACTION = 0.02
-#: Moreau-Jean's index set takes the points whose gap at the step's end (at the start's velocity) is below this
-#: fraction of the smallest block's size; points are pushed out at the position level beyond MOREAU_SLOP of it
-MOREAU_ACTIVE_GAP = 1e-5
-MOREAU_SLOP = 1e-6
-#: Gauss-Seidel stops when no point's velocity changed by more than this fraction of g h in a sweep, or after
-#: MOREAU_MAX_SWEEPS sweeps.  A step whose last sweep still changed a velocity by more than MOREAU_SOLVER_FAILURE
-#: of g h is far from a solution of the contact problem (a stack's first step, an impact running through a
-#: column): it sweeps on, up to MOREAU_RESCUE_SWEEPS more, and the run stops if that does not bring the change
-#: below it.  The position projection takes MOREAU_PROJECTION_SWEEPS
-MOREAU_SOLVER_TOLERANCE = 1e-6
-MOREAU_MAX_SWEEPS = 50
-MOREAU_SOLVER_FAILURE = 0.1
-MOREAU_RESCUE_SWEEPS = 2000
-MOREAU_PROJECTION_SWEEPS = 4
-#: passes of the direct solve by statuses before Gauss-Seidel (engine/_active_set.py; 0: Gauss-Seidel alone)
-MOREAU_STATUS_PASSES = 8
-#: a step is split where a point meets its face inside it, at most into this many parts, none shorter than
-#: MOREAU_SHORTEST_SUBSTEP of the step
-MOREAU_MAX_SUBSTEPS = 4
-MOREAU_SHORTEST_SUBSTEP = 0.02
-
 
 _PACKAGE = os.path.dirname(os.path.abspath(__file__))
 
@@ -154,40 +129,11 @@ def check_run_arguments(scene, excitation) -> GroundMotion:
     return excitation
 
 
-class RunSettings(NamedTuple):
-    """What the kernels need of a run besides the model: dt (s), output ``stride`` (steps),
-    ``last_step``, ``speed_limit`` (m/s), ``energy_tolerance`` and ``energy_scale`` (J) of the energy
-    balance, ``stop_at_overturn``; for central differences the ``substeps`` each step is taken in while a block
-    is overturned (1: never); for Moreau-Jean ``theta``, the index set's ``active_gap`` and the projection's
-    ``slop`` (fractions of the smallest block's size), the solver's ``solver_tolerance`` and ``solver_failure``
-    (fractions of g dt), ``max_sweeps``, ``rescue_sweeps`` and ``projection_sweeps``, and the direct solve's
-    ``status_passes``."""
-
-    dt: float
-    stride: int
-    last_step: int
-    speed_limit: float
-    energy_tolerance: float
-    energy_scale: float
-    stop_at_overturn: bool
-    substeps: int = 1
-    theta: float = MOREAU_THETA
-    active_gap: float = MOREAU_ACTIVE_GAP
-    slop: float = MOREAU_SLOP
-    solver_tolerance: float = MOREAU_SOLVER_TOLERANCE
-    max_sweeps: int = MOREAU_MAX_SWEEPS
-    solver_failure: float = MOREAU_SOLVER_FAILURE
-    rescue_sweeps: int = MOREAU_RESCUE_SWEEPS
-    projection_sweeps: int = MOREAU_PROJECTION_SWEEPS
-    status_passes: int = MOREAU_STATUS_PASSES
-    max_substeps: int = MOREAU_MAX_SUBSTEPS
-    shortest_substep: float = MOREAU_SHORTEST_SUBSTEP
-
-
 class SceneSetUp(NamedTuple):
     """What a run's set-up derives from its scene and step options alone (:func:`set_up_scene`), shared by runs of
     one scene under different motions (a batch's members): the ``scene`` and the ``options`` it was made with, the
-    ``stacks``, the compiled ``model`` and the ``columns``; for central differences the stability ``limit`` and
+    ``stacks``, the compiled ``model``, its ``arrays`` (what the driver reads of it) and the ``columns``; for central
+    differences the stability ``limit`` and
     the shortest ``impact`` (s), the step ``dt`` (s) and the ``substeps`` a step past alpha is taken in (Moreau-Jean:
     inf, NaN, None, since its step depends on the motion, and 1)."""
 
@@ -195,6 +141,7 @@ class SceneSetUp(NamedTuple):
     options: dict
     stacks: list
     model: Model
+    arrays: ModelArrays
     columns: tuple
     limit: float
     impact: float
@@ -220,7 +167,8 @@ def set_up_scene(scene, dt: float | None = None, *, safety: float = DEFAULT_SAFE
     stacks = find_stacks(scene)
     model = compile_model(scene, stacks)
     if integrator == "moreau":
-        return SceneSetUp(scene, options, stacks, model, columns(scene, stacks), math.inf, math.nan, None, 1)
+        return SceneSetUp(scene, options, stacks, model, model_arrays(model), columns(scene, stacks), math.inf,
+                          math.nan, None, 1)
     limit = stability.stability_limit(model)
     impact = stability.impact_duration(model)
     dt = _time_step(model, dt, limit, impact, safety, steps_per_impact, step_fraction, enforce_stability_limit)
@@ -232,7 +180,8 @@ def set_up_scene(scene, dt: float | None = None, *, safety: float = DEFAULT_SAFE
         collapse = COLLAPSE_STEP_FACTOR * _time_step(model, None, stability.stability_limit(model, toppled=True),
                                                      impact, safety, steps_per_impact, step_fraction, True)
         substeps = max(1, math.ceil(dt / collapse - 1e-9))
-    return SceneSetUp(scene, options, stacks, model, columns(scene, stacks), limit, impact, dt, substeps)
+    return SceneSetUp(scene, options, stacks, model, model_arrays(model), columns(scene, stacks), limit, impact, dt,
+                      substeps)
 
 
 class Simulation:
@@ -284,39 +233,33 @@ class Simulation:
         n_out = n_steps // stride + 2
         _check_run_size(self.model, scene.block_names, duration, dt, auto_dt, n_steps, n_out, self.limit,
                         self.impact)
+        self.arrays: ModelArrays = scene_set_up.arrays
         self.state: State = initial_state(self.model)
         b = self.model.bodies
         if ground_motion == "moving_base":  # the blocks start at rest relative to the ground
             at = 0.0 if integrator == "moreau" else -0.5 * dt
             self.state.vel[1:, :2] = np.array(excitation.velocity(np.array([at])))[:, 0]
         # the energy balance starts from the blocks' energy as they start, moving with the ground
-        self.state.tracking.ledger[0] = mechanical_energy(self.state.pos, self.state.vel, b.mass, b.inv_inertia,
-                                                           self.model.gravity)
-        self.settings = RunSettings(
-            dt=float(dt), stride=int(stride), last_step=int(n_steps),
-            speed_limit=_speed_limit(self.model, excitation, duration),
-            energy_tolerance=ENERGY_TOLERANCE, energy_scale=float(self.model.gravity * np.sum(b.radius * b.mass)),
-            stop_at_overturn=bool(stop_at_overturn), substeps=int(substeps), theta=float(theta))
-        if integrator == "moreau":
-            self.kernel = _moreau.advance
-        else:
-            self.kernel = _step.advance_parallel if parallel and numba.get_num_threads() > 1 else _step.advance
-        self.out_pos = np.full((n_out, len(b.mass), 3), np.nan)
-        self.out_slip = np.full((n_out, len(self.model.interface_keys)), np.nan)
-        self.out_step = np.zeros(n_out, np.int64)
+        self.state.ledger[0] = mechanical_energy(self.state.pos, self.state.vel, b.mass, b.inv_inertia,
+                                                 self.model.gravity)
+        self.settings: Settings = run_settings(self.model, INTEGRATORS.index(integrator), dt, n_steps, stride,
+                                               _speed_limit(self.model, excitation, duration), stop_at_overturn,
+                                               ground_motion == "inertial", substeps, theta)
+        self.threaded = bool(parallel and integrator == "explicit" and numba.get_num_threads() > 1)
+        self.outputs: Outputs = empty_outputs(n_out, len(b.mass), len(self.model.interface_keys))
+        self.scratch = None
         self.status, self.stopped_by = None, None
         self.compile_time = _ensure_compiled(self)
         self.run_time = 0.0
 
     def __getstate__(self) -> dict:
-        # the kernel by its name: a compiled dispatcher does not travel between processes
-        state = dict(self.__dict__)
-        state["kernel"] = "advance_parallel" if self.kernel is _step.advance_parallel else "advance"
-        return state
+        # the scratch is made again where the run goes on
+        return {**self.__dict__, "scratch": None}
 
-    def __setstate__(self, state: dict) -> None:
-        state["kernel"] = getattr(_moreau if state["integrator"] == "moreau" else _step, state["kernel"])
-        self.__dict__.update(state)
+    @property
+    def kernel(self):
+        """The compiled driver this run steps by."""
+        return _driver.drive_threaded if self.threaded else _driver.drive_serial
 
     @property
     def dt(self) -> float:
@@ -331,22 +274,31 @@ class Simulation:
         can go on.  An unstable run ends with ``status`` set and nothing raised (see :meth:`result`)."""
         if self.status is not None:
             return False
-        s = self.state
-        steps = self.settings.last_step - s.step if steps is None else min(steps, self.settings.last_step - s.step)
-        ground = self._ground(s.step, steps)
+        steps = self.settings.last_step - self.step if steps is None else min(steps, self.settings.last_step - self.step)
+        samples = self._samples(self.step, steps)
         started = time.perf_counter()
         with _interrupt_after_the_kernel() as interrupted:
-            status, i, j, s.contacts, s.retired = self.kernel(
-                self.model, self.settings, s.pos, s.vel, s.contacts, s.retired, s.tracking,
-                ground, steps, self.out_pos, self.out_slip, self.out_step)
+            while True:
+                kept = self.state.copy()
+                status, i, j = self.kernel(self.arrays, self.settings, self.state, self.outputs, self._scratch(),
+                                           samples, steps)
+                if status != STATUS_FULL:
+                    break
+                self.state, self.scratch = kept.grown(i), None  # the chunk again, with the store that filled doubled
         self.run_time += time.perf_counter() - started
-        if status != _step.STATUS_OK:
+        if status != STATUS_OK:
             self.status, self.stopped_by = status, (i, j)
-        elif s.step >= self.settings.last_step:
-            self.status = _step.STATUS_OK
+        elif self.step >= self.settings.last_step:
+            self.status = STATUS_OK
         if interrupted:
             raise KeyboardInterrupt  # after the chunk: the state is whole and the run can go on
         return self.status is None
+
+    def _scratch(self):
+        if self.scratch is None:
+            self.scratch = make_scratch(self.arrays, self.state.capacities[0], (self.settings.integrator,),
+                                        (self.settings.contact_law,))
+        return self.scratch
 
     def run(self, progress=None) -> "Simulation":
         """Advance to the end in chunks of about ``CHUNK_SECONDS`` of wall time; ``progress`` is called
@@ -362,11 +314,10 @@ class Simulation:
             took = time.perf_counter() - started
             chunk = int(min(max(chunk * CHUNK_SECONDS / max(took, 1e-6), 100), 50 * chunk))
 
-    def _ground(self, first: int, steps: int) -> np.ndarray:
-        """(6, steps + 1): the ground's input to this run's steps ``first`` .. ``first + steps``
-        (:func:`dem_core.engine._ground.ground_input`)."""
-        return ground_input(self.excitation, self.dt, self.model.bodies.centroid0[0], self.inertial,
-                            self.ground_lead, first, steps)
+    def _samples(self, first: int, steps: int) -> np.ndarray:
+        """(4, steps + 2): the ground motion's samples for this run's steps ``first`` .. ``first + steps``
+        (:func:`dem_core.engine._ground.ground_samples`)."""
+        return ground_samples(self.excitation, self.dt, self.inertial, self.ground_lead, first, steps)
 
     @property
     def inertial(self) -> bool:
@@ -381,10 +332,11 @@ class Simulation:
     def result(self) -> Result:
         """The run so far as a :class:`Result`; raises :class:`SimulationUnstable`, carrying that
         result, if the run lost stability."""
-        scene, dt, tracking = self.scene, self.dt, self.state.tracking
-        written = int(tracking.counters[OUTPUTS])
-        out_t = self.out_step[:written] * dt
-        out = self.out_pos[:written]
+        scene, dt, state = self.scene, self.dt, self.state
+        counters = state.counters
+        written = int(counters[OUTPUTS])
+        out_t = self.outputs.step[:written] * dt
+        out = self.outputs.pos[:written]
         x, y, theta = out[:, 1:, 0], out[:, 1:, 1], out[:, 1:, 2]
         if self.ground_motion == "inertial":  # the kernel moved the blocks relative to the ground: add it back
             ground_x, ground_y = self.excitation.displacement(out_t)
@@ -403,8 +355,8 @@ class Simulation:
             "impact_duration_s": self.impact,
             "dt_over_limit": dt / self.limit,
             "steps": step,
-            "narrow_phase_per_step": int(tracking.counters[NARROW]) / max(step, 1),
-            "pair_lists": int(tracking.counters[REBUILDS]),
+            "narrow_phase_per_step": int(counters[NARROW]) / max(step, 1),
+            "pair_lists": int(counters[REBUILDS]),
             "ground_motion": self.ground_motion,
             "excitation": self.excitation.name,
             "compile_time_s": self.compile_time,
@@ -414,37 +366,37 @@ class Simulation:
             for key in ("kn", "stability_limit_s", "impact_duration_s", "dt_over_limit"):
                 info.pop(key)
             info["theta"] = self.settings.theta
-            info["sweeps_per_step"] = int(tracking.counters[SOLVER_SWEEPS]) / max(step, 1)
-            info["unconverged_steps"] = int(tracking.counters[UNCONVERGED])
-            info["status_passes_per_step"] = int(tracking.counters[STATUS_PASSES]) / max(step, 1)
-            info["status_fallbacks"] = int(tracking.counters[STATUS_FALLBACKS])
+            info["sweeps_per_step"] = int(counters[SOLVER_SWEEPS]) / max(step, 1)
+            info["unconverged_steps"] = int(counters[UNCONVERGED])
+            info["status_passes_per_step"] = int(counters[STATUS_PASSES]) / max(step, 1)
+            info["status_fallbacks"] = int(counters[STATUS_FALLBACKS])
         else:
             info["collapse_substeps"] = self.settings.substeps
-            info["substepped_steps"] = int(tracking.counters[SUBSTEPPED])
+            info["substepped_steps"] = int(counters[SUBSTEPPED])
         if dt > self.limit:
             info["beyond_stability_limit"] = (f"dt = {dt:.4g} s is {dt / self.limit:.2f} times the stability limit "
                                               f"{self.limit:.4g} s: the scheme is unstable there and the result may be "
                                               f"wrong without any check noticing")
-        stack_step = tracking.stack_step
+        stack_step = state.stack_step
         tipped = [k for k in range(len(self.stacks)) if 0 <= stack_step[k] <= step]
         if tipped:
             info["tipped_stacks"] = {_stack_label(scene, self.stacks[k]): float(stack_step[k] * dt) for k in tipped}
         i = self.stopped_by[0] if self.stopped_by else 0
-        if self.status == _step.STATUS_OVERTURNED:
+        if self.status == STATUS_OVERTURNED:
             whole = [k for k in tipped if stack_step[k] == step and self.stacks[k].blocks[0] == i - 1]
             what = (f"the stack {_stack_label(scene, self.stacks[whole[0]])} tipped past its base"
                     if whole else f"block '{bodies[i].name}' overturned")
             info["stopped"] = f"{what} at t = {step * dt:.6g} s"
-        overturn_step = tracking.overturn_step[1:]
+        overturn_step = state.overturn_step[1:]
         over_t = np.where(overturn_step >= 0, overturn_step * dt, np.nan)
         pairs = interface_pairs(self.model)
         result = Result(out_t, x, y, theta, ground_x, ground_y, tuple(scene.block_names),
-                        tracking.peak_theta[1:].copy(), over_t, self._interface_slip(), dt, info,
+                        state.peak_theta[1:].copy(), over_t, self._interface_slip(), dt, info,
                         interfaces=tuple((bodies[a].name, bodies[b].name) for a, b in pairs),
-                        slip_history=self.out_slip[:written].copy(),
+                        slip_history=self.outputs.slip[:written].copy(),
                         critical_angle=self.model.bodies.critical_angle[1:].copy(),
                         columns=self.columns)
-        if self.status not in (None, _step.STATUS_OK, _step.STATUS_OVERTURNED):
+        if self.status not in (None, STATUS_OK, STATUS_OVERTURNED):
             raise SimulationUnstable(self._stop_message(out_t), result)
         return result
 
@@ -454,13 +406,13 @@ class Simulation:
         bodies = self.scene.bodies
         n = len(bodies)
         total = {}
-        for (a, b), s in zip(interface_pairs(self.model), self.state.tracking.interface_slip):
+        state = self.state
+        for (a, b), s in zip(interface_pairs(self.model), state.interface_slip):
             total[a * n + b] = float(s)
-        contacts, retired = self.state.contacts, self.state.retired
-        listed = contacts.count[0]
-        for key, s in zip(contacts.ids[:listed, PAIR_KEY], contacts.forces[:listed, SLIP]):
+        listed, retired = state.counters[LISTED], state.counters[RETIRED]
+        for key, s in zip(state.pair_ids[:listed, PAIR_KEY], state.pair_slip[:listed]):
             total[int(key)] = total.get(int(key), 0.0) + float(s)
-        for key, s in zip(retired.key[:retired.count[0]], retired.slip[:retired.count[0]]):
+        for key, s in zip(state.retired_key[:retired], state.retired_slip[:retired]):
             total[int(key)] = total.get(int(key), 0.0) + float(s)
         return {(bodies[k // n].name, bodies[k % n].name): s for k, s in sorted(total.items()) if s > 0}
 
@@ -468,18 +420,18 @@ class Simulation:
         scene, status, dt, step = self.scene, self.status, self.dt, self.step
         bodies = scene.bodies
         i, j = self.stopped_by
-        if status == _step.STATUS_NONFINITE:
+        if status == STATUS_NONFINITE:
             what = f"the state of block '{bodies[i].name}' became non-finite"
-        elif status == _step.STATUS_RUNAWAY:
+        elif status == STATUS_RUNAWAY:
             what = (f"block '{bodies[i].name}' moved faster than {self.settings.speed_limit:.3g} m/s relative to "
                     f"the ground, {SPEED_LIMIT_FACTOR:g} times the fastest speed its fall and the ground motion can "
                     f"give")
-        elif status == _step.STATUS_FELL_OFF:
+        elif status == STATUS_FELL_OFF:
             what = f"block '{bodies[i].name}' fell off the edge of the base; make the base wider (base_width)"
-        elif status == _step.STATUS_ENERGY:
+        elif status == STATUS_ENERGY:
             what = (f"the blocks gained energy that neither gravity nor the ground supplied "
                     f"(more than {ENERGY_TOLERANCE:.0%} of the energy scale)")
-        elif status == _moreau.STATUS_UNCONVERGED:
+        elif status == STATUS_UNCONVERGED:
             what = (f"the contact solve did not converge at block '{bodies[i].name}': after "
                     f"{self.settings.max_sweeps + self.settings.rescue_sweeps} Gauss-Seidel sweeps a velocity "
                     f"still changed by more than {self.settings.solver_failure:g} g dt a sweep")
@@ -491,7 +443,7 @@ class Simulation:
                     f"{self.model.law.max_penetration:.0%} of the smaller block's area")
         if _extreme(self.excitation):
             advice = f"{_extreme(self.excitation)}: check its units and scale before the time step"
-        elif status == _step.STATUS_FELL_OFF:
+        elif status == STATUS_FELL_OFF:
             advice = "nothing after this time is physical"
         elif self.integrator == "moreau":
             advice = f"reduce dt below {dt:.4g} s"
@@ -653,6 +605,27 @@ def _speed_limit(model, excitation, duration) -> float:
     return float(SPEED_LIMIT_FACTOR * (fall + ground + 1e-3))
 
 
+def run_settings(model: Model, integrator: int, dt: float, last_step: int, stride: int, speed_limit: float,
+                 stop_at_overturn: bool, inertial: bool, substeps: int, theta: float) -> Settings:
+    """The :class:`~dem_core.engine.settings.Settings` of a run of ``model`` under ``integrator`` (its code) with
+    step ``dt`` (s), ``last_step``, output ``stride`` (steps), the ``speed_limit`` of :func:`_speed_limit` (m/s),
+    the explicit integrator's ``substeps`` past an overturn and Moreau-Jean's ``theta``; the base's centre at the
+    start, the motion at unit scale and the tolerances of this module."""
+    law, bodies, gravity = model.law, model.bodies, model.gravity
+    smallest = float(bodies.size[1:].min())
+    return make_settings(
+        dt=dt, speed_limit=speed_limit, energy_tolerance=ENERGY_TOLERANCE,
+        energy_scale=float(gravity * np.sum(bodies.radius * bodies.mass)), gravity=gravity, floor=model.floor,
+        half_skin=0.5 * law.skin, scale=1.0, start_x=bodies.centroid0[0, 0], start_y=bodies.centroid0[0, 1],
+        theta=theta, active_gap=MOREAU_ACTIVE_GAP * smallest, slop=MOREAU_SLOP * smallest,
+        solver_tolerance=MOREAU_SOLVER_TOLERANCE * gravity * dt, solver_failure=MOREAU_SOLVER_FAILURE,
+        shortest_substep=MOREAU_SHORTEST_SUBSTEP, restitution=law.restitution, integrator=integrator,
+        contact_law=law.law, stride=stride, last_step=last_step, stop_at_overturn=stop_at_overturn,
+        inertial=inertial, substeps=substeps, max_sweeps=MOREAU_MAX_SWEEPS, rescue_sweeps=MOREAU_RESCUE_SWEEPS,
+        projection_sweeps=MOREAU_PROJECTION_SWEEPS, status_passes=MOREAU_STATUS_PASSES,
+        max_substeps=MOREAU_MAX_SUBSTEPS)
+
+
 #: a run of more steps than this is refused; above WARN_STEPS it is announced with its expected wall time
 MAX_STEPS = 1_000_000_000
 WARN_STEPS = 10_000_000
@@ -721,8 +694,7 @@ def _physical_memory() -> float:
 def _ensure_compiled(run: Simulation) -> float:
     """Compile the kernel (or load it from numba's cache) with a zero-step call; returns the seconds it took."""
     started = time.perf_counter()
-    s = run.state
-    run.kernel(run.model, run.settings, s.pos.copy(), s.vel.copy(), s.contacts, s.retired,
-                  s.tracking._replace(counters=s.tracking.counters.copy()), run._ground(0, 0), 0,
-                  np.empty_like(run.out_pos[:1]), np.empty_like(run.out_slip[:1]), np.zeros(1, np.int64))
+    nb, n_if = run.outputs.pos.shape[1], run.outputs.slip.shape[1]
+    run.kernel(run.arrays, run.settings, run.state.copy(), empty_outputs(1, nb, n_if), run._scratch(),
+               run._samples(0, 0), 0)
     return time.perf_counter() - started

@@ -75,7 +75,7 @@ def test_a_vanishing_pivot_is_refused():
 def column_run(drums, passes, sweeps, duration=3.0):
     run = dem_core.Simulation(scenes.column(drums), excitation.record("el_centro_1940", pga=2.5), duration,
                               output_dt=0.01, integrator="moreau")
-    run.settings = run.settings._replace(status_passes=passes, max_sweeps=sweeps)
+    run.settings = run.settings.replace(status_passes=passes, max_sweeps=sweeps)
     run.advance()
     return run.result()
 

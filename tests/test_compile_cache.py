@@ -9,9 +9,9 @@ pytestmark = pytest.mark.slow  # the whole module
 
 PROBE = """
 import dem_core
-from dem_core.engine import _step
+from dem_core.engine import _driver
 dem_core.simulate(dem_core.scenes.column(2), duration=0.01)
-stats = _step.advance.stats
+stats = _driver.drive_serial.stats
 print(sum(stats.cache_hits.values()), sum(stats.cache_misses.values()))
 """
 

@@ -102,7 +102,7 @@ def test_a_solve_that_cannot_converge_stops_the_run_and_says_where():
     """Gauss-Seidel alone (no direct solve by statuses), cut to three sweeps, cannot carry a column's weight in its
     first step: the run stops there with an error naming a drum."""
     run = dem_core.Simulation(scenes.column(8), None, 0.5, integrator="moreau")
-    run.settings = run.settings._replace(max_sweeps=2, rescue_sweeps=1, status_passes=0)
+    run.settings = run.settings.replace(max_sweeps=2, rescue_sweeps=1, status_passes=0)
     run.advance()
     with pytest.raises(dem_core.SimulationUnstable, match=r"t = 0 s .*contact solve did not converge at block 'drum"):
         run.result()

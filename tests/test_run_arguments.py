@@ -53,7 +53,7 @@ def test_a_motion_beyond_fifty_g_is_announced_and_blamed_when_the_run_fails(two_
     motion = excitation.harmonic(pga=1e4, frequency=5.0)
     with pytest.warns(RuntimeWarning, match=r"ground motion 'harmonic.*' peaks at 1e\+04 m/s\^2 .* beyond the 50 g"):
         run = dem_core.Simulation(two_drums, motion, duration=0.05)
-    run.status, run.stopped_by = dem_core.engine._step.STATUS_ENERGY, (0, 0)
+    run.status, run.stopped_by = dem_core.engine.settings.STATUS_ENERGY, (0, 0)
     message = run._stop_message(np.zeros(1))
     assert "check its units and scale before the time step" in message and "reduce dt" not in message
 

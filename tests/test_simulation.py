@@ -167,12 +167,12 @@ def test_threads_and_the_broad_phase_margin_do_not_change_the_trajectory(monkeyp
 
 THREADED_KERNEL_CHECK = """
 from dem_core import excitation, scenes
-from dem_core.engine import _step
+from dem_core.engine import _driver
 from dem_core.simulation import Simulation
 scene = scenes.colonnade(2, 2, epistyle="a")
 for parallel in {order}:
     Simulation(scene, excitation.harmonic(pga=1.0, frequency=2.0), duration=0.01, parallel=parallel).advance(5)
-threaded = _step.advance_parallel
+threaded = _driver.drive_threaded
 info = threaded.get_metadata(threaded.signatures[0])["parfor_diagnostics"]
 print(info.count_parfors())
 """

@@ -37,39 +37,25 @@ CONE_SLACK = 1e-9
 OPEN, STICK, SLIDE_UP, SLIDE_DOWN = 0, 1, 2, 3
 
 
-@nb.njit(cache=True)
-def pair_order(ids, n_pairs, inv_mass):
-    """The candidate pairs in breadth-first order over the graph whose edges join pairs sharing a movable block,
+@nb.njit(cache=True, inline="always")
+def pair_order(ids, listed, inv_mass, start, entries, degree, reached, order):
+    """The ``listed`` pairs in breadth-first order over the graph whose edges join pairs sharing a movable block,
     each search starting from the first pair not yet reached and taking a pair's neighbours fewest-first
-    (Cuthill and McKee 1969).  ids (n_pairs, >= 2) the pairs' blocks; returns (n_pairs,) pair indices."""
-    n_blocks = inv_mass.shape[0]
-    start = np.zeros(n_blocks + 1, np.int64)
-    for p in range(n_pairs):
-        for k in range(2):
-            start[ids[p, k] + 1] += 1
-    for b in range(n_blocks):
-        start[b + 1] += start[b]
-    touching = np.empty(start[n_blocks], np.int64)
-    filled = start[:n_blocks].copy()
-    for p in range(n_pairs):
-        for k in range(2):
-            b = ids[p, k]
-            touching[filled[b]] = p
-            filled[b] += 1
-    degree = np.zeros(n_pairs, np.int64)
-    for p in range(n_pairs):
+    (Cuthill and McKee 1969), into ``order`` (C,).  ids (C, >= 2) the pairs' blocks; start, entries their
+    incidence (:func:`~._broadphase.incidence`); degree, reached (C,) int64 scratch."""
+    for p in range(listed):
+        degree[p] = 0
+        reached[p] = 0
         for k in range(2):
             b = ids[p, k]
             if inv_mass[b] > 0.0:
                 degree[p] += start[b + 1] - start[b] - 1
-    order = np.empty(n_pairs, np.int64)
-    reached = np.zeros(n_pairs, np.bool_)
     found = 0
     head = 0
-    for seed in range(n_pairs):
-        if reached[seed]:
+    for seed in range(listed):
+        if reached[seed] == 1:
             continue
-        reached[seed] = True
+        reached[seed] = 1
         order[found] = seed
         found += 1
         while head < found:
@@ -81,9 +67,9 @@ def pair_order(ids, n_pairs, inv_mass):
                 if inv_mass[b] == 0.0:
                     continue
                 for e in range(start[b], start[b + 1]):
-                    q = touching[e]
-                    if not reached[q]:
-                        reached[q] = True
+                    q = entries[e] >> 1
+                    if reached[q] == 0:
+                        reached[q] = 1
                         order[found] = q
                         found += 1
             for a in range(first_new + 1, found):  # fewest neighbours first: insertion sort of the new ones
@@ -93,7 +79,6 @@ def pair_order(ids, n_pairs, inv_mass):
                     order[b + 1] = order[b]
                     b -= 1
                 order[b + 1] = q
-    return order
 
 
 @nb.njit(cache=True, inline="always")
@@ -290,15 +275,8 @@ def point_velocities(vel, rows, ints, n, velocity):
 
 
 @nb.njit(cache=True, inline="always")
-def workspace(points, blocks):
-    """Scratch for :func:`solve_statuses` for up to ``points`` points among ``blocks`` blocks."""
-    return (np.empty(points, np.int64), np.empty(2 * points), np.empty((2 * points, 6)), np.empty((2 * points, 6)),
-            np.empty((2 * points, 2 * HALF_BAND + 1)), np.empty((2 * points, 2 * HALF_BAND + 1)),
-            np.empty(2 * points), np.empty(blocks, np.int64), np.empty(blocks, np.int64))
-
-
-@nb.njit(cache=True, inline="always")
-def solve_statuses(vel, inv_mass, inv_inertia, rows, ints, n, tolerance, passes, work):
+def solve_statuses(vel, inv_mass, inv_inertia, rows, ints, n, tolerance, passes, status, velocity, jac, resp, delassus,
+                   band, rhs, first, last):
     """Stage 4 of :mod:`._moreau` (Gauss-Seidel follows only where the statuses do not hold): the ``n`` points'
     impulses (their rows' ``PN``, ``PT``, already applied to ``vel``) replaced by the solution of their statuses'
     linear system, the statuses revised (:func:`revise`, ``tolerance`` m/s) and the system solved again, up to
@@ -309,7 +287,6 @@ def solve_statuses(vel, inv_mass, inv_inertia, rows, ints, n, tolerance, passes,
     statuses held, passes taken)``: not held also where the points' band is wider than ``HALF_BAND`` or a pivot
     vanished, with ``vel`` and the rows consistent either way.  Statuses that hold mark the sliding points
     (``ints[:, SLID]``)."""
-    status, velocity, jac, resp, delassus, band, rhs, first, last = work
     if n == 0 or passes == 0:
         return False, 0
     width = half_band(ints, inv_mass, n, first, last)

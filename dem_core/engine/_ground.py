@@ -1,9 +1,9 @@
 """Compiled: the ground's input to each step, from samples of the ground motion's velocity and displacement.
 
-Private module.  A chunk of steps ``first .. first + steps`` of ``dt`` (s) reads the motion through
-:func:`ground_samples` once, and each step's input follows from those samples by :func:`ground_at`, a stage
-that the single run (through :func:`ground_input`) and the batched GPU kernel (one member of a scaled record
-at a time, the record's samples shared) both call, so that the two read a motion by one rule.
+Private module, the driver's ground stage.  A chunk of steps ``first .. first + steps`` of ``dt`` (s) reads the
+motion through :func:`ground_samples` once, and each step's input follows from those samples by :func:`ground_at`
+(on a GPU, each member of a scaled record scales the record's shared samples), into a window of the step and the
+next, from which :func:`place_base` and :func:`place_base_within` place the base.
 
 The load of step k is the ground's mean acceleration over the step's cell, the difference of its exact
 velocity over dt: ``[t_k - dt/2, t_k + dt/2]``, which the velocity update of central differences spans, or
@@ -56,16 +56,20 @@ def ground_at(samples, k, scale, start_x, start_y, dt, inertial, ground, column)
         ground[5, column] = scale * samples[1, k]
 
 
-@nb.njit(cache=True)
-def _fill(samples, scale, start_x, start_y, dt, inertial, ground):
-    for k in range(ground.shape[1]):
-        ground_at(samples, k, scale, start_x, start_y, dt, inertial, ground, k)
+@nb.njit(cache=True, inline="always")
+def place_base(pos, vel, window, column):
+    """The base (body 0) where the ground motion puts it at the step of ``window[:, column]`` (:func:`ground_at`)."""
+    pos[0, 0] = window[2, column]
+    pos[0, 1] = window[3, column]
+    vel[0, 0] = window[4, column]
+    vel[0, 1] = window[5, column]
 
 
-def ground_input(excitation, dt: float, start, inertial: bool, lead: float, first: int, steps: int) -> np.ndarray:
-    """(6, steps + 1): the input of each of steps ``first`` .. ``first + steps`` (:func:`ground_at`), the base's
-    centre starting at ``start`` (2,) m; ``inertial`` and ``lead`` as :func:`ground_samples` takes them."""
-    ground = np.empty((6, steps + 1))
-    _fill(ground_samples(excitation, dt, inertial, lead, first, steps), 1.0, float(start[0]), float(start[1]),
-          float(dt), bool(inertial), ground)
-    return ground
+@nb.njit(cache=True, inline="always")
+def place_base_within(pos, vel, window, fraction):
+    """The base ``fraction`` of the way from the step of ``window[:, 0]`` to the next, ``window[:, 1]``, moving at the
+    velocity of the next one's half step."""
+    pos[0, 0] = window[2, 0] + fraction * (window[2, 1] - window[2, 0])
+    pos[0, 1] = window[3, 0] + fraction * (window[3, 1] - window[3, 0])
+    vel[0, 0] = window[4, 1]
+    vel[0, 1] = window[5, 1]

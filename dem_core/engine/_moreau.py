@@ -34,22 +34,22 @@ explicit kernel (non-finite, runaway, fell off, overturns, energy).
 import math
 
 import numba as nb
-import numpy as np
 
-from ._active_set import pair_order, solve_statuses, workspace
-from ._broadphase import bounding_boxes, candidate_keys, relist
-from ._checks import mark_overturns
+from ._active_set import solve_statuses
+from ._broadphase import forget_pair
+from ._checks import ground_work
 from ._manifold import FACE_BITS, corner_manifold
-from ._step import (STATUS_ENERGY, STATUS_OK, STATUS_OVERTURNED, ENERGY_CHECK_INTERVAL, needs_relist, renamed,
-                    ENGINE_DIGEST, check_bodies, energy_gained, ground_work, output_due, place_base, world_geometry,
-                    write_output)
-from ._points import (FRICTION, GAP, INC, KEY, N_COLUMNS, NX, NY, PAIR, PN, PT, REF, RIX, RIY, RRX, RRY, SLID, SLOT,
-                      TARGET, U0, WNN, WNT, WTT, apply_impulse, delassus, relative_velocity)
-from .state import (IMPULSE_N, MU, NARROW, OUTPUTS, PAIR_I, PAIR_INTERFACE, PAIR_J, POINT_FORCE, POINT_KEY,
-                    REBUILDS, REFERENCE, SLIP, STATUS_FALLBACKS, STATUS_PASSES, STEP, SOLVER_SWEEPS,
+from ._points import (FRICTION, GAP, INC, KEY, NX, NY, PAIR, PN, POSITION_IMPULSE, PT, REF, RIX, RIY, RRX, RRY,
+                      SLID, SLOT, TARGET, U0, WNN, WNT, WTT, apply_impulse, delassus, relative_velocity)
+from ._tally import tally_slip
+from ._world import boxes_apart
+from .model_arrays import INV_INERTIA, INV_MASS, MASS
+from .settings import (ACTIVE_GAP, DT, GRAVITY, HALF_SKIN, MAX_SUBSTEPS, MAX_SWEEPS, POINT_STORE, PROJECTION_SWEEPS,
+                       RESCUE_SWEEPS, RESTITUTION, SHORTEST_SUBSTEP, SLOP, SOLVER_FAILURE, SOLVER_TOLERANCE,
+                       STATUS_FULL, STATUS_OK, STATUS_PASSES, STATUS_UNCONVERGED, THETA)
+from .state import (LISTED, MU, NARROW, PAIR_I, PAIR_J, POINT_KEY, REFERENCE, SOLVER_SWEEPS, STATUS_FALLBACKS,
                     UNCONVERGED)
-
-STATUS_UNCONVERGED = 7
+from .state import STATUS_PASSES as PASSES_DONE
 
 
 @nb.njit(cache=True, inline="always")
@@ -75,9 +75,9 @@ def point_impulse(wnn, wnt, wtt, mu, bn, bt, target):
 
 
 @nb.njit(cache=True, inline="always")
-def collect_points(p, ids, constants, memory, forces, pos, vel, wx, wy, wnx, wny, vstart, inv_mass, inv_inertia,
-                   margin, active_gap, restitution, h, theta, points, keys, rows, ints, n):
-    """Stage 2, one candidate pair ``p``: its corner manifold with the points up to ``margin`` m apart, and into
+def collect_points(p, ids, constants, memory, normal_impulse, tangential_impulse, pos, vel, wx, wy, wnx, wny, vstart,
+                   margin, active_gap, restitution, h, points, keys, rows, ints, n):
+    """Step 1, one listed pair ``p``: its corner manifold with the points up to ``margin`` m apart, and into
     ``rows``/``ints`` from row ``n`` the points of the index set (touching, or closing within ``active_gap`` by the
     step's end at the start's velocity), each with its target and warm start (the last step's impulses under its
     feature key).  Returns the rows filled after it."""
@@ -91,11 +91,10 @@ def collect_points(p, ids, constants, memory, forces, pos, vel, wx, wy, wnx, wny
     old_key1 = memory[p, POINT_KEY + 1]
     memory[p, POINT_KEY] = -1
     memory[p, POINT_KEY + 1] = -1
-    old_impulses = (forces[p, IMPULSE_N], forces[p, IMPULSE_N + 1], forces[p, POINT_FORCE], forces[p, POINT_FORCE + 1])
-    forces[p, IMPULSE_N] = 0.0
-    forces[p, IMPULSE_N + 1] = 0.0
-    forces[p, POINT_FORCE] = 0.0
-    forces[p, POINT_FORCE + 1] = 0.0
+    old_impulses = (normal_impulse[p, 0], normal_impulse[p, 1], tangential_impulse[p, 0], tangential_impulse[p, 1])
+    for q in range(2):
+        normal_impulse[p, q] = 0.0
+        tangential_impulse[p, q] = 0.0
     if count == 0:
         return n
     ref, inc = (j, i) if (code >> FACE_BITS) == 1 else (i, j)
@@ -141,7 +140,7 @@ def collect_points(p, ids, constants, memory, forces, pos, vel, wx, wy, wnx, wny
 
 @nb.njit(cache=True, inline="always")
 def point_blocks(rows, ints, inv_mass, inv_inertia, n):
-    """Stages 4 and 6: each of the ``n`` points' own 2 x 2 Delassus block (1/kg) into its row's WNN, WNT, WTT,
+    """Steps 3 and 5: each of the ``n`` points' own 2 x 2 Delassus block (1/kg) into its row's WNN, WNT, WTT,
     which Gauss-Seidel and the position sweeps use and the direct solve does not."""
     for c in range(n):
         row = rows[c]
@@ -157,27 +156,8 @@ def point_blocks(rows, ints, inv_mass, inv_inertia, n):
 
 
 @nb.njit(cache=True, inline="always")
-def point_buffers(n_pairs, n_bodies):
-    """Per candidate pair its manifold's points (x, y, depth) and feature keys, and for the index set (two points a
-    pair at most) the point rows of :mod:`._points` and the scratch of :func:`._active_set.solve_statuses`."""
-    size = max(n_pairs, 1)
-    return (np.empty((size, 2, 3)), np.empty((size, 2), np.int64), np.empty((2 * size, N_COLUMNS)),
-            np.empty((2 * size, 6), np.int64), workspace(2 * size, n_bodies))
-
-
-@nb.njit(cache=True, inline="always")
-def forget_pair(p, memory, forces):
-    """Stage 2: pair ``p``'s contact memory cleared (its boxes are apart)."""
-    memory[p, :] = -1
-    forces[p, POINT_FORCE] = 0.0
-    forces[p, POINT_FORCE + 1] = 0.0
-    forces[p, IMPULSE_N] = 0.0
-    forces[p, IMPULSE_N + 1] = 0.0
-
-
-@nb.njit(cache=True, inline="always")
 def first_meeting(rows, n, remaining, active_gap, shortest):
-    """Stage 2: how long (s) to step so that no point apart by more than ``active_gap`` meets its face inside the
+    """Step 1: how long (s) to step so that no point apart by more than ``active_gap`` meets its face inside the
     step: the earliest time a point's gap closes at its present approach, if that is within ``remaining`` and no
     shorter than ``shortest``; else ``remaining``.  A step split there has each impact at its start, where
     Newton's law meets the velocity of the instant, and the reactions of the points in contact act until then."""
@@ -194,7 +174,7 @@ def first_meeting(rows, n, remaining, active_gap, shortest):
 
 @nb.njit(cache=True, inline="always")
 def free_velocities(vel, inv_mass, load_x, load_y, base_vx, base_vy, h):
-    """Stage 3: every block's velocity after the smooth impulse of the step (gravity and the ground's inertial
+    """Step 2: every block's velocity after the smooth impulse of the step (gravity and the ground's inertial
     load, per unit mass); the base moving with the ground's velocity over the step."""
     vel[0, 0] = base_vx
     vel[0, 1] = base_vy
@@ -206,7 +186,7 @@ def free_velocities(vel, inv_mass, load_x, load_y, base_vx, base_vy, h):
 
 @nb.njit(cache=True, inline="always")
 def warm_start(vel, inv_mass, inv_inertia, rows, ints, n):
-    """Stage 4: the ``n`` points' warm-start impulses applied to ``vel``."""
+    """Step 3: the ``n`` points' warm-start impulses applied to ``vel``."""
     for c in range(n):
         row = rows[c]
         nx = row[NX]
@@ -217,7 +197,7 @@ def warm_start(vel, inv_mass, inv_inertia, rows, ints, n):
 
 @nb.njit(cache=True, inline="always")
 def solve_points(vel, inv_mass, inv_inertia, rows, ints, n, tolerance, max_sweeps):
-    """Stage 4: projected Gauss-Seidel over the ``n`` points from their present impulses (already in ``vel``).  A
+    """Step 3: projected Gauss-Seidel over the ``n`` points from their present impulses (already in ``vel``).  A
     sweep, forward and backward in turn, solves each point exactly with the others fixed (:func:`point_impulse`);
     the solve ends when no point's velocity moved by more than ``tolerance`` m/s in a sweep.  Returns ``(sweeps,
     largest change in the last sweep (m/s; infinite if ``max_sweeps`` is 0 and there are points), the incident
@@ -262,7 +242,7 @@ def solve_points(vel, inv_mass, inv_inertia, rows, ints, n, tolerance, max_sweep
 
 @nb.njit(cache=True, inline="always")
 def integrate(pos, start_vel, vel, mid, h, theta):
-    """Stage 5: ``q+ = q + h v_theta`` with ``v_theta = (1 - theta) v + theta v+`` (kept in ``mid``) for every
+    """Step 4: ``q+ = q + h v_theta`` with ``v_theta = (1 - theta) v + theta v+`` (kept in ``mid``) for every
     block."""
     for b in range(pos.shape[0]):
         for d in range(3):
@@ -275,7 +255,7 @@ def integrate(pos, start_vel, vel, mid, h, theta):
 
 @nb.njit(cache=True, inline="always")
 def project_positions(pos, mid, inv_mass, inv_inertia, rows, ints, n, h, slop, sweeps, shift, blocks_ready):
-    """Stage 6: the points' gaps after the step (followed to first order along ``h`` times the normal velocity of
+    """Step 5: the points' gaps after the step (followed to first order along ``h`` times the normal velocity of
     ``mid``) brought back to the contact's geometry by Gauss-Seidel sweeps on the positions alone (``shift``
     (nb, 3) scratch): a point that carried an impulse ends on its face (Signorini's complementarity: a point
     that pushes touches), one left deeper than ``slop`` m inside is pushed out.  Velocities do not change, so no
@@ -287,14 +267,16 @@ def project_positions(pos, mid, inv_mass, inv_inertia, rows, ints, n, h, slop, s
         u_n, _ = relative_velocity(mid, ints[c, INC], ints[c, REF], row[RIX], row[RIY], row[RRX], row[RRY], row[NX],
                                    row[NY])
         row[GAP] += h * u_n
-        row[U0] = 0.0  # the point's position impulse
+        row[POSITION_IMPULSE] = 0.0
         if row[GAP] < -slop or (row[PN] > 0.0 and row[GAP] > slop):
             off = True
     if not off:
         return False
     if not blocks_ready:
         point_blocks(rows, ints, inv_mass, inv_inertia, n)
-    shift[:, :] = 0.0
+    for b in range(shift.shape[0]):
+        for d in range(3):
+            shift[b, d] = 0.0
     for _ in range(sweeps):
         for c in range(n):
             row = rows[c]
@@ -303,14 +285,16 @@ def project_positions(pos, mid, inv_mass, inv_inertia, rows, ints, n, h, slop, s
             s_n, _ = relative_velocity(shift, i, r, row[RIX], row[RIY], row[RRX], row[RRY], row[NX], row[NY])
             gap = row[GAP] + s_n
             if row[PN] > 0.0:
-                lam = row[U0] - gap / row[WNN]
+                lam = row[POSITION_IMPULSE] - gap / row[WNN]
+            elif gap < -slop or row[POSITION_IMPULSE] > 0.0:
+                lam = max(row[POSITION_IMPULSE] + (-slop - gap) / row[WNN], 0.0)
             else:
-                lam = max(row[U0] + (-slop - gap) / row[WNN], 0.0) if gap < -slop or row[U0] > 0.0 else row[U0]
-            d = lam - row[U0]
+                lam = row[POSITION_IMPULSE]
+            d = lam - row[POSITION_IMPULSE]
             if d != 0.0:
                 apply_impulse(shift, inv_mass, inv_inertia, i, r, row[RIX], row[RIY], row[RRX], row[RRY],
                               d * row[NX], d * row[NY])
-                row[U0] = lam
+                row[POSITION_IMPULSE] = lam
     for b in range(1, pos.shape[0]):
         pos[b, 0] += shift[b, 0]
         pos[b, 1] += shift[b, 1]
@@ -319,8 +303,9 @@ def project_positions(pos, mid, inv_mass, inv_inertia, rows, ints, n, h, slop, s
 
 
 @nb.njit(cache=True, inline="always")
-def keep_impulses(rows, ints, n, forces, interface_slip, ids, base_impulse, vel, h):
-    """Stage 7: each point's impulses into its pair's contact memory (the next step's warm start), the slip of the
+def keep_impulses(rows, ints, n, normal_impulse, tangential_impulse, pair_slip, interface_slip, ids, base_impulse, vel,
+                  h):
+    """Step 6: each point's impulses into its pair's contact memory (the next step's warm start), the slip of the
     points that slid (|u_t+| h, the largest of a pair's) into the pair's or its interface's tally, and the total
     impulse on the base into ``base_impulse`` (2,)."""
     base_impulse[0] = 0.0
@@ -332,12 +317,12 @@ def keep_impulses(rows, ints, n, forces, interface_slip, ids, base_impulse, vel,
         p = ints[c, PAIR]
         if p != last:
             if last >= 0:
-                _tally_slip(last, ids, forces, interface_slip, slipped)
+                tally_slip(last, ids, pair_slip, interface_slip, slipped)
             last = p
             slipped = 0.0
         q = ints[c, SLOT]
-        forces[p, IMPULSE_N + q] = row[PN]
-        forces[p, POINT_FORCE + q] = row[PT]
+        normal_impulse[p, q] = row[PN]
+        tangential_impulse[p, q] = row[PT]
         px = row[PN] * row[NX] - row[PT] * row[NY]
         py = row[PN] * row[NY] + row[PT] * row[NX]
         if ints[c, INC] == 0:
@@ -351,152 +336,77 @@ def keep_impulses(rows, ints, n, forces, interface_slip, ids, base_impulse, vel,
                                        row[NX], row[NY])
             slipped = max(slipped, abs(u_t) * h)
     if last >= 0:
-        _tally_slip(last, ids, forces, interface_slip, slipped)
+        tally_slip(last, ids, pair_slip, interface_slip, slipped)
+
+
 
 
 @nb.njit(cache=True, inline="always")
-def _tally_slip(p, ids, forces, interface_slip, amount):
-    if amount > 0.0:
-        k = ids[p, PAIR_INTERFACE]
-        if k >= 0:
-            interface_slip[k] += amount
-        else:
-            forces[p, SLIP] += amount
-
-
-def _advance(model, run, pos, vel, contacts, retired, tracking, ground, n_steps, out_pos, out_slip, out_step):
-    """Take up to ``n_steps`` Moreau-Jean steps from the state, in place: the arguments and the return of
-    :func:`dem_core.engine._step.advance`, with ``vel`` the velocities at the steps (not half a step before) and
-    ``ground`` rows 0-1 the ground's mean inertial load over each step ``[t_k, t_k+1]``; the base moves over step
-    k with the velocity of column ``k + 1``.  ``run.theta`` weights the new velocity in the positions' update.
-    Per step the stages of the module docstring, in order."""
-    bodies = model.bodies
-    law = model.law
-    local_x, local_y, normal_x, normal_y = bodies.local_x, bodies.local_y, bodies.normal_x, bodies.normal_y
-    vstart, mass, inv_mass, inv_inertia = bodies.vstart, bodies.mass, bodies.inv_mass, bodies.inv_inertia
-    radius = bodies.radius
-    critical_angle, y_start, drop_limit = bodies.critical_angle, bodies.y_start, bodies.drop_limit
-    stacks = model.stacks
-    stack_id, bottom, stack_mass, foot = stacks.stack_id, stacks.bottom, stacks.mass, stacks.foot
-    overturn_step, stack_step = tracking.overturn_step, tracking.stack_step
-    counters, ledger, interface_slip = tracking.counters, tracking.ledger, tracking.interface_slip
-    peak_theta, built_at = tracking.peak_theta, tracking.built_at
-    nb_ = pos.shape[0]
-    nv = local_x.shape[0]
-    wx = np.empty(nv)
-    wy = np.empty(nv)
-    wnx = np.empty(nv)
-    wny = np.empty(nv)
-    boxes = np.empty((4, nb_))
-    lo_x, hi_x, lo_y, hi_y = boxes[0], boxes[1], boxes[2], boxes[3]
-    start_vel = np.empty((nb_, 3))
-    mid = np.empty((nb_, 3))
-    shift = np.empty((nb_, 3))
-    reaction = np.zeros((nb_, 3))
-    base_impulse = np.zeros(2)
-    stack_moment = np.empty(bottom.shape[0])
-    h = run.dt
-    theta = run.theta
-    gravity = model.gravity
-    half_skin = 0.5 * law.skin
-    smallest = bodies.size[1:].min()
-    active_gap = run.active_gap * smallest
-    slop = run.slop * smallest
-    tolerance = run.solver_tolerance * gravity * h
-    restitution = law.restitution
-    ids, constants, memory, forces = contacts.ids, contacts.constants, contacts.memory, contacts.forces
-    n_pairs = contacts.count[0]
-    points, keys, rows, ints, work = point_buffers(n_pairs, nb_)
-    order = pair_order(ids, n_pairs, inv_mass)
-
-    for k in range(n_steps + 1):
-        place_base(pos, vel, ground, k)
-        step = counters[STEP]
-        if output_due(step, run.stride, run.last_step, counters, out_step):
-            write_output(pos, interface_slip, counters, out_pos, out_slip, out_step)
-        if k == n_steps or step >= run.last_step:
-            break
-
-        remaining = h
-        for sub in range(run.max_substeps):
-            world_geometry(pos, local_x, local_y, normal_x, normal_y, vstart, wx, wy, wnx, wny)
-            bounding_boxes(wx, wy, vstart, lo_x, hi_x, lo_y, hi_y)
-            if needs_relist(pos, radius, built_at, half_skin):
-                candidates = candidate_keys(lo_x, hi_x, lo_y, hi_y, half_skin)
-                contacts, retired = relist(bodies, law, model.interface_keys, contacts, retired, candidates)
-                ids, constants, memory, forces = contacts.ids, contacts.constants, contacts.memory, contacts.forces
-                n_pairs = contacts.count[0]
-                points, keys, rows, ints, work = point_buffers(n_pairs, nb_)
-                order = pair_order(ids, n_pairs, inv_mass)
-                built_at[:, :] = pos
-                counters[REBUILDS] += 1
-            n = 0
-            for e in range(n_pairs):
-                p = order[e]
-                i = ids[p, PAIR_I]
-                j = ids[p, PAIR_J]
-                if (hi_x[i] + half_skin < lo_x[j] or hi_x[j] + half_skin < lo_x[i] or hi_y[i] + half_skin < lo_y[j]
-                        or hi_y[j] + half_skin < lo_y[i]):
-                    forget_pair(p, memory, forces)
-                    continue
-                n = collect_points(p, ids, constants, memory, forces, pos, vel, wx, wy, wnx, wny, vstart, inv_mass,
-                                   inv_inertia, half_skin, active_gap, restitution, remaining, theta, points, keys,
-                                   rows, ints, n)
-            counters[NARROW] += n
-            tau = remaining
-            if sub + 1 < run.max_substeps:
-                tau = first_meeting(rows, n, remaining, active_gap, run.shortest_substep * h)
-            start_vel[:, :] = vel
-            load_x = ground[0, k]
-            load_y = ground[1, k]
-            free_velocities(vel, inv_mass, load_x, load_y - gravity, ground[4, k + 1], ground[5, k + 1], tau)
-            warm_start(vel, inv_mass, inv_inertia, rows, ints, n)
-            held, passes = solve_statuses(vel, inv_mass, inv_inertia, rows, ints, n, tolerance * tau / h,
-                                          run.status_passes, work)
-            counters[STATUS_PASSES] += passes
-            counters[STATUS_FALLBACKS] += n > 0 and run.status_passes > 0 and not held
-            sweeps, change, worst = 0, 0.0, 0
-            if not held and n > 0:
-                point_blocks(rows, ints, inv_mass, inv_inertia, n)
-                sweeps, change, worst = solve_points(vel, inv_mass, inv_inertia, rows, ints, n, tolerance * tau / h,
-                                                     run.max_sweeps)
-            if change > tolerance * tau / h:
-                counters[UNCONVERGED] += 1
-                failure = run.solver_failure * gravity * tau
-                if change > failure:  # far from a solution: sweep on, and stop the run if that does not get there
-                    more, change, worst = solve_points(vel, inv_mass, inv_inertia, rows, ints, n, failure,
-                                                       run.rescue_sweeps)
-                    sweeps += more
-                    if change > failure:
-                        counters[SOLVER_SWEEPS] += sweeps
-                        return STATUS_UNCONVERGED, worst, worst, contacts, retired
-            counters[SOLVER_SWEEPS] += sweeps
-            integrate(pos, start_vel, vel, mid, tau, theta)
-            project_positions(pos, mid, inv_mass, inv_inertia, rows, ints, n, tau, slop, run.projection_sweeps,
-                              shift, not held)
-            keep_impulses(rows, ints, n, forces, interface_slip, ids, base_impulse, vel, tau)
-            reaction[0, 0] = base_impulse[0] / tau
-            reaction[0, 1] = base_impulse[1] / tau
-            ground_work(reaction, mid, mass, load_x, load_y, tau, ledger)
-            remaining -= tau
-            if remaining <= 0.0:
-                break
-        counters[STEP] = step + 1
-
-        status, b = check_bodies(pos, vel, radius, model.floor, run.speed_limit, peak_theta)
-        if status != STATUS_OK:
-            return status, b, b, contacts, retired
-        toppled = mark_overturns(pos, critical_angle, y_start, drop_limit, mass, stack_id, bottom, stack_mass, foot,
-                                 overturn_step, stack_step, stack_moment, step + 1)
-        if toppled >= 0 and run.stop_at_overturn:
-            place_base(pos, vel, ground, k + 1)
-            write_output(pos, interface_slip, counters, out_pos, out_slip, out_step)
-            return STATUS_OVERTURNED, toppled, toppled, contacts, retired
-        if step % ENERGY_CHECK_INTERVAL == 0 and energy_gained(pos, vel, mass, inv_inertia, gravity, ledger,
-                                                               run.energy_tolerance, run.energy_scale):
-            return STATUS_ENERGY, 0, 0, contacts, retired
-    return STATUS_OK, 0, 0, contacts, retired
-
-
-#: the Moreau-Jean kernel (serial: its Gauss-Seidel sweeps are sequential); it releases the GIL, as the explicit one
-advance = nb.njit(cache=True, nogil=True)(renamed(_advance, f"_advance_moreau_{ENGINE_DIGEST}"))
+def moreau_part(model, settings, state, scratch, part, remaining, load_x, load_y):
+    """Moreau-Jean's stage: part ``part`` of a step, ``remaining`` (s) of it left, under the ground's inertial load
+    (load_x, load_y) m/s^2 over the step, by the steps of the module docstring.  Returns ``(status, i, j, tau)``:
+    STATUS_OK and the part's length ``tau`` (s), STATUS_UNCONVERGED and the block where the solve failed, or
+    STATUS_FULL and POINT_STORE if the index set would not fit its rows."""
+    real, integer, counters = settings.real, settings.integer, state.counters
+    pos, vel, ids = state.pos, state.vel, state.pair_ids
+    inv_mass, inv_inertia = model.body[INV_MASS], model.body[INV_INERTIA]
+    rows, ints, order = scratch.point_rows, scratch.point_ints, scratch.pair_order
+    wx, wy, wnx, wny = scratch.world[0], scratch.world[1], scratch.world[2], scratch.world[3]
+    h = real[DT]
+    half_skin = real[HALF_SKIN]
+    listed = counters[LISTED]
+    if 2 * listed > rows.shape[0]:
+        return STATUS_FULL, POINT_STORE, 0, 0.0
+    n = 0
+    for e in range(listed):
+        p = order[e]
+        if boxes_apart(scratch.boxes, ids[p, PAIR_I], ids[p, PAIR_J], half_skin):
+            forget_pair(p, state.pair_memory, state.spring_force, state.normal_impulse, state.tangential_impulse)
+            continue
+        n = collect_points(p, ids, state.pair_constants, state.pair_memory, state.normal_impulse,
+                           state.tangential_impulse, pos, vel, wx, wy, wnx, wny, model.vstart, half_skin,
+                           real[ACTIVE_GAP], real[RESTITUTION], remaining, scratch.points, scratch.point_keys, rows,
+                           ints, n)
+    counters[NARROW] += n
+    tau = remaining
+    if part + 1 < integer[MAX_SUBSTEPS]:
+        tau = first_meeting(rows, n, remaining, real[ACTIVE_GAP], real[SHORTEST_SUBSTEP] * h)
+    tolerance = real[SOLVER_TOLERANCE] * tau / h
+    start_vel = scratch.start_vel
+    for b in range(pos.shape[0]):
+        for d in range(3):
+            start_vel[b, d] = vel[b, d]
+    free_velocities(vel, inv_mass, load_x, load_y - real[GRAVITY], scratch.window[4, 1], scratch.window[5, 1], tau)
+    warm_start(vel, inv_mass, inv_inertia, rows, ints, n)
+    held, passes = solve_statuses(vel, inv_mass, inv_inertia, rows, ints, n, tolerance, integer[STATUS_PASSES],
+                                  scratch.point_status, scratch.point_velocity, scratch.jacobian, scratch.response,
+                                  scratch.delassus, scratch.band, scratch.rhs, scratch.band_first, scratch.band_last)
+    counters[PASSES_DONE] += passes
+    counters[STATUS_FALLBACKS] += n > 0 and integer[STATUS_PASSES] > 0 and not held
+    sweeps, change, worst = 0, 0.0, 0
+    if not held and n > 0:
+        point_blocks(rows, ints, inv_mass, inv_inertia, n)
+        sweeps, change, worst = solve_points(vel, inv_mass, inv_inertia, rows, ints, n, tolerance,
+                                             integer[MAX_SWEEPS])
+    if change > tolerance:
+        counters[UNCONVERGED] += 1
+        failure = real[SOLVER_FAILURE] * real[GRAVITY] * tau
+        if change > failure:  # far from a solution: sweep on, and stop the run if that does not get there
+            more, change, worst = solve_points(vel, inv_mass, inv_inertia, rows, ints, n, failure,
+                                               integer[RESCUE_SWEEPS])
+            sweeps += more
+            if change > failure:
+                counters[SOLVER_SWEEPS] += sweeps
+                return STATUS_UNCONVERGED, worst, worst, tau
+    counters[SOLVER_SWEEPS] += sweeps
+    mid = scratch.mid
+    integrate(pos, start_vel, vel, mid, tau, real[THETA])
+    project_positions(pos, mid, inv_mass, inv_inertia, rows, ints, n, tau, real[SLOP], integer[PROJECTION_SWEEPS],
+                      scratch.shift, not held)
+    keep_impulses(rows, ints, n, state.normal_impulse, state.tangential_impulse, state.pair_slip,
+                  state.interface_slip, ids, scratch.base_impulse, vel, tau)
+    reaction = scratch.reaction
+    reaction[0, 0] = scratch.base_impulse[0] / tau
+    reaction[0, 1] = scratch.base_impulse[1] / tau
+    ground_work(reaction, mid, model.body[MASS], load_x, load_y, tau, state.ledger)
+    return STATUS_OK, 0, 0, tau

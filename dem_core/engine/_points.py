@@ -11,9 +11,9 @@ import numba as nb
 #: columns of the per-point rows: the normal (reference face's, into the incident body), the lever arms from the
 #: incident and reference bodies' centres of mass, the point's own Delassus block (1/kg; filled only where
 #: Gauss-Seidel or the position sweeps need it), mu, the gap (m), the normal target velocity (m/s), the normal
-#: velocity at the step's start (m/s), and the impulses (N s)
-NX, NY, RIX, RIY, RRX, RRY, WNN, WNT, WTT, FRICTION, GAP, TARGET, U0, PN, PT = range(15)
-N_COLUMNS = 15
+#: velocity at the step's start (m/s), the impulses (N s) and the position projection's impulse (kg m)
+NX, NY, RIX, RIY, RRX, RRY, WNN, WNT, WTT, FRICTION, GAP, TARGET, U0, PN, PT, POSITION_IMPULSE = range(16)
+N_COLUMNS = 16
 #: columns of the per-point integers: incident body, reference body, pair, slot (0 or 1) within the pair,
 #: feature key, whether the point slid (its status in the direct solve, or the last sweep)
 INC, REF, PAIR, SLOT, KEY, SLID = range(6)

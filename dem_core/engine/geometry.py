@@ -86,7 +86,12 @@ def overlapping_boxes(low, high, margin: float) -> np.ndarray:
     """Sorted int64 keys ``i * n + j`` (i < j) of the pairs among ``n`` axis-aligned boxes, ``low`` and
     ``high`` (n, 2) m, that overlap once each is grown by ``margin`` (m): the engine's broad phase
     (sort-and-sweep, :mod:`dem_core.engine._broadphase`)."""
-    return _broadphase.candidate_keys(low[:, 0], high[:, 0], low[:, 1], high[:, 1], margin)
+    boxes = np.ascontiguousarray(np.array([low[:, 0], high[:, 0], low[:, 1], high[:, 1]], float))
+    n = boxes.shape[1]
+    keys = np.empty(4 * n + 4, np.int64)
+    while (count := _broadphase.candidate_keys(boxes, float(margin), np.arange(n, dtype=np.int64), keys)) < 0:
+        keys = np.empty(2 * len(keys), np.int64)
+    return keys[:count].copy()
 
 
 def _split(p):

@@ -3,6 +3,7 @@
 :func:`compile_model` turns a :class:`~dem_core.inputs.scene.Scene` into a :class:`Model`, a few
 named tuples of arrays and scalars; where the bodies are during a run lives apart, in
 :class:`~dem_core.engine.state.State`.  Body 0 is the base, then the scene's blocks in order.
+What the compiled driver reads of a model is packed into a few arrays by :mod:`.model_arrays`.
 """
 
 from typing import NamedTuple

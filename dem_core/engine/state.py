@@ -1,74 +1,83 @@
-"""Where a run is: positions and velocities, the contacts' memory, and what the checks track.
+"""Where a run is: positions and velocities, the candidate pairs and their contact memory, what the checks follow,
+and the outputs written so far.
 
-A :class:`State` is mutable and separate from the :class:`~dem_core.engine.model.Model`; the
-kernels advance it in place (and hand back the contact store when it had to grow), so a run can be
-stopped after any number of steps, kept (it pickles) and continued.
+A :class:`State` is a few arrays, mutable, apart from the :class:`~dem_core.engine.model.Model`; the compiled driver
+advances it in place.  Its stores have fixed capacities (no array is allocated while a run steps, on the CPU or a
+GPU): a chunk of steps that would overflow one stops before it changes anything of the step that filled it, and
+the run takes the chunk again from a copy with that store doubled (:meth:`State.grown`).  A run can be stopped
+after any number of steps, kept (it pickles) and continued.
 """
 
-from dataclasses import dataclass
 from typing import NamedTuple
 
-import numba as nb
 import numpy as np
 
-#: columns of Contacts.ids
+from .settings import PAIR_STORE, POINT_STORE, RETIRED_STORE
+
+#: columns of State.pair_ids
 PAIR_I, PAIR_J, PAIR_KEY, PAIR_INTERFACE = range(4)
-#: columns of Contacts.constants
+#: columns of State.pair_constants
 K_N, C_N, K_T, C_T, C_R, MU = range(6)
-#: columns of Contacts.memory (int64) and Contacts.forces (float)
-REFERENCE, POINT_KEY = 0, 1  # POINT_KEY and POINT_KEY + 1: the two points' feature keys
-#: POINT_FORCE and POINT_FORCE + 1: the points' tangential spring force (explicit) or impulse (Moreau-Jean);
-#: IMPULSE_N and IMPULSE_N + 1: their normal impulses (Moreau-Jean)
-POINT_FORCE, SLIP, IMPULSE_N = 0, 2, 3
+#: columns of State.pair_memory: last step's reference face code (corner law, -1 if none) and the feature keys
+#: of the two contact points (-1: empty)
+REFERENCE, POINT_KEY = 0, 1
+#: columns of State.counters
+(STEP, NARROW, REBUILDS, OUTPUTS, SOLVER_SWEEPS, UNCONVERGED, STATUS_PASSES, STATUS_FALLBACKS, LAST_SUBSTEPS,
+ SUBSTEPPED, LISTED, RETIRED) = range(12)
+N_COUNTERS = 12
+#: the fields of the pairs' store and of the retired slips' store
+PAIR_FIELDS = ("pair_ids", "pair_constants", "pair_memory", "spring_force", "normal_impulse", "tangential_impulse",
+               "pair_slip")
+RETIRED_FIELDS = ("retired_key", "retired_slip")
+#: a run's first stores: this many pairs a body (or every pair, where fewer) and retired slips; a store that fills
+#: is doubled (:meth:`State.grown`)
+PAIRS_PER_BODY = 4
+RETIRED_PER_BODY = 1
 
 
-class Contacts(NamedTuple):
-    """The broad phase's candidate pairs and their contact memory, sorted by key; rows ``[:count[0]]``
-    are valid (grown by the kernel when full).  A few packed arrays rather than one per field, so that
-    the compiled stages take few arguments; the columns are named by this module's constants.
-
-    ids : (cap, 4) int64: the bodies i < j, ``key = i * nb + j``, and the index of the pair among the
-        model's recorded interfaces (-1 if not one).
-    constants : (cap, 6) the pair's constants: k_n, c_n, k_t, c_t, c_r (see
-        :func:`~dem_core.engine._contact_law.pair_parameters`) and mu.
-    memory : (cap, 3) int64: last step's reference face code (corner law, -1 if none) and the feature
-        keys of the contact points (-1: empty).
-    forces : (cap, 5): the points' tangential springs' force along the reference face (N; the explicit
-        integrator) or their tangential impulses (N s; Moreau-Jean), the slip (m) accumulated by a pair that is
-        not a recorded interface, and the points' normal impulses (N s; Moreau-Jean).
-    count : (1,) int64.
-    """
-
-    ids: np.ndarray
-    constants: np.ndarray
-    memory: np.ndarray
-    forces: np.ndarray
-    count: np.ndarray
+def first_capacities(n_bodies: int) -> tuple:
+    """(pairs, retired slips): the stores a run of ``n_bodies`` bodies starts with."""
+    every_pair = n_bodies * (n_bodies - 1) // 2
+    return max(1, min(every_pair, PAIRS_PER_BODY * n_bodies)), max(1, RETIRED_PER_BODY * n_bodies)
 
 
-class Retired(NamedTuple):
-    """Slip of pairs that left the candidate list and are not recorded interfaces: ``key`` (cap,)
-    int64, ``slip`` (cap,) m, entries ``[:count[0]]`` valid (a pair may appear more than once)."""
+class State(NamedTuple):
+    """A run's state, ``nb`` bodies (the base first), ``ns`` stacks, ``n_if`` recorded interfaces, and stores for
+    ``C`` candidate pairs and ``R`` retired slips.
 
-    key: np.ndarray
-    slip: np.ndarray
-    count: np.ndarray
-
-
-class Tracking(NamedTuple):
-    """What the checks and the outputs follow.
-
-    peak_theta : (nb,) rad, largest |theta| so far.  overturn_step : (nb,) int64, step at which each
-    body overturned (-1: not yet).  stack_step : (ns,) int64, step at which each stack tipped.
-    interface_slip : (n_if,) m, slip accumulated at each recorded interface.
-    built_at : (nb, 3) positions when the candidate pairs were last listed.
+    pos : (nb, 3) x, y, theta of each centre of mass (m, rad) at the current step.
+    vel : (nb, 3) velocities at the half step before it (central differences) or at the step (Moreau-Jean).
+    pair_ids : (C, 4) int64 of the listed pairs (rows ``[:counters[LISTED]]``, in key order): the bodies i < j,
+        ``key = i * nb + j`` and the pair's index among the model's recorded interfaces (-1 if not one).
+    pair_constants : (C, 6) k_n, c_n, k_t, c_t, c_r (:func:`~dem_core.engine._contact_law.pair_parameters`), mu.
+    pair_memory : (C, 3) int64, the reference face code and the points' feature keys.
+    spring_force : (C, 2) N, the corner points' tangential springs (the overlap law's in column 0; explicit).
+    normal_impulse, tangential_impulse : (C, 2) N s, the points' impulses of the last step (Moreau-Jean).
+    pair_slip : (C,) m, the slip of a listed pair that is not a recorded interface.
+    retired_key, retired_slip : (R,) the slips of pairs that left the list (entries ``[:counters[RETIRED]]``;
+        a pair may appear more than once).
+    peak_theta : (nb,) rad, the largest |theta| so far.  overturn_step : (nb,) int64, the step at which each body
+        overturned (-1: not yet).  stack_step : (ns,) int64, the step at which each stack tipped.
+    interface_slip : (n_if,) m, the slip accumulated at each recorded interface.
+    built_at : (nb, 3) positions when the pairs were last listed.
     ledger : (3,) J, the mechanical energy at the start, the ground's net work and its gross work.
-    counters : (10,) int64: steps done, narrow-phase tests (contact points solved, Moreau-Jean), broad-phase
-        rebuilds, outputs written, for Moreau-Jean per (sub)step Gauss-Seidel sweeps, solves that ended
-        unconverged, direct passes and direct solves left to Gauss-Seidel, and for central differences the
-        substeps the last step was taken in (0 before the first) and the steps taken in substeps.
+    counters : (N_COUNTERS,) int64: steps done, narrow-phase pairs (central differences) or contact points
+        (Moreau-Jean), lists made, outputs written, Moreau-Jean's Gauss-Seidel sweeps, unconverged solves, direct
+        passes and direct solves left to Gauss-Seidel, the parts the last step was taken in and the steps taken
+        in more than one, the listed pairs and the retired slips.
     """
 
+    pos: np.ndarray
+    vel: np.ndarray
+    pair_ids: np.ndarray
+    pair_constants: np.ndarray
+    pair_memory: np.ndarray
+    spring_force: np.ndarray
+    normal_impulse: np.ndarray
+    tangential_impulse: np.ndarray
+    pair_slip: np.ndarray
+    retired_key: np.ndarray
+    retired_slip: np.ndarray
     peak_theta: np.ndarray
     overturn_step: np.ndarray
     stack_step: np.ndarray
@@ -77,47 +86,68 @@ class Tracking(NamedTuple):
     ledger: np.ndarray
     counters: np.ndarray
 
-
-(STEP, NARROW, REBUILDS, OUTPUTS, SOLVER_SWEEPS, UNCONVERGED, STATUS_PASSES, STATUS_FALLBACKS, LAST_SUBSTEPS,
- SUBSTEPPED) = range(10)
-
-
-@dataclass
-class State:
-    """pos : (nb, 3) x, y, theta of each centre of mass (m, rad) at the current step; vel : (nb, 3)
-    velocities at the half step before it (central differences) or at the step (Moreau-Jean); contacts,
-    retired, tracking as above.
-    The base (body 0) is placed by the ground motion."""
-
-    pos: np.ndarray
-    vel: np.ndarray
-    contacts: Contacts
-    retired: Retired
-    tracking: Tracking
-
     @property
     def step(self) -> int:
-        return int(self.tracking.counters[STEP])
+        return int(self.counters[STEP])
+
+    @property
+    def capacities(self) -> tuple:
+        """(pairs, retired slips): the stores' capacities."""
+        return len(self.pair_ids), len(self.retired_key)
+
+    def copy(self) -> "State":
+        return State(*(a.copy() for a in self))
+
+    def grown(self, store: int) -> "State":
+        """A copy with ``store`` (PAIR_STORE or RETIRED_STORE of :mod:`.settings`; POINT_STORE, whose points are
+        two a pair, grows with the pairs) of twice the capacity, the entries kept."""
+        pairs, retired = self.capacities
+        if store in (PAIR_STORE, POINT_STORE):
+            pairs *= 2
+        elif store == RETIRED_STORE:
+            retired *= 2
+        return with_capacities(self, pairs, retired)
 
 
-@nb.njit(cache=True)
-def empty_contacts(capacity):
-    """A contact store for ``capacity`` pairs with none listed."""
-    return Contacts(np.full((capacity, 4), -1, np.int64), np.zeros((capacity, 6)),
-                    np.full((capacity, 3), -1, np.int64), np.zeros((capacity, 5)), np.zeros(1, np.int64))
+def with_capacities(state: State, pairs: int, retired: int) -> State:
+    """A copy of ``state`` with stores of ``pairs`` pairs and ``retired`` slips, the entries kept."""
+    fields = state.copy()._asdict()
+    for name in PAIR_FIELDS + RETIRED_FIELDS:
+        old = fields[name]
+        capacity = pairs if name in PAIR_FIELDS else retired
+        new = np.full((capacity,) + old.shape[1:], -1 if old.dtype == np.int64 else 0.0, old.dtype)
+        new[:min(capacity, len(old))] = old[:capacity]
+        fields[name] = new
+    return State(**fields)
+
+
+class Outputs(NamedTuple):
+    """The outputs of a run, ``n_out`` rows of which ``counters[OUTPUTS]`` are written: ``pos`` (n_out, nb, 3) the
+    state, ``slip`` (n_out, n_if) m the recorded interfaces' slips, ``step`` (n_out,) int64 the step of each."""
+
+    pos: np.ndarray
+    slip: np.ndarray
+    step: np.ndarray
 
 
 def initial_state(model) -> State:
-    """The state at the start of ``model`` (:class:`~dem_core.engine.model.Model`): blocks where the scene
-    puts them, at rest, no contact memory."""
+    """The state at the start of ``model`` (:class:`~dem_core.engine.model.Model`): blocks where the scene puts
+    them, at rest, no pair listed (the first step lists them), stores of :func:`first_capacities`."""
     b = model.bodies
     nb = len(b.mass)
-    pos = np.column_stack([b.centroid0, b.angle0])
-    vel = np.zeros_like(pos)
-    tracking = Tracking(
+    pairs, retired = first_capacities(nb)
+    return State(
+        pos=np.column_stack([b.centroid0, b.angle0]), vel=np.zeros((nb, 3)),
+        pair_ids=np.full((pairs, 4), -1, np.int64), pair_constants=np.zeros((pairs, 6)),
+        pair_memory=np.full((pairs, 3), -1, np.int64), spring_force=np.zeros((pairs, 2)),
+        normal_impulse=np.zeros((pairs, 2)), tangential_impulse=np.zeros((pairs, 2)), pair_slip=np.zeros(pairs),
+        retired_key=np.full(retired, -1, np.int64), retired_slip=np.zeros(retired),
         peak_theta=np.abs(b.angle0).copy(), overturn_step=np.full(nb, -1, np.int64),
         stack_step=np.full(len(model.stacks.bottom), -1, np.int64),
         interface_slip=np.zeros(len(model.interface_keys)), built_at=np.full((nb, 3), np.inf),
-        ledger=np.zeros(3), counters=np.zeros(10, np.int64))
-    return State(pos, vel, empty_contacts(1),
-                 Retired(np.zeros(nb, np.int64), np.zeros(nb), np.zeros(1, np.int64)), tracking)
+        ledger=np.zeros(3), counters=np.zeros(N_COUNTERS, np.int64))
+
+
+def empty_outputs(n_out: int, n_bodies: int, n_interfaces: int) -> Outputs:
+    return Outputs(np.full((n_out, n_bodies, 3), np.nan), np.full((n_out, n_interfaces), np.nan),
+                   np.zeros(n_out, np.int64))
