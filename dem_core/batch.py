@@ -43,11 +43,8 @@ WAKE_SECONDS = 0.2
 #: one member at a time records the warnings of its set-up (the warnings module's filters are global, not per
 #: thread); the caller's thread gives each distinct one once, attributed to the caller's line, holding it too
 _RECORDING = threading.Lock()
-#: the per-block measures of a row, as :meth:`Result.metrics` names them, and the peak displacement
 #: the options of simulate that a scene's set-up depends on (set_up_scene's keywords)
 STEP_OPTIONS = tuple(inspect.signature(set_up_scene).parameters)[1:]
-BLOCK_MEASURES = ("peak_abs_theta_rad", "peak_abs_displacement_m", "residual_displacement_m", "sliding_m",
-                  "overturn_time_s")
 
 
 @dataclass(frozen=True)
@@ -98,13 +95,13 @@ def simulate_batch(scene, motions, duration: float | None = None, *, device: str
 
     A member that loses stability does not stop the others: its row has ``status`` ``"unstable"``, the
     error's message and the measures of its partial result; a member whose motion cannot be run (no natural end
-    and no duration, too many steps) has ``status`` ``"refused"`` and the reason.  The scene, the motions and the
-    options are checked before any member runs (``TypeError``/``ValueError`` naming the culprit, or member 0 when
-    every member is refused).  Ctrl-C stops the running members after their current chunk (a quarter of a
-    second) and raises :class:`BatchInterrupted` carrying the members that finished; any other exception (from
-    ``measures``, say) stops the batch the same way and goes on.  The members' warnings (a motion beyond 50 g, a
-    long run) are given on the caller's thread as members start (within WAKE_SECONDS), each distinct one once, at the
-    caller's line.
+    and no duration, too many steps, a peak beyond 50 g) has ``status`` ``"refused"`` and the reason.  The scene,
+    the motions and the options are checked before any member runs (``TypeError``/``ValueError`` naming the
+    culprit, or member 0 when every member is refused).  Ctrl-C stops the running members after their current
+    chunk (a quarter of a second) and raises :class:`BatchInterrupted` carrying the members that finished; any
+    other exception (from ``measures``, say) stops the batch the same way and goes on.  The members' warnings (a
+    step beyond the stability limit, a long run) are given on the caller's thread as members start (within
+    WAKE_SECONDS), each distinct one once, at the caller's line.
     """
     threads, scenes, motions, keep = _checked(scene, motions, device, threads, histories, simulate_options)
     gpu = _gpu_for(device, simulate_options, len(motions), threads)
@@ -364,26 +361,15 @@ def _member_inputs(scene, motions) -> tuple:
 
 def member_row(member: int, motion: str, result: Result, status: str, error: str, wall_time: float) -> dict:
     """One member's row: ``member``, ``motion`` (its name), ``status`` (``"ok"``, ``"unstable"``, ``"refused"``),
-    ``error`` (the message, or ''), ``overturned`` and ``overturn_time_s`` (the first of any block, NaN if none),
-    ``max_peak_abs_theta_rad``, ``total_sliding_m``, ``dt_s``, ``steps``, ``wall_time_s`` (its set-up, run and
-    measures), and for each block ``<measure>[<block>]`` of :data:`BLOCK_MEASURES`: peak |theta| over every
-    step (rad), peak |horizontal displacement| relative to the base over the outputs (m), residual displacement
-    (m), sliding (m), overturn time (s, NaN if none)."""
-    relative = result.relative_x - result.relative_x[:1]
-    per_block = {
-        "peak_abs_theta_rad": result.peak_theta,
-        "peak_abs_displacement_m": np.max(np.abs(relative), axis=0),
-        "residual_displacement_m": result.residual_displacement,
-        "sliding_m": result.block_sliding,
-        "overturn_time_s": result.overturn_time,
-    }
-    row = {"member": member, "motion": motion, "status": status, "error": error,
-           "overturned": result.overturned, "overturn_time_s": result.time_of_overturn,
-           "max_peak_abs_theta_rad": float(np.max(result.peak_theta)), "total_sliding_m": result.total_sliding,
+    ``error`` (the message, or ''), the scene's measures (:meth:`Result.measures`), ``dt_s``, ``steps``,
+    ``wall_time_s`` (its set-up, run and measures), and for each block ``<measure>[<block>]`` of its measures
+    (:meth:`Result.metrics`, :data:`~dem_core.engine.result.BLOCK_MEASURES`)."""
+    row = {"member": member, "motion": motion, "status": status, "error": error, **result.measures(),
            "dt_s": result.dt, "steps": int(result.info.get("steps", 0)), "wall_time_s": wall_time}
-    for measure in BLOCK_MEASURES:
-        for name, value in zip(result.names, per_block[measure]):
-            row[f"{measure}[{name}]"] = float(value)
+    for block in result.metrics().to_dict("records"):
+        name = block.pop("block")
+        row.update({f"{measure}[{name}]": value.item() if isinstance(value, np.generic) else value
+                    for measure, value in block.items()})
     return row
 
 

@@ -31,8 +31,8 @@ from .engine.model import Model, compile_model, interface_pairs
 from .engine.model_arrays import ModelArrays, model_arrays
 from .engine.result import Result
 from .engine.scratch import make_scratch
-from .engine.settings import (EXPLICIT, INTEGRATORS, MOREAU, MOREAU_ACTIVE_GAP, MOREAU_DT, MOREAU_MAX_SUBSTEPS,
-                              MOREAU_MAX_SWEEPS, MOREAU_PROJECTION_SWEEPS, MOREAU_RESCUE_SWEEPS,
+from .engine.settings import (EXPLICIT, INTEGRATORS, LOAD_CELL_LEAD, MOREAU, MOREAU_ACTIVE_GAP, MOREAU_DT,
+                              MOREAU_MAX_SUBSTEPS, MOREAU_MAX_SWEEPS, MOREAU_PROJECTION_SWEEPS, MOREAU_RESCUE_SWEEPS,
                               MOREAU_SHORTEST_SUBSTEP, MOREAU_SLOP, MOREAU_SOLVER_FAILURE, MOREAU_SOLVER_TOLERANCE,
                               MOREAU_STATUS_PASSES, MOREAU_THETA, MOREAU_TIME_FRACTION, STATUS_ENERGY,
                               STATUS_FELL_OFF, STATUS_FULL, STATUS_NONFINITE, STATUS_OK, STATUS_OVERTURNED,
@@ -40,8 +40,7 @@ from .engine.settings import (EXPLICIT, INTEGRATORS, MOREAU, MOREAU_ACTIVE_GAP, 
 from .engine.stacks import columns, find_stacks
 from .engine.state import (LISTED, NARROW, OUTPUTS, PAIR_KEY, REBUILDS, RETIRED, SOLVER_SWEEPS, STATUS_FALLBACKS,
                            STATUS_PASSES, SUBSTEPPED, UNCONVERGED, Outputs, State, empty_outputs, initial_state)
-from .inputs.excitation import GroundMotion, still
-from .inputs.records import G_STANDARD
+from .inputs.excitation import GroundMotion, refuse_extreme, still
 from .inputs.scene import Scene
 
 #: largest fraction of the stability limit used when dt is not given (the scheme is stable up to the
@@ -61,10 +60,6 @@ GROUND_MOTION_MODES = ("inertial", "moving_base")
 #: blocks has more and stiffer contacts than the standing scene the stability limit is computed for (the 8-drum
 #: column under El Centro at 10 m/s^2 goes through its collapse at a quarter of the step, not at a half)
 COLLAPSE_STEP_FACTOR = 0.25
-#: a ground acceleration above this many g (9.80665 m/s^2) is beyond what a stone block can meet and more likely a
-#: mistake of units or scale: such a motion is announced before the run, and a run that loses stability under it
-#: blames the motion
-EXTREME_PGA_G = 50.0
 #: wall time (s) a chunk of steps aims at between progress updates
 CHUNK_SECONDS = 0.25
 
@@ -159,14 +154,12 @@ def set_up_scene(scene, dt: float | None = None, *, safety: float = DEFAULT_SAFE
     options = dict(dt=dt, safety=safety, steps_per_impact=steps_per_impact, step_fraction=step_fraction,
                    stop_at_overturn=stop_at_overturn, enforce_stability_limit=enforce_stability_limit,
                    integrator=integrator)
-    if integrator not in INTEGRATORS:
-        raise ValueError(f"integrator must be one of {INTEGRATORS}, got {integrator!r}")
-    if integrator == "moreau" and scene.contact.law != "corner":
+    if _integrator_code(integrator) == MOREAU and scene.contact.law != "corner":
         raise ValueError(f"the Moreau-Jean integrator works on the corner law's contact points; the scene's "
                          f"contact law is {scene.contact.law!r}")
     stacks = find_stacks(scene)
     model = compile_model(scene, stacks)
-    if integrator == "moreau":
+    if _integrator_code(integrator) == MOREAU:
         return SceneSetUp(scene, options, stacks, model, model_arrays(model), columns(scene, stacks), math.inf,
                           math.nan, None, 1)
     limit = stability.stability_limit(model)
@@ -210,8 +203,7 @@ class Simulation:
                             integrator=integrator)
         duration = run_duration(excitation, duration)
         output_dt = 0.01 if output_dt is None else seconds("output_dt", output_dt)
-        if _extreme(excitation):
-            warn_caller(f"{_extreme(excitation)}; check its units and scale")
+        refuse_extreme(excitation, duration)
         if scene_set_up is None:
             scene_set_up = set_up_scene(scene, **step_options)
         elif scene_set_up.scene is not scene or scene_set_up.options != step_options:
@@ -221,10 +213,11 @@ class Simulation:
         self.stacks = scene_set_up.stacks
         self.columns = scene_set_up.columns
         self.integrator = integrator
+        code = _integrator_code(integrator)
         self.limit, self.impact = scene_set_up.limit, scene_set_up.impact
         auto_dt = dt is None
         substeps = scene_set_up.substeps
-        if integrator == "moreau":
+        if code == MOREAU:
             dt = moreau_time_step(self.model, excitation, dt, step_fraction)
         else:
             dt = scene_set_up.dt
@@ -236,16 +229,16 @@ class Simulation:
         self.arrays: ModelArrays = scene_set_up.arrays
         self.state: State = initial_state(self.model)
         b = self.model.bodies
-        if ground_motion == "moving_base":  # the blocks start at rest relative to the ground
-            at = 0.0 if integrator == "moreau" else -0.5 * dt
+        if ground_motion == "moving_base":  # the blocks start at rest relative to the ground, at their velocities' time
+            at = -LOAD_CELL_LEAD[code] * dt
             self.state.vel[1:, :2] = np.array(excitation.velocity(np.array([at])))[:, 0]
         # the energy balance starts from the blocks' energy as they start, moving with the ground
         self.state.ledger[0] = mechanical_energy(self.state.pos, self.state.vel, b.mass, b.inv_inertia,
                                                  self.model.gravity)
-        self.settings: Settings = run_settings(self.model, INTEGRATORS.index(integrator), dt, n_steps, stride,
+        self.settings: Settings = run_settings(self.model, code, dt, n_steps, stride,
                                                _speed_limit(self.model, excitation, duration), stop_at_overturn,
                                                ground_motion == "inertial", substeps, theta)
-        self.threaded = bool(parallel and integrator == "explicit" and numba.get_num_threads() > 1)
+        self.threaded = bool(parallel and code == EXPLICIT and numba.get_num_threads() > 1)
         self.outputs: Outputs = empty_outputs(n_out, len(b.mass), len(self.model.interface_keys))
         self.scratch = None
         self.status, self.stopped_by = None, None
@@ -274,7 +267,8 @@ class Simulation:
         can go on.  An unstable run ends with ``status`` set and nothing raised (see :meth:`result`)."""
         if self.status is not None:
             return False
-        steps = self.settings.last_step - self.step if steps is None else min(steps, self.settings.last_step - self.step)
+        left = self.settings.last_step - self.step
+        steps = left if steps is None else min(steps, left)
         samples = self._samples(self.step, steps)
         started = time.perf_counter()
         with _interrupt_after_the_kernel() as interrupted:
@@ -302,8 +296,10 @@ class Simulation:
 
     def run(self, progress=None) -> "Simulation":
         """Advance to the end in chunks of about ``CHUNK_SECONDS`` of wall time; ``progress`` is called
-        with (steps done, steps in all) after each chunk."""
+        with (steps done, steps in all) before the first chunk and after each."""
         chunk = 2000
+        if progress is not None:
+            progress(self.step, self.settings.last_step)
         while True:
             started = time.perf_counter()
             going = self.advance(chunk)
@@ -326,8 +322,8 @@ class Simulation:
 
     @property
     def ground_lead(self) -> float:
-        """Steps by which a step's load cell starts before it: 0.5 for central differences, 0 for Moreau-Jean."""
-        return 0.0 if self.integrator == "moreau" else 0.5
+        """Steps by which a step's load cell starts before it (the integrator's ``LOAD_CELL_LEAD``)."""
+        return LOAD_CELL_LEAD[self.settings.integrator]
 
     def result(self) -> Result:
         """The run so far as a :class:`Result`; raises :class:`SimulationUnstable`, carrying that
@@ -362,7 +358,7 @@ class Simulation:
             "compile_time_s": self.compile_time,
             "run_time_s": self.run_time,
         }
-        if self.integrator == "moreau":
+        if self.settings.integrator == MOREAU:
             for key in ("kn", "stability_limit_s", "impact_duration_s", "dt_over_limit"):
                 info.pop(key)
             info["theta"] = self.settings.theta
@@ -441,11 +437,9 @@ class Simulation:
         else:
             what = (f"blocks '{bodies[i].name}' and '{bodies[j].name}' overlap by more than "
                     f"{self.model.law.max_penetration:.0%} of the smaller block's area")
-        if _extreme(self.excitation):
-            advice = f"{_extreme(self.excitation)}: check its units and scale before the time step"
-        elif status == STATUS_FELL_OFF:
+        if status == STATUS_FELL_OFF:
             advice = "nothing after this time is physical"
-        elif self.integrator == "moreau":
+        elif self.settings.integrator == MOREAU:
             advice = f"reduce dt below {dt:.4g} s"
         else:
             advice = f"reduce dt below {dt:.4g} s or check the contact parameters (kn = {self.model.law.kn:.3g})"
@@ -488,8 +482,8 @@ def simulate(scene, excitation: GroundMotion | None = None, duration: float | No
     enforce_stability_limit : refuse an explicit dt above the stability limit.
         Only for stress tests that study what happens past it
         (``python -m comparisons stability-probe``); such a result says so in ``info``.
-    progress : None, or a callable ``(steps done, steps in all)`` called every quarter second
-        or so (the command line passes a progress bar).
+    progress : None, or a callable ``(steps done, steps in all)`` called once the run is set up (its
+        engine compiled) and every quarter second or so after (the command line passes a progress bar).
     parallel : spread the contacts over numba's threads (``NUMBA_NUM_THREADS``).  Off by default: on
         few cores the threads' overhead can outweigh the gain (docs/performance.md), so measure yours
         before turning it on.  The trajectory is the serial kernel's, bit for bit.  Explicit integrator only.
@@ -500,9 +494,9 @@ def simulate(scene, excitation: GroundMotion | None = None, duration: float | No
         ``enforce_stability_limit`` do not apply, and the contact law must be the corner law.
     theta : Moreau-Jean's weight of the new velocity in the position update, in [0.5, 1] (``MOREAU_THETA``).
 
-    Raises ``ValueError`` for bad arguments (a dt above the stability limit
-    among them) and :class:`SimulationUnstable`, carrying the result up to
-    that point, when the run loses stability or a block leaves the base.
+    Raises ``ValueError`` for bad arguments (a dt above the stability limit, a ground motion peaking
+    above :data:`~dem_core.inputs.excitation.EXTREME_PGA_G` among them) and :class:`SimulationUnstable`,
+    carrying the result up to that point, when the run loses stability or a block leaves the base.
     """
     run = Simulation(scene, excitation, duration, dt, output_dt, ground_motion=ground_motion, safety=safety,
                      steps_per_impact=steps_per_impact, step_fraction=step_fraction, stop_at_overturn=stop_at_overturn,
@@ -526,18 +520,6 @@ def _interrupt_after_the_kernel():
         yield came
     finally:
         signal.signal(signal.SIGINT, previous)
-
-
-def _extreme(excitation: GroundMotion) -> str:
-    """What is extreme about ``excitation`` (a peak above ``EXTREME_PGA_G``), or ''."""
-    try:
-        peak = max(excitation.horizontal.peak_acceleration, excitation.vertical.peak_acceleration)
-    except NotImplementedError:
-        return ""
-    if not EXTREME_PGA_G * G_STANDARD < peak < np.inf:  # a ramp without a peak rises until the run ends
-        return ""
-    return (f"the ground motion '{excitation.name}' peaks at {peak:.3g} m/s^2 ({peak / G_STANDARD:.3g} g), beyond the "
-            f"{EXTREME_PGA_G:g} g a stone block can meet")
 
 
 def _stack_label(scene, stack) -> str:
@@ -567,6 +549,13 @@ def moreau_time_step(model, excitation: GroundMotion, dt: float | None = None, s
         return seconds("dt", dt)
     agile = math.sqrt(4.0 * float(model.bodies.radius[1:].min()) / (3.0 * model.gravity))
     return min(MOREAU_DT, MOREAU_TIME_FRACTION * min(excitation.time_scale, agile)) * step_fraction
+
+
+def _integrator_code(integrator: str) -> int:
+    """The code of ``integrator`` (its position in ``INTEGRATORS``); ``ValueError`` naming the choices."""
+    if integrator not in INTEGRATORS:
+        raise ValueError(f"integrator must be one of {INTEGRATORS}, got {integrator!r}")
+    return INTEGRATORS.index(integrator)
 
 
 def _check_step_fraction(step_fraction) -> None:

@@ -12,7 +12,8 @@ import pytest
 
 import dem_core
 from dem_core import compile_model, excitation, scenes, stability
-from dem_core.batch import BLOCK_MEASURES, BatchInterrupted, simulate_batch
+from dem_core.batch import BatchInterrupted, simulate_batch
+from dem_core.engine.result import BLOCK_MEASURES
 
 MEASURED = ["overturned", "overturn_time_s", "max_peak_abs_theta_rad", "total_sliding_m", "dt_s", "steps"]
 
@@ -68,7 +69,7 @@ def test_members_with_their_own_friction_are_the_runs_simulate_gives():
     blocks = [scenes.block(1.0, 0.5, friction=mu, base_width=20.0) for mu in (0.2, 0.3, 0.5)]
     motion = excitation.sine_pulse(4.0, 0.5)
     table = simulate_batch(blocks, motion, 1.5, threads=2).table
-    slid = table["sliding_m[block]"].tolist()
+    slid = table["sliding_at_its_joints_m[block]"].tolist()
     assert slid == [dem_core.simulate(block, motion, 1.5).block_sliding[0] for block in blocks]
     assert slid[0] > slid[1] > slid[2] >= 0.0
     with pytest.raises(ValueError, match="3 scenes and 2 motions"):
@@ -80,13 +81,21 @@ def test_members_with_their_own_friction_are_the_runs_simulate_gives():
 
 
 def test_the_members_warnings_point_at_the_callers_line_and_one_said_by_many_members_shows_once():
-    motions = [excitation.sine_pulse(a, 0.2) for a in (600.0, 600.0, 700.0, 600.0, 600.0)]  # beyond 50 g: announced
+    block = scenes.block(1.0, 6.0)
+    beyond = 1.5 * stability.stability_limit(compile_model(block))
+    motions = [excitation.sine_pulse(a, 0.2) for a in (2.0, 2.0, 3.0, 2.0)]
     with warnings.catch_warnings(record=True) as said:
         warnings.simplefilter("always")
-        simulate_batch(scenes.block(1.0, 6.0), motions, 0.2, threads=2)
-    assert sorted(str(w.message)[:40] for w in said) == sorted(f"the ground motion '{m.name}'"[:40] for m in
-                                                               (motions[0], motions[2]))
+        simulate_batch(block, motions, 0.01, threads=2, dt=beyond, enforce_stability_limit=False)
+    assert [str(w.message)[:30] for w in said] == [f"dt = {beyond:.4g} s is 1.50 times"[:30]]
     assert {w.filename for w in said} == {__file__}
+
+
+def test_a_member_beyond_fifty_g_is_refused_and_the_others_run():
+    motions = [excitation.sine_pulse(a, 0.2) for a in (2.0, 600.0, 3.0)]
+    table = simulate_batch(scenes.block(1.0, 6.0), motions, 0.2, threads=2).table
+    assert table["status"].tolist() == ["ok", "refused", "ok"]
+    assert "beyond the 50 g" in table["error"][1]
 
 
 def test_an_unstable_member_keeps_its_partial_measures_and_a_refused_one_its_reason():

@@ -1,6 +1,7 @@
 """The batch's GPU path (dem_core.batch_gpu, engine/_members.py): its kernel's code, compiled for one CPU thread,
-gives each member the run simulate gives bit for bit; the CUDA kernel itself, run by numba's CUDA simulator in a
-process of its own, gives simulate_batch's rows on the CPU; and what the GPU cannot take is refused naming it."""
+gives each member the run simulate gives bit for bit, under either integrator; the CUDA kernel itself, run by
+numba's CUDA simulator in a process of its own, gives simulate_batch's rows on the CPU; and what the GPU cannot
+take is refused naming it."""
 
 import json
 import os
@@ -47,6 +48,14 @@ CASES = {
                                                          [sine_pulse(4.0, 0.3)], 0.3, {}),
     "overlap-area law": (scenes.stack([(0.8, 1.0), (0.6, 0.8)], contact=ContactParameters(law="overlap_area")),
                          [sine_pulse(4.0, 0.5)], 1.5, {}),
+    # Moreau-Jean's stage: rocking and an overturn, a moving base, a column, a colonnade through its collapse
+    "Moreau-Jean, block under El Centro": (scenes.block(1.0, 6.0), [scaled(EL_CENTRO, f) for f in (1.0, 3.0)], 8.0,
+                                           {"integrator": "moreau"}),
+    "Moreau-Jean, block on a moving base": (scenes.block(1.0, 6.0), [scaled(EL_CENTRO, 1.2)], 4.0,
+                                            {"ground_motion": "moving_base", "integrator": "moreau"}),
+    "Moreau-Jean, 8-drum column": (scenes.column(), [scaled(EL_CENTRO, 2.0)], 6.0, {"integrator": "moreau"}),
+    "Moreau-Jean, colonnade to its collapse": (scenes.colonnade(), [scaled(EL_CENTRO, 5.0)], 10.0,
+                                               {"integrator": "moreau", "stop_at_overturn": False}),
 }
 #: members of one batch under either contact law (each law's buffers beside the other's)
 BOTH_LAWS = [scenes.stack([(0.8, 1.0), (0.6, 0.8)], contact=ContactParameters(law=law))
@@ -70,6 +79,30 @@ def test_members_under_either_contact_law_share_a_batch():
         _assert_same_run(dem_core.simulate(scene, motion, 1.0), run.result())
 
 
+def test_members_under_either_integrator_share_a_batch():
+    motion = scaled(EL_CENTRO, 2.0)
+    options = [{}, {"integrator": "moreau"}]
+    runs = [Simulation(scenes.column(), motion, 2.0, **option) for option in options]
+    run_members(runs, launcher=serial_launcher())
+    for option, run in zip(options, runs):
+        _assert_same_run(dem_core.simulate(scenes.column(), motion, 2.0, **option), run.result())
+
+
+def test_a_member_whose_store_fills_is_run_again_on_the_cpu(monkeypatch):
+    """A member's store of retired slips is as large as the largest its batch starts with; a member that fills it
+    stops and is run again from its start by the CPU's driver, which grows it."""
+    from dem_core.engine import state as state_module
+
+    scene, motion, options = scenes.colonnade(), scaled(EL_CENTRO, 5.0), {"integrator": "moreau",
+                                                                          "stop_at_overturn": False}
+    alone = dem_core.simulate(scene, motion, 10.0, **options)
+    monkeypatch.setattr(state_module, "RETIRED_PER_BODY", 0)  # one retired slip
+    run = Simulation(scene, motion, 10.0, **options)
+    run_members([run], launcher=serial_launcher())
+    assert run.state.capacities[1] > 1
+    _assert_same_run(alone, run.result())
+
+
 def test_an_unstable_member_stops_alone_and_says_where():
     """A member beyond its stability limit stops with the CPU's error; the other member runs to its end."""
     scene = scenes.block(1.0, 6.0)
@@ -87,8 +120,10 @@ def test_an_unstable_member_stops_alone_and_says_where():
 
 def test_what_the_gpu_kernel_cannot_take_is_refused_naming_the_member():
     block = Simulation(scenes.block(1.0, 6.0), sine_pulse(2.0, 0.5), 0.1)
+    moreau = Simulation(scenes.block(1.0, 6.0), sine_pulse(2.0, 0.5), 0.1, integrator="moreau")
     with pytest.raises(ValueError, match="member 1: the GPU kernel steps by central differences"):
-        check_members([block, Simulation(scenes.block(1.0, 6.0), sine_pulse(2.0, 0.5), 0.1, integrator="moreau")])
+        check_members([block, moreau])
+    check_members([block, moreau], on_gpu=False)  # the kernel's CPU build takes both
     with pytest.raises(ValueError, match="member 1's scene has"):
         check_members([block, Simulation(scenes.stack([(1.0, 3.0), (1.0, 3.0)]), sine_pulse(2.0, 0.5), 0.1)])
 

@@ -158,7 +158,7 @@ def test_animate_and_spectrum_commands_write_their_files(tmp_path, capsys):
 def test_progress_shows_on_a_terminal(tmp_path, capsys, monkeypatch):
     scene = tmp_path / "column.toml"
     scene.write_text(COLUMN)
-    monkeypatch.setattr(cli, "_interactive", lambda: True)
+    monkeypatch.setattr(cli.single_run, "interactive", lambda: True)
     assert main(["animate", str(scene), "--out", str(tmp_path / "c.gif"), "--duration", "0.4", "--fps", "10"]) == 0
     assert "frames: 100%" in capsys.readouterr().err
 
@@ -178,7 +178,7 @@ def test_warnings_print_as_one_line_a_user_reads(monkeypatch, capsys):
         warnings.warn("a long run: 1.7e+08 steps; expect about 4.6 minutes", RuntimeWarning)
         return 0
 
-    monkeypatch.setattr(cli, "_spectrum", warn)
+    monkeypatch.setattr(cli.spectrum, "run", warn)
     assert main(["spectrum", "el_centro_1940"]) == 0
     assert capsys.readouterr().err == "warning: a long run: 1.7e+08 steps; expect about 4.6 minutes\n"
 
@@ -189,7 +189,7 @@ def test_an_animation_name_without_gif_or_mp4_is_refused_before_the_run(argv, tm
     """An animation name without .gif or .mp4 is refused (exit status 2, the reason on stderr) before the
     simulation starts."""
     monkeypatch.chdir(tmp_path)
-    monkeypatch.setattr(cli, "_prepared_run", lambda *a, **k: pytest.fail("the run started"))
+    monkeypatch.setattr(cli.single_run, "simulate", lambda *a, **k: pytest.fail("the run started"))
     assert main(argv) == 2
     assert "must end in .gif or .mp4" in capsys.readouterr().err
 
@@ -199,7 +199,7 @@ def test_mp4_without_ffmpeg_is_refused_before_the_run(tmp_path, capsys, monkeypa
 
     monkeypatch.chdir(tmp_path)
     monkeypatch.setattr(animation, "can_write_mp4", lambda: False)
-    monkeypatch.setattr(cli, "_prepared_run", lambda *a, **k: pytest.fail("the run started"))
+    monkeypatch.setattr(cli.single_run, "simulate", lambda *a, **k: pytest.fail("the run started"))
     assert main(["animate", "--out", "run.mp4"]) == 2
     assert "writing MP4 needs ffmpeg" in capsys.readouterr().err
 
@@ -208,7 +208,7 @@ def parsers():
     """(name, parser) of dem-core and of each of its commands."""
     import argparse
 
-    parser = cli._parser()
+    parser = cli.parser()
     commands = next(a for a in parser._actions if isinstance(a, argparse._SubParsersAction))
     return [("dem-core", parser), *commands.choices.items()]
 
@@ -244,7 +244,7 @@ def test_threshold_searches_as_the_library_does_by_default(tmp_path, capsys, mon
         return [peak > 3.0 for peak in peaks]
 
     monkeypatch.setattr(thresholds, "batch_outcomes", overturns_above_3_m_s2)
-    monkeypatch.setattr(cli, "_compile_first", lambda *args: None)
+    monkeypatch.setattr(cli.threshold, "compile_first", lambda *args: None)
 
     def library(**options):
         ran.clear()
@@ -303,19 +303,19 @@ def test_a_slow_engine_setup_is_announced_timed_and_recorded(tmp_path, capsys, m
         real(self, *args, **options)
 
     monkeypatch.setattr(Simulation, "__init__", slow)
-    monkeypatch.setattr(cli, "COMPILE_NOTICE_S", 0.2)
+    monkeypatch.setattr(cli.progress, "COMPILE_NOTICE_S", 0.2)
     assert main(["run", str(scene), "--out", str(tmp_path / "out"), "--no-plots"]) == 0
     printed = capsys.readouterr()
-    assert printed.err.splitlines()[:2] == [cli.COMPILING, "done in 1 s"] or \
-        printed.err.splitlines()[:2] == [cli.COMPILING, "done in 0 s"]
+    assert printed.err.splitlines()[:2] == [cli.progress.COMPILING, "done in 1 s"] or \
+        printed.err.splitlines()[:2] == [cli.progress.COMPILING, "done in 0 s"]
     summary = json.loads((tmp_path / "out" / "summary.json").read_text())
     assert summary["compile_time_s"] >= 0.5
     assert re.search(r"simulated 0.5 s in [\d.]+ s \(setting up and compiling the engine: 0.[5-9]\d s\)",
                      printed.out)
     monkeypatch.setattr(Simulation, "__init__", real)
-    monkeypatch.setattr(cli, "COMPILE_NOTICE_S", 60.0)
+    monkeypatch.setattr(cli.progress, "COMPILE_NOTICE_S", 60.0)
     assert main(["run", str(scene), "--out", str(tmp_path / "out"), "--no-plots"]) == 0
-    assert cli.COMPILING not in capsys.readouterr().err  # a quick setup says nothing
+    assert cli.progress.COMPILING not in capsys.readouterr().err  # a quick setup says nothing
 
 
 def test_the_integrator_option_replaces_the_scene_files(tmp_path, capsys):

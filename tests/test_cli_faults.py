@@ -131,12 +131,12 @@ UNSTABLE = textwrap.dedent("""
 
 #: an error nobody foresaw, in the ``records`` command
 UNEXPECTED = textwrap.dedent("""
-    import dem_core.cli as cli
+    import dem_core.cli.records as command
 
     def records(*args):
         raise RuntimeError("a fault nobody foresaw\\nits second line")
 
-    cli._records = records
+    command.run = records
 """) + RUN_MODULE
 
 
@@ -451,8 +451,8 @@ def test_every_number_is_checked_before_any_run(argv, option, tmp_path, scene, c
 
     for module in (thresholds, convergence):
         monkeypatch.setattr(module, "simulate", no_run)
-    monkeypatch.setattr(cli, "_prepared_run", no_run)
-    monkeypatch.setattr(cli, "_compile_first", no_run)
+    monkeypatch.setattr(cli.single_run, "simulate", no_run)
+    monkeypatch.setattr(cli.progress, "simulate", no_run)
     monkeypatch.setattr(spectra, "response_spectrum", no_run)
     monkeypatch.chdir(tmp_path)
     assert cli.main([a.format(scene=scene) for a in argv]) == 2

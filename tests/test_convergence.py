@@ -60,9 +60,9 @@ def test_each_measure_gets_a_verdict_with_an_absolute_floor():
 
 
 def test_stiffness_verdicts_name_the_measure_its_values_and_what_to_do():
-    from dem_core.cli import _stiffness_verdicts
+    from dem_core.cli.stiffness import verdict_lines
 
-    lines = _stiffness_verdicts(issue_table())
+    lines = verdict_lines(issue_table())
     text = "\n".join(lines)
     assert lines[0] == ("each measure at K_n x 1 against x 100, the stiffest: converged when it changes by at most 5%, "
                         "or by less than 0.001 rad of rotation, 1 mm of sliding, 0.1 s of overturn time")
@@ -76,5 +76,5 @@ def test_stiffness_verdicts_name_the_measure_its_values_and_what_to_do():
     assert ("  overturn time: none at x 1, none at x 10, none at x 100\n"
             "    converged: no overturn at any stiffness") in text
     stiff = issue_table().assign(total_sliding_m=[3.91e-3, 2.9e-3, 1.29e-3])
-    lines = _stiffness_verdicts(stiff)
+    lines = verdict_lines(stiff)
     assert any("the two stiffest runs disagree too: treat this measure as uncertain" in line for line in lines)

@@ -3,7 +3,6 @@ argument it was given as, before anything is compiled; a motion beyond what a st
 
 import warnings
 
-import numpy as np
 import pytest
 
 import dem_core
@@ -46,16 +45,17 @@ def test_times_that_are_not_positive_finite_seconds_are_named(two_drums, name, v
         dem_core.simulate(two_drums, excitation.still(), **arguments)
 
 
-def test_a_motion_beyond_fifty_g_is_announced_and_blamed_when_the_run_fails(two_drums):
-    """A harmonic of 1e4 m/s^2 (about 1000 g) is a mistake of units or scale, not an earthquake: the run is
-    announced with the motion's name and peak, and a run that loses stability under it blames the motion,
-    not the time step."""
-    motion = excitation.harmonic(pga=1e4, frequency=5.0)
-    with pytest.warns(RuntimeWarning, match=r"ground motion 'harmonic.*' peaks at 1e\+04 m/s\^2 .* beyond the 50 g"):
-        run = dem_core.Simulation(two_drums, motion, duration=0.05)
-    run.status, run.stopped_by = dem_core.engine.settings.STATUS_ENERGY, (0, 0)
-    message = run._stop_message(np.zeros(1))
-    assert "check its units and scale before the time step" in message and "reduce dt" not in message
+def test_a_motion_beyond_fifty_g_is_refused_naming_it_and_its_peak(two_drums):
+    """A harmonic of 1e4 m/s^2 (about 1000 g) is a mistake of units or scale, not an earthquake: the run is refused
+    with the motion's name and peak, the policy a scene file follows; a ramp is judged by its value at the run's
+    end."""
+    words = r"ground motion 'harmonic.*' would peak at 1e\+04 m/s\^2 \(1.02e\+03 g\), beyond the 50 g"
+    with pytest.raises(ValueError, match=words):
+        dem_core.Simulation(two_drums, excitation.harmonic(pga=1e4, frequency=5.0), duration=0.05)
+    ramp = excitation.ramp(rate=100.0)
+    dem_core.simulate(two_drums, ramp, duration=0.05)  # 5 m/s^2 at its end
+    with pytest.raises(ValueError, match=r"would peak at 600 m/s\^2"):
+        dem_core.Simulation(two_drums, ramp, duration=6.0)
 
 
 def test_an_ordinary_record_is_not_announced(two_drums):

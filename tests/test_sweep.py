@@ -253,11 +253,11 @@ def test_cli_duration_sets_every_run_and_is_part_of_their_identity(tmp_path, cap
 
 
 def test_run_counts_in_words():
-    from dem_core.cli import _run_counts
+    from dem_core.cli.sweep import run_counts
 
-    assert _run_counts(16, {"ok": 15, "failed": 1}) == "16 runs: 15 ok, 1 failed"
-    assert _run_counts(3, {"failed": 1, "unstable": 1, "ok": 1}) == "3 runs: 1 ok, 1 unstable, 1 failed"
-    assert _run_counts(1, {"ok": 1}) == "1 run: 1 ok"
+    assert run_counts(16, {"ok": 15, "failed": 1}) == "16 runs: 15 ok, 1 failed"
+    assert run_counts(3, {"failed": 1, "unstable": 1, "ok": 1}) == "3 runs: 1 ok, 1 unstable, 1 failed"
+    assert run_counts(1, {"ok": 1}) == "1 run: 1 ok"
 
 
 # --- failures ------------------------------------------------------------------------------------

@@ -16,8 +16,8 @@ import numba as nb
 
 from ._contact_law import pair_parameters
 from ._world import boxes_apart
-from .model_arrays import (DEPTH, FRICTION, LAW_CN, LAW_CR, LAW_CT, LAW_KN, LAW_KT, LAW_KT_RATIO, LAW_ZETA_N, LAW_ZETA_R,
-                    LAW_ZETA_T, MASS, WIDTH)
+from .model_arrays import (DEPTH, FRICTION, LAW_CN, LAW_CR, LAW_CT, LAW_KN, LAW_KT, LAW_KT_RATIO, LAW_ZETA_N,
+                           LAW_ZETA_R, LAW_ZETA_T, MASS, WIDTH)
 from .settings import CONTACT_LAW, HALF_SKIN, PAIR_STORE, RETIRED_STORE
 from .state import C_N, C_R, C_T, K_N, K_T, LISTED, MU, PAIR_I, PAIR_INTERFACE, PAIR_J, PAIR_KEY, REBUILDS, RETIRED
 

@@ -1,9 +1,9 @@
 """Compiled contact laws: per-pair parameters and the force of one contact (docs/method.md 1.3 to 1.5).
 
-Private module: plain scalars in, plain scalars out, so that the stepping kernel
-(:mod:`dem_core.engine._step`), the time-step analysis (:mod:`dem_core.engine.stability`)
-and the unit tests call the very same functions.  With docs/method.md, this module is where the laws'
-equations are written; every other place points here.
+Private module: plain scalars in, plain scalars out, so that the driver's explicit stage
+(:mod:`dem_core.engine._explicit`), the broad phase's new pairs, the time-step analysis
+(:mod:`dem_core.engine.stability`) and the unit tests call the very same functions.  With docs/method.md, this
+module is where the laws' equations are written; every other place points here.
 
 Two laws share the tangential rule and the Coulomb cap:
 

@@ -1,8 +1,10 @@
-"""Compiled Moreau-Jean time stepping on the corner manifold (docs/method.md 1.8).
+"""Compiled: Moreau-Jean's stage, time stepping on the corner manifold at the velocity level (docs/method.md 1.8).
 
-Private module: :func:`advance` takes what :func:`dem_core.engine._step.advance` takes and advances the
-state at the velocity level, with no contact stiffness (Moreau 1988; Jean 1999; Acary and Brogliato 2008,
-ch. 10).  Over a step ``h`` from ``(q, v)`` to ``(q+, v+)``, theta in [0.5, 1]:
+Private module: :func:`moreau_part`, the driver's integrator stage under ``MOREAU`` (:mod:`._driver`), advances
+the state with no contact stiffness (Moreau 1988; Jean 1999; Acary and Brogliato 2008, ch. 10); the driver's
+other stages (ground, outputs, geometry, broad phase, checks) are those of the explicit integrator, and the
+velocities are those at the steps, not half a step before.  Over a step ``h`` from ``(q, v)`` to ``(q+, v+)``,
+theta in [0.5, 1]:
 
     M (v+ - v) = h f + H^T P,        q+ = q + h ((1 - theta) v + theta v+),
 
@@ -23,12 +25,19 @@ statuses do not settle, projected Gauss-Seidel finishes the solve from there, ea
 (:func:`point_impulse`).  A point left inside its face by the step is pushed out at the position level
 (:func:`project_positions`): positions move, velocities do not, so the correction adds no kinetic energy.
 
-Stages per step: :func:`~._step.place_base` and the outputs; the world geometry, boxes and candidate list
-(shared with the explicit kernel; on a new list the pairs' order, :func:`._active_set.pair_order`);
-:func:`collect_points` (the manifold of every candidate pair and the index set); :func:`free_velocities`;
-:func:`warm_start`; :func:`._active_set.solve_statuses`, and where its statuses did not hold :func:`point_blocks`
-and :func:`solve_points`; :func:`integrate`; :func:`project_positions`; the ground's work; the checks of the
-explicit kernel (non-finite, runaway, fell off, overturns, energy).
+A part of a step, in order (the pairs in the order of :func:`~._active_set.pair_order`, made with each list):
+
+1. per listed pair, its corner manifold and the points of the index set (:func:`collect_points`; a pair whose
+   boxes are apart forgets its contact), and the part's length: the step, or split where a point apart meets its
+   face (:func:`first_meeting`);
+2. the smooth impulse (:func:`free_velocities`);
+3. the contact impulses: warm start (:func:`warm_start`), the direct solve by statuses
+   (:func:`~._active_set.solve_statuses`), and where its statuses did not hold Gauss-Seidel
+   (:func:`point_blocks`, :func:`solve_points`), which sweeps on or stops the run where it is far from a solution;
+4. the positions (:func:`integrate`);
+5. the points left inside their faces pushed out (:func:`project_positions`);
+6. the impulses kept for the next step's warm start and the slips tallied (:func:`keep_impulses`), then the
+   ground's work (:func:`~._checks.ground_work`).
 """
 
 import math

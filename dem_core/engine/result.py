@@ -12,6 +12,16 @@ from dataclasses import dataclass, field
 import numpy as np
 import pandas as pd
 
+#: the measures of each block, in :meth:`Result.metrics`' columns, a batch's ``<measure>[<block>]`` columns and the
+#: command line's metrics.csv: peak |theta| over every step (rad), peak |horizontal displacement| relative to the
+#: base over the outputs (m), residual displacement (m), the slip at the block's joints, below and above it, added
+#: (m: each joint counts for both its blocks), mean |theta| over the outputs (rad), whether it overturned and when
+#: (s, NaN if never)
+BLOCK_MEASURES = ("peak_abs_theta_rad", "peak_abs_displacement_m", "residual_displacement_m", "sliding_at_its_joints_m",
+                  "mean_abs_theta_rad", "overturned", "overturn_time_s")
+#: the measures of the scene, in :meth:`Result.measures`, :meth:`Result.summary` and a batch's row
+SCENE_MEASURES = ("max_peak_abs_theta_rad", "total_sliding_m", "mean_rocking_rad", "overturned", "overturn_time_s")
+
 
 @dataclass(frozen=True, eq=False)
 class Result:
@@ -116,29 +126,45 @@ class Result:
         """First overturn of any block, s (NaN if none)."""
         return float(np.nanmin(self.overturn_time)) if self.overturned else float("nan")
 
+    @property
+    def peak_displacement(self) -> np.ndarray:
+        """(n_blocks,) peak |horizontal displacement| relative to the base from the start, over the outputs, m."""
+        return np.max(np.abs(self.relative_x - self.relative_x[:1]), axis=0)
+
     def metrics(self) -> pd.DataFrame:
-        """One row per block: peak |theta|, residual displacement, sliding, rocking, overturn."""
+        """One row per block: ``block`` and the :data:`BLOCK_MEASURES`."""
         return pd.DataFrame({
             "block": list(self.names),
             "peak_abs_theta_rad": self.peak_theta,
+            "peak_abs_displacement_m": self.peak_displacement,
             "residual_displacement_m": self.residual_displacement,
-            "sliding_m": self.block_sliding,
+            "sliding_at_its_joints_m": self.block_sliding,
             "mean_abs_theta_rad": self.mean_rocking,
             "overturned": np.isfinite(self.overturn_time),
             "overturn_time_s": self.overturn_time,
-        })
+        }, columns=["block", *BLOCK_MEASURES])
+
+    def interface_metrics(self) -> pd.DataFrame:
+        """One row per interface: ``interface`` ("drum1/drum2": its two bodies in the scene's order, "base" for the
+        ground) and ``sliding_m``, the slip accumulated there over the run (m; 0 where it did not slide, NaN when
+        the engine does not measure it).  The interfaces touching at the start come first, in the scene's order,
+        then those that met later and slid; the column adds up to the total sliding."""
+        slips = self.interface_slip
+        pairs = list(dict.fromkeys([*map(tuple, self.interfaces), *(slips or {})]))
+        return pd.DataFrame({"interface": [f"{a}/{b}" for a, b in pairs],
+                             "sliding_m": [float("nan") if slips is None else float(slips.get(pair, 0.0))
+                                           for pair in pairs]}, columns=["interface", "sliding_m"])
+
+    def measures(self) -> dict:
+        """The scene's :data:`SCENE_MEASURES`: peak |theta| of any block (rad), total sliding (m), mean rocking
+        (rad), whether any block overturned and when first (s, NaN if none)."""
+        return {"max_peak_abs_theta_rad": float(np.max(self.peak_theta)), "total_sliding_m": self.total_sliding,
+                "mean_rocking_rad": self.rocking, "overturned": self.overturned,
+                "overturn_time_s": self.time_of_overturn}
 
     def summary(self) -> dict:
-        """Scene-level measures: total sliding, rocking, overturn, and run facts."""
-        return {
-            "total_sliding_m": self.total_sliding,
-            "mean_rocking_rad": self.rocking,
-            "max_peak_abs_theta_rad": float(np.max(self.peak_theta)),
-            "overturned": self.overturned,
-            "overturn_time_s": self.time_of_overturn,
-            "dt_s": self.dt,
-            **self.info,
-        }
+        """The scene's measures (:meth:`measures`), the step and the run's facts."""
+        return {**self.measures(), "dt_s": self.dt, **self.info}
 
     def to_frame(self) -> pd.DataFrame:
         """Tidy table: one row per output time and block (t, block, x, y, theta, x_rel, base_x, base_y)."""

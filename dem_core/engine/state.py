@@ -3,8 +3,8 @@ and the outputs written so far.
 
 A :class:`State` is a few arrays, mutable, apart from the :class:`~dem_core.engine.model.Model`; the compiled driver
 advances it in place.  Its stores have fixed capacities (no array is allocated while a run steps, on the CPU or a
-GPU): a chunk of steps that would overflow one stops before it changes anything of the step that filled it, and
-the run takes the chunk again from a copy with that store doubled (:meth:`State.grown`).  A run can be stopped
+GPU): a chunk of steps that would overflow one stops, and the run takes the chunk again from a copy of the state
+at the chunk's start with that store doubled (:meth:`State.grown`).  A run can be stopped
 after any number of steps, kept (it pickles) and continued.
 """
 

@@ -319,6 +319,37 @@ class GroundMotion:
         return self.horizontal.displacement(t), self.vertical.displacement(t)
 
 
+#: a ground acceleration above this many g (9.80665 m/s^2) is beyond what a stone block can meet and more likely a
+#: mistake of units or scale: a run under such a motion is refused (:func:`refuse_extreme`), whether it comes
+#: from a scene file, from simulate or as a member of a batch
+EXTREME_PGA_G = 50.0
+
+
+def peak_acceleration(motion: GroundMotion, duration: float | None = None) -> float:
+    """The largest |acceleration| (m/s^2) of either component of ``motion``; a component that rises without a peak
+    (a ramp) is taken at ``duration`` (s), where given, and is infinite otherwise."""
+    peaks = []
+    for component in (motion.horizontal, motion.vertical):
+        peak = component.peak_acceleration
+        if peak == math.inf and duration is not None:
+            peak = float(np.max(np.abs(component.acceleration(np.array([0.0, duration])))))
+        peaks.append(peak)
+    return max(peaks)
+
+
+def refuse_extreme(motion: GroundMotion, duration: float | None = None) -> None:
+    """:class:`ExcitationError` if ``motion`` peaks above :data:`EXTREME_PGA_G` within ``duration`` (s; a motion
+    rising without a peak and no duration is not judged), naming the motion and its peak."""
+    try:
+        peak = peak_acceleration(motion, duration)
+    except NotImplementedError:
+        return
+    if EXTREME_PGA_G * records.G_STANDARD < peak < math.inf:
+        raise ExcitationError(f"the ground motion '{motion.name}' would peak at {peak:.3g} m/s^2 "
+                              f"({peak / records.G_STANDARD:.3g} g), beyond the {EXTREME_PGA_G:g} g a stone block "
+                              f"can meet; check its size and units")
+
+
 @dataclass(frozen=True)
 class Scaled(Component):
     """``factor`` times the motion of ``component``."""

@@ -38,8 +38,8 @@ other ``*_TYPES`` tables): numbers are numbers, not strings; integers are whole
 numbers (``3`` or ``3.0``), not booleans.  Errors name the file, the table, the
 key, the type expected and the value given; an unknown key, table, builder or
 kind gets the nearest valid name suggested.  A ground motion that would peak
-above ``dem_core.simulation.EXTREME_PGA_G`` (50 g: beyond what a stone block can
-meet) is refused naming the keys that set its size.
+above ``dem_core.inputs.excitation.EXTREME_PGA_G`` (50 g: beyond what a stone
+block can meet) is refused naming the keys that set its size.
 """
 
 import inspect
@@ -425,19 +425,12 @@ SIZE_KEYS = ("pga", "scale", "amplitude", "frequency", "vertical_amplitude", "pe
 
 
 def _refuse_extreme(spec: dict, motion, simulation: dict, path) -> None:
-    """Refuse a ground motion that would peak above ``EXTREME_PGA_G``, naming the keys that set its size (a
-    ramp without a peak: its rate times ``[simulation] duration``, when given)."""
-    from ..simulation import EXTREME_PGA_G  # here: the simulation module reads the inputs
-    from .records import G_STANDARD
-
-    peak = max(motion.horizontal.peak_acceleration, motion.vertical.peak_acceleration)
-    if peak == math.inf and isinstance(motion.horizontal, excitation_module.Ramp) and "duration" in simulation:
-        peak = abs(motion.horizontal.rate) * simulation["duration"]
-    if not EXTREME_PGA_G * G_STANDARD < peak < math.inf:
-        return
-    keys = [key for key in SIZE_KEYS if key in spec] or [key for key in ("source",) if key in spec]
-    given = ", ".join(f"{key} = {_short(spec[key])}" for key in keys)
-    raise SceneFileError(f"{path}: [excitation] {given}: the ground motion '{motion.name}' would peak at "
-                         f"{peak:.3g} m/s^2 ({peak / G_STANDARD:.3g} g), beyond the {EXTREME_PGA_G:g} g a stone "
-                         f"block can meet; check its size and units (pga, peak and a pulse's amplitude are in "
-                         f"m/s^2, a harmonic's amplitude in m, a ramp's rate in m/s^2 per s)", keys=keys)
+    """Refuse a ground motion that would peak above ``EXTREME_PGA_G`` (:func:`~.excitation.refuse_extreme`; a ramp
+    without a peak by ``[simulation] duration``, when given), naming the keys that set its size."""
+    try:
+        excitation_module.refuse_extreme(motion, simulation.get("duration"))
+    except excitation_module.ExcitationError as exc:
+        keys = [key for key in SIZE_KEYS if key in spec] or [key for key in ("source",) if key in spec]
+        given = ", ".join(f"{key} = {_short(spec[key])}" for key in keys)
+        raise SceneFileError(f"{path}: [excitation] {given}: {exc} (pga, peak and a pulse's amplitude are in m/s^2, "
+                             f"a harmonic's amplitude in m, a ramp's rate in m/s^2 per s)", keys=keys) from None

@@ -1,0 +1,107 @@
+"""The command line's arguments: the parser, the types that check every number given, and the SCENE argument.
+
+:class:`Parser` is argparse with an error as one line naming the option, returned by ``main`` as exit status 2,
+and with every option's default shown in ``--help``; the ``type`` callables here refuse NaN, infinities and
+values out of range before any run starts.
+"""
+
+import argparse
+import math
+import sys
+from importlib import resources
+from pathlib import Path
+
+from ..inputs.scene_file import SceneFileError, load
+
+DEFAULT_SCENE = "column_el_centro.toml"
+
+
+def default_scene_path() -> Path:
+    return Path(str(resources.files("dem_core") / "data" / "scenes" / DEFAULT_SCENE))
+
+
+class ArgumentError(Exception):
+    """A command line argparse refuses; ``main`` prints it as one line and returns 2."""
+
+
+class HelpFormatter(argparse.HelpFormatter):
+    """argparse's help with every option's default shown: "(default: X)" is added to the help of an option
+    that has a default and whose help does not already say it (an option without one says in its help
+    what it falls back to: the scene file, the record)."""
+
+    def _get_help_string(self, action):
+        text = action.help or ""
+        default = action.default
+        if ("default" in text or default is None or default is False or default is argparse.SUPPRESS
+                or action.nargs == 0 or not (action.option_strings or action.nargs in ("?", "*"))):
+            return text
+        shown = " ".join(f"{v:g}" if isinstance(v, float) else str(v) for v in default) \
+            if isinstance(default, (list, tuple)) else (f"{default:g}" if isinstance(default, float) else default)
+        return f"{text} (default: {shown})".lstrip()
+
+
+class Parser(argparse.ArgumentParser):
+    """argparse, with an error as one line naming the option (no usage block) returned by ``main`` as 2
+    rather than a ``SystemExit`` (``--help`` still exits), and every default shown in ``--help``."""
+
+    def __init__(self, *args, **kwargs):
+        kwargs.setdefault("formatter_class", HelpFormatter)
+        super().__init__(*args, **kwargs)
+
+    def error(self, message):
+        raise ArgumentError(f"{message} (see {self.prog} --help)")
+
+
+def _number(parse, test, requirement: str):
+    """An argparse ``type`` that parses with ``parse`` and refuses values failing ``test``: NaN, infinities and
+    values out of range never reach a run.  The message names the option: ``argument --rate: must be a positive,
+    finite number (m/s^2 per s), got 0``."""
+    def check(text):
+        try:
+            value = parse(text)
+        except (TypeError, ValueError):
+            raise argparse.ArgumentTypeError(f"expected {requirement}, got {text!r}") from None
+        if not test(value):
+            raise argparse.ArgumentTypeError(f"must be {requirement}, got {text}")
+        return value
+
+    return check
+
+
+def _finite_positive(value) -> bool:
+    return math.isfinite(value) and value > 0
+
+
+SECONDS = _number(float, _finite_positive, "a positive, finite number of seconds")
+POSITIVE = _number(float, _finite_positive, "a positive, finite number")
+RATE = _number(float, _finite_positive, "a positive, finite number (m/s^2 per s)")
+WORKERS = _number(int, lambda v: v >= 1, "a whole number of at least 1")
+#: frames per second of an animation: GIF players honour at most 100
+FPS = _number(int, lambda v: 1 <= v <= 100, "a whole number from 1 to 100")
+SCALES = _number(int, lambda v: 2 <= v <= 1000, "a whole number from 2 to 1000")
+LEVELS = _number(int, lambda v: 2 <= v <= 100_000, "a whole number from 2 to 100000")
+STATE = _number(float, lambda v: 0 < v <= 1, "a number above 0 and at most 1")
+FRACTION = _number(float, lambda v: 0 < v < 1, "a number between 0 and 1 (both excluded)")
+DAMPING = _number(float, lambda v: 0 <= v < 1, "a damping ratio from 0 up to (not including) 1")
+
+
+def load_or_fail(path):
+    """The scene file at ``path``, or None after printing why it cannot be read."""
+    try:
+        return load(path)
+    except SceneFileError as exc:
+        print(f"error: {exc}", file=sys.stderr)
+        return None
+
+
+def scene_and_settings(args):
+    """(path, scene file, simulate settings with --duration applied) of a command's SCENE argument
+    (the bundled default if none), or None after printing why it cannot be read."""
+    path = Path(args.scene) if args.scene else default_scene_path()
+    spec = load_or_fail(path)
+    if spec is None:
+        return None
+    settings = dict(spec.simulation)
+    if args.duration is not None:
+        settings["duration"] = args.duration
+    return path, spec, settings

@@ -1,0 +1,147 @@
+"""``dem-core fragility [SCENE] --out DIR``: fragility curves of the scene under a suite of records scaled to stripes
+of PGA or PGV, every run one batch (:mod:`dem_core.analyses.fragility_study`)."""
+
+import sys
+from pathlib import Path
+
+import numpy as np
+
+from ..analyses.fragility_study import (DEFAULT_STATES, DEFAULT_TOP, INTENSITY_MEASURES, fragility_study,
+                                        state_label, stripes, write_study)
+from ..batch import DEVICES, check_device
+from ..inputs import records
+from ..inputs.excitation import record
+from ..output_files import output_folder
+from ..engine.settings import INTEGRATORS
+from .arguments import DEFAULT_SCENE, LEVELS, POSITIVE, SECONDS, STATE, WORKERS, scene_and_settings
+from .progress import compile_first, progress_bar
+
+
+def add(sub):
+    fragility = sub.add_parser(
+        "fragility", help="fragility curves: the scene under a suite of records scaled to stripes of PGA or PGV",
+        description="Run the scene under each record scaled to each of --levels intensities evenly spaced up to "
+        "--max (multiple-stripe analysis), all members of one batch on every core, and fit a lognormal fragility "
+        "per damage state by maximum likelihood with bootstrap 90% bands (dem_core.analyses.fragility).  A "
+        "damage state is a peak |theta|/alpha (alpha the column's critical angle for a drum, else the block's "
+        "own); 1 is overturning.  Writes fragility.csv (median and dispersion per state with their "
+        "bands), counts.csv (runs and exceedances per level and state), runs.csv (every run's measures), "
+        "fragility.png and study.json (the settings, the machine and the wall time).")
+    fragility.add_argument("scene", nargs="?", help=f"scene file (its [excitation] is ignored); default the bundled "
+                           f"{DEFAULT_SCENE}")
+    suite = fragility.add_mutually_exclusive_group()
+    suite.add_argument("--records", nargs="+", metavar="RECORD", help="bundled record names or record files (AT2 "
+                       "or text) (default: the four bundled records)")
+    suite.add_argument("--records-dir", metavar="DIR", help="a folder whose .at2, .txt, .dat and .csv files are the "
+                       "suite (default: none, --records)")
+    fragility.add_argument("--units", choices=("m/s^2", "g", "cm/s^2"), default="m/s^2", help="units of text "
+                           "records (AT2 files state theirs)")
+    fragility.add_argument("--im", choices=tuple(INTENSITY_MEASURES), default="pga", help="intensity measure: peak "
+                           "ground acceleration (m/s^2) or velocity (m/s) of the horizontal component")
+    fragility.add_argument("--levels", type=LEVELS, default=32, help="intensity levels (stripes) per record, 2 to "
+                           "100000")
+    fragility.add_argument("--max", type=POSITIVE, help="highest level, in the measure's unit; the levels are evenly "
+                           "spaced from max/levels to max (default: 1 g of PGA, 1 m/s of PGV)")
+    fragility.add_argument("--states", type=STATE, nargs="+", default=list(DEFAULT_STATES),
+                           help="damage states as peak |theta|/alpha, each above 0 and at most 1; 1 is overturning")
+    fragility.add_argument("--out", required=True, help="output folder, created if need be")
+    fragility.add_argument("--duration", type=SECONDS, help="simulated time of each run in s (default: from the "
+                           "file, else each record's length)")
+    fragility.add_argument("--integrator", choices=INTEGRATORS, help="default: the file's [simulation] integrator, "
+                           "else explicit")
+    fragility.add_argument("--device", choices=DEVICES, default="auto", help="where the batch runs")
+    fragility.add_argument("--threads", type=WORKERS, help="runs at once (default: one per core)")
+
+
+def run(args) -> int:
+    try:
+        check_device(args.device)
+    except ValueError as exc:
+        print(f"error: --device: {exc}", file=sys.stderr)
+        return 2
+    loaded = scene_and_settings(args)
+    if loaded is None:
+        return 2
+    path, spec, settings = loaded
+    suite = _record_suite(args)
+    if suite is None:
+        return 2
+    out = output_folder(args.out, "--out")
+    if args.integrator is not None:
+        settings["integrator"] = args.integrator
+    duration = settings.pop("duration", None)
+    settings.pop("output_dt", None)
+    label, unit = INTENSITY_MEASURES[args.im]
+    levels = stripes(args.levels, args.max or DEFAULT_TOP[args.im])
+    total = len(levels) * len(suite)
+    print(f"fragility of {path.name}: {len(suite)} record(s) x {len(levels)} {label} levels from {levels[0]:.4g} to "
+          f"{levels[-1]:.4g} {unit} ({total} runs), integrator {settings.get('integrator', 'explicit')}", flush=True)
+    compile_first(spec.scene, next(iter(suite.values())), settings)
+    bar = progress_bar(total=total, desc="runs", unit="run")
+    done = [0]
+
+    def on_member(finished, _total):
+        done[0] = finished
+        bar.update(finished - bar.n)
+
+    args.on_interrupt = lambda: f"stopped after {done[0]} of {total} runs; nothing was written"
+    try:
+        study = fragility_study(spec.scene, suite, levels, args.states, im=args.im, duration=duration,
+                                device=args.device, threads=args.threads, progress=on_member, **settings)
+    except (TypeError, ValueError) as exc:
+        print(f"error: {exc}", file=sys.stderr)
+        return 2
+    finally:
+        bar.close()
+    failed = study.runs[study.runs["status"] != "ok"]
+    print(f"{total} runs in {study.wall_time_s:.1f} s on {study.device}"
+          + (f"; {len(failed)} did not finish and count in no stripe" if len(failed) else ""))
+    for _, row in failed.head(5).iterrows():
+        print(f"  {row['record']} at {label} {row['level']:.4g} {unit}: {row['status']}: "
+              f"{str(row['error']).splitlines()[0]}")
+    table = study.table()
+    for _, row in table.iterrows():
+        what = state_label(row["state"])
+        if np.isfinite(row["median"]):
+            print(f"  {what}: median {row['median']:.3g} {unit} (90% {row['median_low']:.3g} to "
+                  f"{row['median_high']:.3g}), beta {row['beta']:.2f} ({row['beta_low']:.2f} to {row['beta_high']:.2f})"
+                  f", {row['exceeded']} of {row['runs']} runs" + (f"; {row['note']}" if row["note"] else ""))
+        else:
+            print(f"  {what}: no fit: {row['note']}")
+    written = _write_fragility(out, study, path, settings, duration)
+    print(f"wrote {', '.join(written)} in {out}")
+    return 0
+
+
+def _record_suite(args):
+    """{name: GroundMotion} of the fragility command's records (the bundled four by default), or None after
+    printing which record could not be read."""
+    if args.records_dir:
+        folder = Path(args.records_dir)
+        if not folder.is_dir():
+            print(f"error: --records-dir {folder}: not a folder", file=sys.stderr)
+            return None
+        sources = sorted(str(p) for p in folder.iterdir() if p.suffix.lower() in (".at2", ".txt", ".dat", ".csv"))
+        if not sources:
+            print(f"error: --records-dir {folder}: no .at2, .txt, .dat or .csv file in it", file=sys.stderr)
+            return None
+    else:
+        sources = args.records or list(records.BUNDLED)
+    suite = {}
+    for source in sources:
+        name = source if source in records.BUNDLED else Path(source).stem
+        if name in suite:
+            print(f"error: two records are named {name!r}: rename one", file=sys.stderr)
+            return None
+        try:
+            suite[name] = record(source, units=args.units)
+        except (OSError, ValueError) as exc:
+            print(f"error: record {source}: {exc}", file=sys.stderr)
+            return None
+    return suite
+
+
+def _write_fragility(out: Path, study, path: Path, settings: dict, duration) -> list:
+    """Write the study's files into ``out``; returns their names."""
+    return write_study(study, out, f"Fragility of {path.stem}", {"scene": str(path), "duration_s": duration,
+                                                                 "simulation": settings})

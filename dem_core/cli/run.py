@@ -1,0 +1,156 @@
+"""``dem-core run [SCENE]``: run a scene file and write its results and figures into a folder
+(:mod:`dem_core.run_folder`)."""
+
+import json
+import sys
+from pathlib import Path
+
+import numpy as np
+
+from ..output_files import output_file, output_folder
+from ..run_folder import RUN_FILES, run_summary, write_run, write_summary
+from ..engine.settings import INTEGRATORS
+from ..simulation import SimulationUnstable
+from .arguments import DEFAULT_SCENE, POSITIVE, SECONDS, default_scene_path, load_or_fail
+from .console import Refused, motion_text, stopped_text
+from .interrupts import INTERRUPTS
+from .single_run import movie_name_ok, simulated, write_animation
+
+
+def add(sub):
+    command = sub.add_parser("run", help="run a scene file and write results and plots",
+                             description="Run a scene file and write its results and figures into a folder.  A "
+                             "folder that holds an earlier run of the same scene file has that run replaced whole "
+                             "(its files are deleted when this run has finished, before its own are written; the "
+                             "command says so); a folder that holds the run of another scene is refused, naming it, "
+                             "unless --overwrite.  Each file is written whole "
+                             "or not at all; summary.json says whether the run is complete, stopped (unstable: the "
+                             "files hold the run up to there, and why) or incomplete (interrupted while writing).  "
+                             "Files: time_history.csv (or .parquet); metrics.csv, one row per block, whose "
+                             "sliding_at_its_joints_m adds the slip of the block's interfaces below and above it (so "
+                             "its sum over the blocks counts every joint twice); interfaces.csv, the slip of each "
+                             "interface (sliding_m, adding up to the total sliding); summary.json; the figures.")
+    command.add_argument("scene", nargs="?", help=f"scene file (TOML); default: the bundled {DEFAULT_SCENE}")
+    command.add_argument("--out", help="output folder (default: results/<scene name>), created if need be")
+    command.add_argument("--overwrite", action="store_true", help="replace the results of another scene's run in "
+                         "--out (its files are deleted before this run's are written); without it such a folder is "
+                         "refused")
+    command.add_argument("--format", choices=("csv", "parquet"), help="time-history format (default: the file's "
+                         "[output] format, else csv)")
+    command.add_argument("--duration", type=SECONDS, help="simulated time in s (default: from the file or the record)")
+    command.add_argument("--integrator", choices=INTEGRATORS, help="explicit central differences on the contact "
+                         "springs, or Moreau-Jean's velocity-level steps on rigid contacts (docs/method.md 1.8; "
+                         "default: the file's [simulation] integrator, else explicit)")
+    command.add_argument("--no-plots", action="store_true", help="skip the figures")
+    command.add_argument("--animate", metavar="FILE", help="also write an animation (.gif or .mp4, relative to --out) "
+                         "and snapshots.png (default: none)")
+    command.add_argument("--exaggerate", type=POSITIVE, default=1.0, metavar="K",
+                         help="draw each block's rotation and displacement on what it rests on K times larger in the "
+                         "animation, K > 0 (default: 1); a block rocking on a corner still stands on it")
+    command.add_argument("--relative-rotations", action="store_true",
+                         help="plot rotations as theta / alpha, alpha the critical angle (column's for drums)")
+
+
+def run(args) -> int:
+    path = Path(args.scene) if args.scene else default_scene_path()
+    spec = load_or_fail(path)
+    if spec is None:
+        return 2
+    if args.exaggerate != 1 and not args.animate:
+        print("note: --exaggerate applies to the animation: add --animate run.gif", file=sys.stderr)
+    if args.animate and not movie_name_ok(args.animate, "--animate"):
+        return 2
+    out = output_folder(Path(args.out) if args.out else Path("results") / path.stem, "--out")
+    movie = output_file(out / args.animate, "--animate") if args.animate else None
+    previous = _previous_run(out, path, args.overwrite)
+    settings = dict(spec.simulation)
+    if args.duration is not None:
+        settings["duration"] = args.duration
+    if args.integrator is not None:
+        settings["integrator"] = args.integrator
+    fmt = args.format or spec.output.get("format", "csv")
+    print(f"scene {path} ({len(spec.scene.blocks)} blocks), ground motion: {motion_text(spec.excitation)}")
+    args.on_interrupt = lambda: f"the run was stopped before its results were written: {out}/ is as it was"
+    stopped = ""
+    try:
+        result, setup = simulated(spec, settings)
+    except SimulationUnstable as exc:
+        INTERRUPTS.check()
+        result, stopped, setup = exc.partial, stopped_text(exc), getattr(exc, "setup_s", None)
+        if result is None or len(result.t) == 0:
+            print(f"error: {stopped}; nothing was written", file=sys.stderr)
+            return 3
+    except (TypeError, ValueError) as exc:
+        print(f"error: {path}: {exc}", file=sys.stderr)
+        return 2
+    INTERRUPTS.check()
+    print(f"peak |theta| {np.max(result.peak_theta):.4g} rad, total sliding {result.total_sliding:.4g} m, "
+          f"overturned: {f'yes at t = {result.time_of_overturn:.3f} s' if result.overturned else 'no'}")
+    args.on_interrupt = lambda: (f"writing the results into {out}/ was stopped: they are incomplete (summary.json "
+                                 "says so); run the same command again")
+    args.after_write_error = lambda: f"the results in {out}/ are incomplete"
+    for old in previous:
+        old.unlink(missing_ok=True)
+    summary = run_summary(result, path, stopped, setup)
+    written = write_run(result, out, fmt, summary)
+    if not args.no_plots and spec.output.get("plots", True) and len(result.t) > 1:
+        from ..pictures.plots import save_run_figures  # matplotlib loads only when figures are written
+
+        figures = save_run_figures(result, out, spec.excitation, title=path.stem,
+                                   relative_rotations=args.relative_rotations)
+        written += [p.name for p in figures]
+        print(f"figures: {', '.join(p.name for p in figures)}")
+    if movie is not None:
+        write_animation(spec, result, movie, out / "snapshots.png", path.stem, exaggerate=args.exaggerate)
+        written += [movie.resolve().relative_to(out.resolve()).as_posix() if _inside(movie, out) else str(movie),
+                    "snapshots.png"]
+    write_summary(out, {**summary, "status": "stopped" if stopped else "complete", "files": written})
+    if not stopped:
+        print(f"results written to {out}/")
+        return 0
+    print(f"results up to t = {result.t[-1]:.4g} s written to {out}/")
+    print(f"error: {stopped}; the results up to t = {result.t[-1]:.6g} s are written to {out}/, marked \"stopped\" "
+          "in summary.json", file=sys.stderr)
+    return 3
+
+
+def _previous_run(out: Path, scene: Path, overwrite: bool) -> list:
+    """The files of an earlier run in ``out``, to be deleted before this run's are written ([] if none): an
+    earlier run of the same scene file is replaced whole (said on stderr); another scene's run, or one whose
+    scene is not recorded, raises :class:`Refused` naming it, unless ``overwrite``."""
+    try:
+        previous = json.loads((out / "summary.json").read_text())
+    except (OSError, ValueError):
+        previous = {}
+    previous = previous if isinstance(previous, dict) else {}
+    listed = previous.get("files") if isinstance(previous.get("files"), list) else []
+    names = {*RUN_FILES, *(name for name in listed if isinstance(name, str))}
+    files = sorted(p for p in (out / name for name in names) if _inside(p, out) and p.is_file())
+    if not files:
+        return []
+    held = previous.get("scene")
+    if isinstance(held, str) and _same_file(held, scene):
+        print(f"note: {out}/ holds an earlier run of {scene}: it is replaced whole", file=sys.stderr)
+        return files
+    what = (f"a run of another scene, {held}" if isinstance(held, str) else
+            f"another run, whose scene it does not record ({', '.join(p.name for p in files[:4])})")
+    if overwrite:
+        print(f"note: --overwrite: {out}/ holds {what}: its files are deleted", file=sys.stderr)
+        return files
+    raise Refused(f"--out {out} holds {what}; the results of two runs are not mixed: give another --out, or "
+                   "--overwrite to delete them and write this run's")
+
+
+def _inside(path: Path, folder: Path) -> bool:
+    try:
+        path.resolve().relative_to(folder.resolve())
+    except ValueError:
+        return False
+    return True
+
+
+def _same_file(recorded: str, scene: Path) -> bool:
+    try:
+        return Path(recorded).resolve() == scene.resolve()
+    except OSError:
+        return False

@@ -1,0 +1,85 @@
+"""The one step driver (dem_core/engine/_driver.py): one loop calls every per-step stage, the run's settings are
+named once, and a chunk that would overflow a store of fixed capacity is taken again with the store grown, to the
+trajectory of a run whose stores never filled, bit for bit."""
+
+import ast
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import dem_core
+from dem_core import scenes
+from dem_core.engine import settings as settings_module
+from dem_core.engine import state as state_module
+from dem_core.engine.settings import INTEGER_NAMES, REAL_NAMES, make_settings
+from dem_core.engine.state import LISTED, RETIRED
+from dem_core.inputs.excitation import record, scaled
+from dem_core.simulation import Simulation
+
+ENGINE = Path(dem_core.__file__).parent / "engine"
+#: the stages a step runs, each called from the driver's loop alone
+STAGES = ("ground_at", "place_base", "write_due", "explicit_parts", "world_geometry", "bounding_boxes",
+          "needs_relist", "list_pairs", "pairs_listed", "explicit_part", "moreau_part", "end_step")
+EL_CENTRO = record("el_centro_1940")
+
+
+def _callers(stage: str) -> set:
+    """``module.function`` of every function in the engine that calls ``stage``."""
+    found = set()
+    for path in ENGINE.glob("*.py"):
+        for node in ast.walk(ast.parse(path.read_text())):
+            if isinstance(node, ast.FunctionDef):
+                calls = {n.func.id for n in ast.walk(node) if isinstance(n, ast.Call) and isinstance(n.func, ast.Name)}
+                if stage in calls and node.name != stage:
+                    found.add(f"{path.stem}.{node.name}")
+    return found
+
+
+@pytest.mark.parametrize("stage", STAGES)
+def test_every_stage_of_a_step_is_called_by_the_one_loop(stage):
+    assert _callers(stage) == {"_driver.drive"}
+
+
+def test_the_settings_are_named_once_and_read_by_name():
+    values = {name: 1.5 for name in REAL_NAMES} | {name: 2 for name in INTEGER_NAMES}
+    settings = make_settings(**values)
+    for name in REAL_NAMES:
+        assert settings.real[getattr(settings_module, name.upper())] == getattr(settings, name) == 1.5
+    for name in INTEGER_NAMES:
+        assert settings.integer[getattr(settings_module, name.upper())] == getattr(settings, name) == 2
+    changed = settings.replace(dt=0.25, max_sweeps=7)
+    assert (changed.dt, changed.max_sweeps, settings.dt) == (0.25, 7, 1.5)
+    with pytest.raises(TypeError, match="missing \\['dt'\\]"):
+        make_settings(**{k: v for k, v in values.items() if k != "dt"})
+    with pytest.raises(AttributeError, match="no 'tolerance'"):
+        settings.tolerance  # noqa: B018
+
+
+CASES = {
+    # the colonnade's collapse hands slips of pairs that leave the list to the retired store
+    "Moreau-Jean, a colonnade to its collapse": (scenes.colonnade(), scaled(EL_CENTRO, 5.0), 10.0,
+                                                 {"integrator": "moreau", "stop_at_overturn": False}),
+    "central differences, a column to its collapse": (scenes.column(), scaled(EL_CENTRO, 4.0), 4.0,
+                                                      {"stop_at_overturn": False}),
+}
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("case", CASES)
+def test_a_run_whose_stores_fill_goes_on_with_them_grown_to_the_same_trajectory(case, monkeypatch):
+    scene, motion, duration, options = CASES[case]
+    roomy = Simulation(scene, motion, duration, **options).run()
+    monkeypatch.setattr(state_module, "PAIRS_PER_BODY", 0)  # stores of one pair and one retired slip
+    monkeypatch.setattr(state_module, "RETIRED_PER_BODY", 0)
+    tight = Simulation(scene, motion, duration, **options)
+    assert tight.state.capacities == (1, 1)
+    tight.run()
+    pairs, retired = tight.state.capacities
+    assert pairs >= tight.state.counters[LISTED] > 1
+    if roomy.state.counters[RETIRED] > 0:
+        assert retired >= roomy.state.counters[RETIRED] > 1
+    a, b = roomy.result(), tight.result()
+    for name in ("x", "y", "theta", "peak_theta", "slip_history"):
+        assert np.array_equal(getattr(a, name), getattr(b, name)), name
+    assert a.interface_slip == b.interface_slip and a.info["steps"] == b.info["steps"]
