@@ -41,6 +41,15 @@ def test_every_stage_of_a_step_is_called_by_the_one_loop(stage):
     assert _callers(stage) == {"_driver.drive"}
 
 
+def test_the_serial_driver_allocates_nothing_and_counts_no_references():
+    """Compiled without numba's runtime, the driver (and its stages compiled apart) could not allocate an array:
+    what a GPU thread cannot do, no build does."""
+    from dem_core.engine import _broadphase, _driver, _explicit, _moreau
+
+    for compiled in (_driver.drive_serial, _explicit.explicit_part, _moreau.moreau_part, _broadphase.list_pairs):
+        assert compiled.targetoptions.get("_nrt") is False, compiled
+
+
 def test_the_settings_are_named_once_and_read_by_name():
     values = {name: 1.5 for name in REAL_NAMES} | {name: 2 for name in INTEGER_NAMES}
     settings = make_settings(**values)

@@ -245,7 +245,7 @@ def incidence(ids, listed, start, entries, fill):
             fill[b] += 1
 
 
-@nb.njit(cache=True, inline="always")
+@nb.njit(cache=True, _nrt=False)
 def list_pairs(model, settings, state, scratch):
     """The broad-phase stage: the candidates (:func:`candidate_keys`) made the state's list (:func:`relist`), their
     incidence into the scratch (:func:`incidence`), the positions they were listed at, and the counters of listed

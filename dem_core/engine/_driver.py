@@ -31,7 +31,10 @@ After the step:
    overturn that ends the run writes the state as the last output.
 
 Every stage takes scalars and arrays, or the named tuples of arrays above, and allocates nothing, so that the loop
-compiles for numba's CPU and CUDA targets alike.
+compiles for numba's CPU and CUDA targets alike.  The serial build is compiled without numba's reference counting
+(``_nrt=False``): it could not compile if a stage allocated, and an array passed from stage to stage costs no
+atomic count (counting the named tuples' arrays took most of a step's time).  Its integrator stages and the
+broad phase are compiled as functions of their own rather than inlined, which halves the time it takes to compile.
 """
 
 import hashlib
@@ -147,9 +150,11 @@ def _engine_digest() -> str:
 
 
 ENGINE_DIGEST = _engine_digest()
-#: the driver, serial; it releases the GIL, so that a batch runs members on several Python threads
-drive_serial = nb.njit(cache=True, nogil=True)(variant(drive, f"drive_{ENGINE_DIGEST}"))
-#: the same driver with the explicit stage's loops over pairs and bodies on numba's threads
+#: the driver, serial, without reference counting; it releases the GIL, so that a batch runs members on several
+#: Python threads
+drive_serial = nb.njit(cache=True, nogil=True, _nrt=False)(variant(drive, f"drive_{ENGINE_DIGEST}"))
+#: the same driver with the explicit stage's loops over pairs and bodies on numba's threads (numba's parallel loops
+#: count references)
 drive_threaded = nb.njit(cache=True, parallel=True)(variant(
     drive, f"drive_threaded_{ENGINE_DIGEST}",
     explicit_part=nb.njit(inline="always")(variant(explicit_part, "explicit_part_threaded", prange=nb.prange))))

@@ -255,7 +255,7 @@ def explicit_parts(model, settings, state):
     return parts, h, kick
 
 
-@nb.njit(cache=True, inline="always")
+@nb.njit(cache=True, _nrt=False)
 def explicit_part(model, settings, state, scratch, part, parts, h, kick, load_x, load_y):
     """The explicit integrator's stage: part ``part`` of ``parts`` of a step, ``h`` (s) long, its first part's
     velocity update spanning ``kick`` (s) (:func:`explicit_parts`), under the ground's inertial load (load_x,

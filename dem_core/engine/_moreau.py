@@ -350,7 +350,7 @@ def keep_impulses(rows, ints, n, normal_impulse, tangential_impulse, pair_slip, 
 
 
 
-@nb.njit(cache=True, inline="always")
+@nb.njit(cache=True, _nrt=False)
 def moreau_part(model, settings, state, scratch, part, remaining, load_x, load_y):
     """Moreau-Jean's stage: part ``part`` of a step, ``remaining`` (s) of it left, under the ground's inertial load
     (load_x, load_y) m/s^2 over the step, by the steps of the module docstring.  Returns ``(status, i, j, tau)``:
