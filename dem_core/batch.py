@@ -143,7 +143,7 @@ def _on_cpu(threads: int, scenes, motions, duration, simulate_options, keep, mea
         except (ValueError, TypeError) as error:
             return _refused(m, motions[m], error), None
         try:
-            run.run(progress=halt)
+            run.advance(progress=halt)
         except _Stopped:
             return None, None
         row, result = _measured(m, motions[m].name, run, time.perf_counter() - set_up, measures)

@@ -21,9 +21,9 @@ from .engine.settings import MOREAU, STATUS_FULL, STATUS_OK
 from .engine.state import Outputs, State, empty_outputs, with_capacities
 from .engine._ground import ground_samples
 from .inputs.excitation import GroundMotion, Scaled
-from .simulation import CHUNK_SECONDS, Simulation
+from .simulation import Simulation, next_chunk
 
-#: steps in a member's first chunk; later chunks aim at CHUNK_SECONDS of wall time
+#: steps in a member's first chunk; later chunks aim at a quarter of a second (simulation.next_chunk)
 FIRST_CHUNK = 200
 
 
@@ -222,7 +222,7 @@ def run_members(runs: list, progress=None, launcher=None) -> float:
                 progress(int(np.sum(status[:, 0] != RUNNING)), len(runs))
             if np.all(status[:, 0] != RUNNING):
                 break
-            chunk = int(min(max(chunk * CHUNK_SECONDS / max(spent, 1e-6), 100), 50 * chunk))
+            chunk = next_chunk(chunk, spent)
     finally:
         fetch(members)
         _hand_back(runs, members, took)
@@ -239,7 +239,7 @@ def _hand_back(runs: list, members: Members, took: float) -> None:
         run.run_time = took / len(runs)
         if code == STATUS_FULL:
             run.state, run.scratch = members.started[m].copy(), None
-            run.run()
+            run.advance()
             continue
         run.state = State(*(a[m].copy() for a in members.state))
         run.outputs = Outputs(*(a[m, :len(b)].copy() for a, b in zip(members.outputs, run.outputs)))

@@ -60,8 +60,9 @@ GROUND_MOTION_MODES = ("inertial", "moving_base")
 #: blocks has more and stiffer contacts than the standing scene the stability limit is computed for (the 8-drum
 #: column under El Centro at 10 m/s^2 goes through its collapse at a quarter of the step, not at a half)
 COLLAPSE_STEP_FACTOR = 0.25
-#: wall time (s) a chunk of steps aims at between progress updates
+#: wall time (s) a chunk of steps aims at between progress updates, and the steps of a run's first chunk
 CHUNK_SECONDS = 0.25
+FIRST_CHUNK = 2000
 
 _PACKAGE = os.path.dirname(os.path.abspath(__file__))
 
@@ -262,13 +263,27 @@ class Simulation:
     def step(self) -> int:
         return self.state.step
 
-    def advance(self, steps: int | None = None) -> bool:
-        """Take ``steps`` steps (all that remain if None) unless the run ends first; returns whether it
-        can go on.  An unstable run ends with ``status`` set and nothing raised (see :meth:`result`)."""
-        if self.status is not None:
-            return False
-        left = self.settings.last_step - self.step
-        steps = left if steps is None else min(steps, left)
+    def advance(self, steps: int | None = None, progress=None) -> bool:
+        """Take ``steps`` steps (all that remain if None) unless the run ends first, in chunks of about
+        ``CHUNK_SECONDS`` of wall time; ``progress`` is called with (steps done, steps in all) before the first
+        chunk and after each.  Returns whether the run can go on.  An unstable run ends with ``status`` set and
+        nothing raised (see :meth:`result`); Ctrl-C is taken after the chunk it came in, the state whole."""
+        last = self.settings.last_step
+        goal = last if steps is None else min(self.step + steps, last)
+        if progress is not None:
+            progress(self.step, last)
+        chunk = FIRST_CHUNK
+        while self.status is None and self.step < goal:
+            started = time.perf_counter()
+            self._take(min(chunk, goal - self.step))
+            if progress is not None:
+                progress(self.step, last)
+            chunk = next_chunk(chunk, time.perf_counter() - started)
+        return self.status is None
+
+    def _take(self, steps: int) -> None:
+        """One call of the compiled driver for ``steps`` steps (taken again, from a copy of the state, with a
+        store that filled doubled), its status kept; Ctrl-C is held back until it returns."""
         samples = self._samples(self.step, steps)
         started = time.perf_counter()
         with _interrupt_after_the_kernel() as interrupted:
@@ -278,7 +293,7 @@ class Simulation:
                                            samples, steps)
                 if status != STATUS_FULL:
                     break
-                self.state, self.scratch = kept.grown(i), None  # the chunk again, with the store that filled doubled
+                self.state, self.scratch = kept.grown(i), None
         self.run_time += time.perf_counter() - started
         if status != STATUS_OK:
             self.status, self.stopped_by = status, (i, j)
@@ -286,29 +301,12 @@ class Simulation:
             self.status = STATUS_OK
         if interrupted:
             raise KeyboardInterrupt  # after the chunk: the state is whole and the run can go on
-        return self.status is None
 
     def _scratch(self):
         if self.scratch is None:
             self.scratch = make_scratch(self.arrays, self.state.capacities[0], (self.settings.integrator,),
                                         (self.settings.contact_law,))
         return self.scratch
-
-    def run(self, progress=None) -> "Simulation":
-        """Advance to the end in chunks of about ``CHUNK_SECONDS`` of wall time; ``progress`` is called
-        with (steps done, steps in all) before the first chunk and after each."""
-        chunk = 2000
-        if progress is not None:
-            progress(self.step, self.settings.last_step)
-        while True:
-            started = time.perf_counter()
-            going = self.advance(chunk)
-            if progress is not None:
-                progress(self.step, self.settings.last_step)
-            if not going:
-                return self
-            took = time.perf_counter() - started
-            chunk = int(min(max(chunk * CHUNK_SECONDS / max(took, 1e-6), 100), 50 * chunk))
 
     def _samples(self, first: int, steps: int) -> np.ndarray:
         """(4, steps + 2): the ground motion's samples for this run's steps ``first`` .. ``first + steps``
@@ -448,6 +446,12 @@ class Simulation:
                 f"The result up to t = {last:.6g} s is in this error's .partial")
 
 
+def next_chunk(steps: int, seconds: float) -> int:
+    """The steps of the next chunk after one of ``steps`` that took ``seconds``: about ``CHUNK_SECONDS`` of wall time
+    at that pace, at least 100 steps and at most 50 times the last chunk."""
+    return int(min(max(steps * CHUNK_SECONDS / max(seconds, 1e-6), 100), 50 * steps))
+
+
 def simulate(scene, excitation: GroundMotion | None = None, duration: float | None = None,
              dt: float | None = None, output_dt: float | None = None, *,
              ground_motion: str = "inertial", safety: float = DEFAULT_SAFETY,
@@ -502,7 +506,8 @@ def simulate(scene, excitation: GroundMotion | None = None, duration: float | No
                      steps_per_impact=steps_per_impact, step_fraction=step_fraction, stop_at_overturn=stop_at_overturn,
                      enforce_stability_limit=enforce_stability_limit, parallel=parallel, integrator=integrator,
                      theta=theta)
-    return run.run(progress).result()
+    run.advance(progress=progress)
+    return run.result()
 
 
 @contextlib.contextmanager

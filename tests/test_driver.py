@@ -78,12 +78,13 @@ CASES = {
 @pytest.mark.parametrize("case", CASES)
 def test_a_run_whose_stores_fill_goes_on_with_them_grown_to_the_same_trajectory(case, monkeypatch):
     scene, motion, duration, options = CASES[case]
-    roomy = Simulation(scene, motion, duration, **options).run()
+    roomy = Simulation(scene, motion, duration, **options)
+    roomy.advance()
     monkeypatch.setattr(state_module, "PAIRS_PER_BODY", 0)  # stores of one pair and one retired slip
     monkeypatch.setattr(state_module, "RETIRED_PER_BODY", 0)
     tight = Simulation(scene, motion, duration, **options)
     assert tight.state.capacities == (1, 1)
-    tight.run()
+    tight.advance()
     pairs, retired = tight.state.capacities
     assert pairs >= tight.state.counters[LISTED] > 1
     if roomy.state.counters[RETIRED] > 0:

@@ -1,5 +1,5 @@
-"""The harness's runs of many members (:func:`comparisons.harness.engines.run_members`): the native core's members,
-batched on the CPU's threads, are the runs :func:`~comparisons.harness.engines.run` gives one by one, bit for bit
+"""The harness's runs of many members (:func:`comparisons.harness.engines.simulate_members`): the native core's members,
+batched on the CPU's threads, are the runs :func:`~comparisons.harness.engines.simulate` gives one by one, bit for bit
 (rotation histories, status and step), under either integrator; another engine's runs pass through one by one."""
 
 import numpy as np
@@ -25,8 +25,8 @@ def _members():
 @pytest.mark.parametrize("engine, step", [("dem", 1), ("dem-moreau", 1), ("dem-overlap", 2)])
 def test_a_native_member_is_its_single_run_bit_for_bit(engine, step):
     scene, motions, duration = _members()
-    batched = engines.run_members(scene, motions, duration, engine, step, output_dts=0.005)
-    single = [engines.run(scene, motion, duration, engine, step, output_dt=0.005) for motion in motions]
+    batched = engines.simulate_members(scene, motions, duration, engine, step, output_dts=0.005)
+    single = [engines.simulate(scene, motion, duration, engine, step, output_dt=0.005) for motion in motions]
     assert [r.result.overturned for r in single] == [False, True]  # one member rocks, one overturns
     for b, s in zip(batched, single):
         assert (b.status, b.label, b.dt, b.steps) == (s.status, s.label, s.dt, s.steps)
@@ -42,9 +42,9 @@ def test_members_of_other_scenes_and_lengths_come_back_in_their_order_bit_for_bi
     other = scenes.block(1.5, 6.0)
     member_scenes, lengths = [scene, other, scene, other], [duration, duration, duration / 2, duration]
     members = list(zip(member_scenes, [motions[0], motions[0], motions[1], motions[1]], lengths))
-    batched = engines.run_members(member_scenes, [m for _, m, _ in members], lengths, "dem", output_dts=0.01)
+    batched = engines.simulate_members(member_scenes, [m for _, m, _ in members], lengths, "dem", output_dts=0.01)
     for b, (member_scene, motion, length) in zip(batched, members):
-        single = engines.run(member_scene, motion, length, "dem", output_dt=0.01)
+        single = engines.simulate(member_scene, motion, length, "dem", output_dt=0.01)
         assert b.result.t[-1] == single.result.t[-1]
         np.testing.assert_array_equal(b.result.theta, single.result.theta)
     assert batched[1].result.peak_theta[0] != batched[0].result.peak_theta[0]  # another block, the same motion
@@ -53,10 +53,10 @@ def test_members_of_other_scenes_and_lengths_come_back_in_their_order_bit_for_bi
 def test_a_stiffer_contact_is_passed_to_the_batch():
     scene, motions, duration = _members()
     settings = {"kn_factor": 10}
-    batched = engines.run_members(scene, motions[:1], duration, "dem", 1, settings)
-    single = engines.run(scene, motions[0], duration, "dem", 1, settings)
+    batched = engines.simulate_members(scene, motions[:1], duration, "dem", 1, settings)
+    single = engines.simulate(scene, motions[0], duration, "dem", 1, settings)
     assert batched[0].label == single.label == "auto/1, 10 x K_n"
-    assert batched[0].dt == single.dt < engines.run(scene, motions[0], duration, "dem", 1).dt
+    assert batched[0].dt == single.dt < engines.simulate(scene, motions[0], duration, "dem", 1).dt
     np.testing.assert_array_equal(batched[0].result.theta, single.result.theta)
 
 
@@ -72,7 +72,7 @@ def test_an_unstable_native_member_is_stopped_with_its_message_and_the_others_go
 
     monkeypatch.setattr(dem_core, "simulate_batch", member_0_unstable)
     scene, motions, duration = _members()
-    runs = engines.run_members(scene, motions, duration, "dem")
+    runs = engines.simulate_members(scene, motions, duration, "dem")
     assert [(r.status, r.message) for r in runs] == [("stopped", "lost stability at t = 1 s"), ("ok", "")]
     assert runs[0].result is not None
 
@@ -81,12 +81,12 @@ def test_a_refused_native_member_is_an_error_naming_its_motion():
     scene, motions, _ = _members()
     endless = excitation.harmonic(1.0, 1.0)  # no natural end, and no duration given
     with pytest.raises(ValueError, match="dem at auto/1, motion .*harmonic"):
-        engines.run_members(scene, [motions[0], endless], None, "dem")
+        engines.simulate_members(scene, [motions[0], endless], None, "dem")
 
 
 def test_another_engines_members_run_one_by_one():
     scene, motions, duration = _members()
     ran = []
-    runs = engines.run_members(scene, motions, duration, "pymunk", 1e-3, progress=lambda: ran.append(1))
+    runs = engines.simulate_members(scene, motions, duration, "pymunk", 1e-3, progress=lambda: ran.append(1))
     assert len(runs) == len(ran) == 2 and all(r.status == "ok" and r.dt == 1e-3 for r in runs)
     assert [r.result.overturned for r in runs] == [False, True]

@@ -205,13 +205,13 @@ def test_a_run_pickled_halfway_continues_to_the_same_trajectory_in_another_proce
     from dem_core.simulation import Simulation
 
     scene, motion = scenes.column(3), excitation.harmonic(pga=3.0, frequency=1.0)
-    whole = Simulation(scene, motion, duration=0.5).run().result()
+    whole = dem_core.simulate(scene, motion, duration=0.5)
     half = Simulation(scene, motion, duration=0.5)
     half.advance(half.settings.last_step // 2)
     saved = tmp_path / "half.pkl"
     saved.write_bytes(pickle.dumps(half))
     script = ("import pickle, sys, numpy as np; run = pickle.loads(open(sys.argv[1], 'rb').read()); "
-              "r = run.run().result(); np.save(sys.argv[2], np.stack([r.x, r.theta]))")
+              "run.advance(); r = run.result(); np.save(sys.argv[2], np.stack([r.x, r.theta]))")
     done = subprocess.run([sys.executable, "-c", script, str(saved), str(tmp_path / "end.npy")],
                           capture_output=True, text=True, timeout=600)
     assert done.returncode == 0, done.stderr[-2000:]
@@ -232,10 +232,11 @@ def test_ctrl_c_stops_a_run_between_chunks_and_it_can_go_on():
     timer = threading.Timer(0.4, lambda: os.kill(os.getpid(), signal.SIGINT))
     timer.start()
     with pytest.raises(KeyboardInterrupt):
-        run.run()
+        run.advance()
     timer.join()
     assert 0 < run.step < run.settings.last_step
-    resumed = run.run().result()
+    run.advance()
+    resumed = run.result()
     assert np.array_equal(resumed.theta, whole.theta) and np.array_equal(resumed.x, whole.x)
 
 
@@ -247,7 +248,9 @@ def test_runs_of_one_scene_sharing_its_set_up_are_the_runs_each_sets_up_alone():
     for pga in (2.0, 6.0):
         motion = excitation.sine_pulse(pga, 0.5)
         alone = dem_core.simulate(scene, motion, 1.0, stop_at_overturn=False)
-        together = Simulation(scene, motion, 1.0, stop_at_overturn=False, scene_set_up=shared).run().result()
+        together = Simulation(scene, motion, 1.0, stop_at_overturn=False, scene_set_up=shared)
+        together.advance()
+        together = together.result()
         assert np.array_equal(alone.theta, together.theta) and alone.info["steps"] == together.info["steps"]
     for other_scene, options in ((scenes.column(3), {"stop_at_overturn": False}), (scene, {})):
         with pytest.raises(ValueError, match="another scene or other step options"):

@@ -80,7 +80,7 @@ def settings_label(settings: dict) -> str:
 
 
 @dataclass(frozen=True)
-class Run:
+class EngineRun:
     """One simulation as the harness records it.
 
     result : the engine's result (up to the failure when it stopped; None if it never started).
@@ -124,8 +124,8 @@ def _quietly():
         yield
 
 
-def run(scene, motion, duration: float, engine: str, step=None, settings: dict | None = None,
-        output_dt: float | None = None) -> Run:
+def simulate(scene, motion, duration: float, engine: str, step=None, settings: dict | None = None,
+             output_dt: float | None = None) -> EngineRun:
     """Run ``scene`` under ``motion`` for ``duration`` s in ``engine`` at ``step`` (default its usual one)."""
     name, kn_factor, timing, settings, label = _options(engine, step, settings)
     if is_native(engine):
@@ -138,12 +138,12 @@ def run(scene, motion, duration: float, engine: str, step=None, settings: dict |
     except dem_core.SimulationUnstable as exc:
         result, status, message = exc.partial, "stopped", str(exc)
     wall = time.perf_counter() - start
-    return _run(result, status, message, timing, label, wall)
+    return _engine_run(result, status, message, timing, label, wall)
 
 
-def run_members(scenes, motions, durations, engine: str, step=None, settings: dict | None = None,
+def simulate_members(scenes, motions, durations, engine: str, step=None, settings: dict | None = None,
                 output_dts=None, progress=None) -> list:
-    """:func:`run` of each member, one :class:`Run` per motion, in order.
+    """:func:`simulate` of each member, one :class:`EngineRun` per motion, in order.
 
     scenes, durations (s), output_dts (s) : one value for every member or a list, one per member, as ``motions``
         (a list of M ground motions) is.
@@ -157,7 +157,7 @@ def run_members(scenes, motions, durations, engine: str, step=None, settings: di
     if not is_native(engine):
         runs = []
         for scene, motion, duration, output_dt in zip(scenes, motions, durations, output_dts):
-            runs.append(run(scene, motion, duration, engine, step, settings, output_dt))
+            runs.append(simulate(scene, motion, duration, engine, step, settings, output_dt))
             if progress is not None:
                 progress()
         return runs
@@ -178,7 +178,7 @@ def run_members(scenes, motions, durations, engine: str, step=None, settings: di
             if member.status == "refused":
                 raise ValueError(f"{engine} at {label}, motion {member.motion!r}: {member.error}")
             status, message = ("ok", "") if member.status == "ok" else ("stopped", member.error)
-            runs[m] = _run(batch.histories[member.member], status, message, timing, label, member.wall_time_s)
+            runs[m] = _engine_run(batch.histories[member.member], status, message, timing, label, member.wall_time_s)
     return runs
 
 
@@ -187,9 +187,9 @@ def _per_member(value, count: int) -> list:
     return list(value) if isinstance(value, (list, tuple)) else [value] * count
 
 
-def _run(result, status: str, message: str, timing: dict, label: str, wall: float) -> Run:
-    """The :class:`Run` of ``result``; ``wall`` (s) stands for its time loop where the result has none."""
+def _engine_run(result, status: str, message: str, timing: dict, label: str, wall: float) -> EngineRun:
+    """The :class:`EngineRun` of ``result``; ``wall`` (s) stands for its time loop where the result has none."""
     info = result.info if result is not None else {}
     dt = timing["dt"] if timing["dt"] is not None else (result.dt if result is not None else np.nan)
-    return Run(result, status, message, dt, label, float(info.get("run_time_s", wall)),
+    return EngineRun(result, status, message, dt, label, float(info.get("run_time_s", wall)),
                float(info.get("compile_time_s", np.nan)), float(info.get("steps", np.nan)))

@@ -24,7 +24,7 @@ stopped as unstable has an infinite peak error and disagrees on overturning.
 Per engine and step: the median and 90th percentile of |peak error|, the share of members on which
 it agrees with the reference about overturning, and the median wall time of a run
 (:func:`summarise`).  The native core's members run together on the CPU's threads
-(:func:`comparisons.harness.engines.run_members`), each timed by its own time loop.  :func:`run_ensemble` returns
+(:func:`comparisons.harness.engines.simulate_members`), each timed by its own time loop.  :func:`run_ensemble` returns
 the tidy table of every run, for the report, a benchmark script or a test.
 """
 
@@ -252,7 +252,7 @@ def run_ensemble(ens: Ensemble, engine_names=ENGINES, steps: dict | None = None,
                disable=not (progress and sys.stderr.isatty()))
     with bar:
         for engine, step, settings in runs:
-            done = engines.run_members(member_scenes, motions, [m.duration for m in members], engine, step, settings,
+            done = engines.simulate_members(member_scenes, motions, [m.duration for m in members], engine, step, settings,
                                        output_dts, progress=bar.update)
             for member, ref, run in zip(members, references, done):
                 rows.append(_row(ens, member, ref, engine, settings, run))

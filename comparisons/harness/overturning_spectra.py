@@ -219,7 +219,7 @@ def run_spectrum(spec: Spectrum, engine_names=ENGINES, steps: dict | None = None
     with bar:
         for engine in engine_names:
             step = (steps or {}).get(engine, engines.USUAL_STEP[engine])
-            runs = engines.run_members(block, list(motions), list(durations), engine, step, output_dts=0.01,
+            runs = engines.simulate_members(block, list(motions), list(durations), engine, step, output_dts=0.01,
                                        progress=bar.update)
             for point, run in zip(judged, runs):
                 overturned = bool(run.result.overturned) if run.status == "ok" else not point.reference_overturned

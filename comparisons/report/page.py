@@ -30,7 +30,7 @@ from comparisons.report.scoreboard import scoreboard, usual_steps
 
 STUDIES = REPOSITORY / "reports" / "studies"
 ENSEMBLE_SHARES = ("median_error", "p90_error", "overturn_agreement")
-#: how the native core's runs of an ensemble or a spectrum were made and timed (engines.run_members)
+#: how the native core's runs of an ensemble or a spectrum were made and timed (engines.simulate_members)
 BATCHED_RUNS = ("The native core's runs go in batches over the CPU's threads (dem_core.simulate_batch), each the run "
                 "it gives alone, bit for bit; a run's time is its own time loop, taken while other runs share the "
                 "machine.")
