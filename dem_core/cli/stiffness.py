@@ -12,14 +12,16 @@ from .console import failed_run, percent
 from .progress import compile_first, progress_bar, simulate_options
 
 
+#: what ``dem-core stiffness --help`` says the command does
+DESCRIPTION = ("Run the scene at each multiple of its contact stiffness K_n and print the measures (peak rotation, "
+               "total sliding, mean rocking, overturn time) at each, with a verdict for each: converged when the "
+               "smallest multiple is within 5% of the stiffest, or within 1 mm of sliding, 0.001 rad of rotation, "
+               "0.1 s of overturn time; otherwise from which multiple it agrees, and what to do.")
+
+
 def add(sub):
-    stiffness = sub.add_parser("stiffness", help="rerun a scene file at stiffer contacts and judge whether each "
-                               "measure converged",
-                               description="Run the scene at each multiple of its contact stiffness K_n and print "
-                               "the measures (peak rotation, total sliding, mean rocking, overturn time) at each, "
-                               "with a verdict for each: converged when the smallest multiple is within 5% of the "
-                               "stiffest, or within 1 mm of sliding, 0.001 rad of rotation, 0.1 s of overturn time; "
-                               "otherwise from which multiple it agrees, and what to do.")
+    stiffness = sub.add_parser("stiffness", description=DESCRIPTION,
+                               help="rerun a scene file at stiffer contacts and judge whether each measure converged")
     stiffness.add_argument("scene", nargs="?", help=f"scene file; default the bundled {DEFAULT_SCENE}")
     stiffness.add_argument("--factors", type=POSITIVE, nargs="+", default=[1.0, 10.0, 100.0],
                            help="multiples of the scene's K_n, each positive (default: 1 10 100)")
