@@ -623,8 +623,9 @@ def run_settings(model: Model, integrator: int, dt: float, last_step: int, strid
 #: a run of more steps than this is refused; above WARN_STEPS it is announced with its expected wall time
 MAX_STEPS = 1_000_000_000
 WARN_STEPS = 10_000_000
-#: rough wall time of one block-step on a laptop core (s), for the announcement only
-BLOCK_STEP_SECONDS = 2e-7
+#: rough wall time of one block-step of central differences on a laptop core (s; docs/performance.md), for the
+#: announcement only
+BLOCK_STEP_SECONDS = 1e-7
 #: the outputs may take at most this fraction of the machine's memory
 MAX_MEMORY_FRACTION = 0.5
 

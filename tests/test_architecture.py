@@ -83,6 +83,23 @@ def test_the_engine_imports_nothing_above_it():
     assert upward == set()
 
 
+#: the package's layers, lowest first: a module imports from its own layer and the layers below, never above
+LAYERS = (("engine", "output_files"), ("inputs",), ("simulation",), ("batch_gpu",), ("batch",), ("analyses",),
+          ("pictures", "run_folder"), ("cli", "__main__"))
+
+
+def _layer(module: str) -> int:
+    part = module.split(".")[1]
+    return next(k for k, names in enumerate(LAYERS) if part in names)
+
+
+def test_no_module_imports_from_a_layer_above_its_own():
+    """The scene file does not reach up into the simulation for a constant, nor the engine into the inputs."""
+    upward = sorted((m, d) for m, deps in _graph().items() if m != "dem_core" for d in deps
+                    if d != "dem_core" and _layer(d) > _layer(m))
+    assert upward == []
+
+
 def test_the_cycle_finder_finds_a_cycle():
     assert _cycle({"a": {"b"}, "b": {"c"}, "c": {"a"}}) == ["a", "b", "c", "a"]
     assert _cycle({"a": {"b"}, "b": set()}) == []

@@ -58,7 +58,7 @@ def plan(quick: bool, cases=None, engine_names=ENGINES) -> list:
 def run_one(case, engine, step, settings, reference) -> list:
     """Rows for one run (one per metric; a single ``metric = "none"`` row if it stopped)."""
     run = engines.simulate(case.scene(), case.motion(), case.duration, engine, step, settings,
-                      output_dt=case.output_dt)
+                           output_dt=case.output_dt)
     common = {"case": case.name, "engine": engine, "dt": run.dt, "step": run.label,
               "settings": settings_label(settings), "status": run.status, "message": run.message,
               "wall_time_s": run.wall_time_s, "compile_time_s": run.compile_time_s, "steps": run.steps}
