@@ -330,3 +330,52 @@ def test_the_integrator_option_replaces_the_scene_files(tmp_path, capsys):
                        "[excitation]\nkind = 'sine_pulse'\namplitude = 1.0\nduration = 0.5\n")
     assert main(["run", str(overlap), "--integrator", "moreau", "--out", str(tmp_path / "o")]) == 2
     assert "'overlap_area'" in capsys.readouterr().err
+
+
+#: each command that runs scenes, with the arguments that run it on a scene file ("{scene}", "{out}")
+RUNNING_COMMANDS = {
+    "run": ["run", "{scene}", "--out", "{out}", "--no-plots"],
+    "animate": ["animate", "{scene}", "--out", "{out}/a.gif"],
+    "threshold": ["threshold", "{scene}", "--parameter", "amplitude", "--low", "1", "--high", "2"],
+    "ramp": ["ramp", "{scene}"],
+    "sweep": ["sweep", "{sweep}", "--out", "{out}"],
+    "fragility": ["fragility", "{scene}", "--out", "{out}", "--levels", "2", "--records", "el_centro_1940"],
+}
+
+
+@pytest.mark.parametrize("command", RUNNING_COMMANDS)
+def test_every_command_that_runs_scenes_takes_the_integrator_and_its_runs_use_it(command, tmp_path, capsys,
+                                                                                  monkeypatch):
+    """The same option, choices and default in every command; what it names is what the command's runs get (the
+    engine's first run, or the run itself, is caught and stopped as Ctrl-C would stop it)."""
+    with pytest.raises(SystemExit):
+        main([command, "--help"])
+    assert "{explicit,moreau}" in capsys.readouterr().out
+    scene = tmp_path / "column.toml"
+    scene.write_text(COLUMN)
+    sweep = tmp_path / "sweep.toml"
+    sweep.write_text(COLUMN + "\n[sweep.excitation]\namplitude = [1.0, 2.0]\n")
+    seen = []
+
+    def caught(*args, **options):
+        seen.append(options.get("integrator", (args[2] if len(args) > 2 else {}).get("integrator")))
+        raise KeyboardInterrupt
+
+    for module in (cli.threshold, cli.ramp, cli.fragility, cli.sweep):
+        monkeypatch.setattr(module, "compile_first", caught)
+    monkeypatch.setattr(cli.single_run, "simulate", caught)
+    argv = [a.format(scene=scene, sweep=sweep, out=tmp_path / "out") for a in RUNNING_COMMANDS[command]]
+    assert main([*argv, "--integrator", "moreau"]) == 130
+    assert seen == ["moreau"]
+
+
+def test_the_stiffness_check_runs_the_explicit_integrator_and_says_so(tmp_path, capsys, monkeypatch):
+    scene = tmp_path / "column.toml"
+    scene.write_text(COLUMN.replace("[simulation]", "[simulation]\nintegrator = 'moreau'"))
+    seen = []
+    monkeypatch.setattr(cli.stiffness, "compile_first", lambda scene, motion, settings: seen.append(settings))
+    monkeypatch.setattr(cli.stiffness, "stiffness_convergence", lambda *args, **options: (_ for _ in ()).throw(
+        KeyboardInterrupt))
+    assert main(["stiffness", str(scene)]) == 130
+    assert seen[0]["integrator"] == "explicit"
+    assert "this check is the explicit core's" in capsys.readouterr().out

@@ -4,7 +4,7 @@ import sys
 
 from ..output_files import output_file
 from ..simulation import SimulationUnstable, run_duration
-from .arguments import DEFAULT_SCENE, FPS, POSITIVE, SECONDS, scene_and_settings
+from .arguments import DEFAULT_SCENE, FPS, POSITIVE, SECONDS, add_integrator, scene_and_settings
 from .console import motion_text, stopped_text
 from .interrupts import INTERRUPTS
 from .single_run import movie_name_ok, simulated, write_animation
@@ -16,6 +16,7 @@ def add(sub):
     anim.add_argument("--out", default="animation.gif", help="file to write (.gif or .mp4); snapshots go to "
                       "<name>_snapshots.png beside it.  Both are written whole or not at all")
     anim.add_argument("--duration", type=SECONDS, help="simulated time in s (default: from the file or the record)")
+    add_integrator(anim)
     anim.add_argument("--fps", type=FPS, default=25, help="frames per second, 1 to 100 (default: 25)")
     anim.add_argument("--speed", type=POSITIVE, default=1.0, help="simulated seconds per second of playback, "
                       f"positive (default: 1); the animation may have at most {MOST_FRAMES} frames")

@@ -11,6 +11,7 @@ import sys
 from importlib import resources
 from pathlib import Path
 
+from ..engine.settings import INTEGRATORS
 from ..inputs.scene_file import SceneFileError, load
 
 DEFAULT_SCENE = "column_el_centro.toml"
@@ -85,6 +86,20 @@ FRACTION = _number(float, lambda v: 0 < v < 1, "a number between 0 and 1 (both e
 DAMPING = _number(float, lambda v: 0 <= v < 1, "a damping ratio from 0 up to (not including) 1")
 
 
+def add_integrator(command) -> None:
+    """The ``--integrator`` option of a command that runs scenes: the same choices, default and words everywhere."""
+    command.add_argument("--integrator", choices=INTEGRATORS, help="explicit central differences on the contact "
+                         "springs, or Moreau-Jean's velocity-level steps on rigid contacts (docs/method.md 1.8; "
+                         "default: the scene file's [simulation] integrator, else explicit)")
+
+
+def with_integrator(settings: dict, args) -> dict:
+    """``settings`` (a scene file's [simulation]) with the command's ``--integrator`` where it has one and it is
+    given."""
+    chosen = getattr(args, "integrator", None)
+    return {**settings, "integrator": chosen} if chosen is not None else dict(settings)
+
+
 def load_or_fail(path):
     """The scene file at ``path``, or None after printing why it cannot be read."""
     try:
@@ -95,13 +110,13 @@ def load_or_fail(path):
 
 
 def scene_and_settings(args):
-    """(path, scene file, simulate settings with --duration applied) of a command's SCENE argument
+    """(path, scene file, simulate settings with --duration and --integrator applied) of a command's SCENE argument
     (the bundled default if none), or None after printing why it cannot be read."""
     path = Path(args.scene) if args.scene else default_scene_path()
     spec = load_or_fail(path)
     if spec is None:
         return None
-    settings = dict(spec.simulation)
+    settings = with_integrator(spec.simulation, args)
     if args.duration is not None:
         settings["duration"] = args.duration
     return path, spec, settings

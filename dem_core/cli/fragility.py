@@ -12,8 +12,7 @@ from ..batch import DEVICES, check_device
 from ..inputs import records
 from ..inputs.excitation import record
 from ..output_files import output_folder
-from ..engine.settings import INTEGRATORS
-from .arguments import DEFAULT_SCENE, LEVELS, POSITIVE, SECONDS, STATE, WORKERS, scene_and_settings
+from .arguments import DEFAULT_SCENE, LEVELS, POSITIVE, SECONDS, STATE, WORKERS, add_integrator, scene_and_settings
 from .progress import compile_first, progress_bar
 
 
@@ -47,8 +46,7 @@ def add(sub):
     fragility.add_argument("--out", required=True, help="output folder, created if need be")
     fragility.add_argument("--duration", type=SECONDS, help="simulated time of each run in s (default: from the "
                            "file, else each record's length)")
-    fragility.add_argument("--integrator", choices=INTEGRATORS, help="default: the file's [simulation] integrator, "
-                           "else explicit")
+    add_integrator(fragility)
     fragility.add_argument("--device", choices=DEVICES, default="auto", help="where the batch runs")
     fragility.add_argument("--threads", type=WORKERS, help="runs at once (default: one per core)")
 
@@ -67,8 +65,6 @@ def run(args) -> int:
     if suite is None:
         return 2
     out = output_folder(args.out, "--out")
-    if args.integrator is not None:
-        settings["integrator"] = args.integrator
     duration = settings.pop("duration", None)
     settings.pop("output_dt", None)
     label, unit = INTENSITY_MEASURES[args.im]

@@ -7,7 +7,7 @@ import numpy as np
 
 from ..analyses.thresholds import ROCKING_FRACTION, SLIP_THRESHOLD, onset_under_ramp
 from ..simulation import SimulationUnstable
-from .arguments import RATE, SECONDS, load_or_fail
+from .arguments import RATE, SECONDS, add_integrator, load_or_fail, with_integrator
 from .console import acceleration_text, failed_run
 from .progress import compile_first, simulate_options
 
@@ -24,13 +24,14 @@ def add(sub):
     ramp.add_argument("--rate", type=RATE, default=0.5, help="rate at which the ground acceleration grows, m/s^2 per "
                       "s, positive (default: 0.5)")
     ramp.add_argument("--duration", type=SECONDS, help="simulated time in s (default: until the ramp reaches 1 g)")
+    add_integrator(ramp)
 
 
 def run(args) -> int:
     spec = load_or_fail(args.scene)
     if spec is None:
         return 2
-    settings = {k: v for k, v in spec.simulation.items() if k not in ("duration", "output_dt")}
+    settings = {k: v for k, v in with_integrator(spec.simulation, args).items() if k not in ("duration", "output_dt")}
     compile_first(spec.scene, None, settings)
     try:
         found = onset_under_ramp(spec.scene, args.rate, args.duration, **simulate_options(settings))

@@ -9,9 +9,9 @@ import numpy as np
 
 from ..output_files import output_file, output_folder
 from ..run_folder import RUN_FILES, run_summary, write_run, write_summary
-from ..engine.settings import INTEGRATORS
 from ..simulation import SimulationUnstable
-from .arguments import DEFAULT_SCENE, POSITIVE, SECONDS, default_scene_path, load_or_fail
+from .arguments import (DEFAULT_SCENE, POSITIVE, SECONDS, add_integrator, default_scene_path, load_or_fail,
+                        with_integrator)
 from .console import Refused, motion_text, stopped_text
 from .interrupts import INTERRUPTS
 from .single_run import movie_name_ok, simulated, write_animation
@@ -38,9 +38,7 @@ def add(sub):
     command.add_argument("--format", choices=("csv", "parquet"), help="time-history format (default: the file's "
                          "[output] format, else csv)")
     command.add_argument("--duration", type=SECONDS, help="simulated time in s (default: from the file or the record)")
-    command.add_argument("--integrator", choices=INTEGRATORS, help="explicit central differences on the contact "
-                         "springs, or Moreau-Jean's velocity-level steps on rigid contacts (docs/method.md 1.8; "
-                         "default: the file's [simulation] integrator, else explicit)")
+    add_integrator(command)
     command.add_argument("--no-plots", action="store_true", help="skip the figures")
     command.add_argument("--animate", metavar="FILE", help="also write an animation (.gif or .mp4, relative to --out) "
                          "and snapshots.png (default: none)")
@@ -63,11 +61,9 @@ def run(args) -> int:
     out = output_folder(Path(args.out) if args.out else Path("results") / path.stem, "--out")
     movie = output_file(out / args.animate, "--animate") if args.animate else None
     previous = _previous_run(out, path, args.overwrite)
-    settings = dict(spec.simulation)
+    settings = with_integrator(spec.simulation, args)
     if args.duration is not None:
         settings["duration"] = args.duration
-    if args.integrator is not None:
-        settings["integrator"] = args.integrator
     fmt = args.format or spec.output.get("format", "csv")
     print(f"scene {path} ({len(spec.scene.blocks)} blocks), ground motion: {motion_text(spec.excitation)}")
     args.on_interrupt = lambda: f"the run was stopped before its results were written: {out}/ is as it was"

@@ -4,6 +4,7 @@ a Dask cluster, resumed where a previous run of it stopped."""
 import sys
 
 from ..analyses.sweep import SweepError, load_sweep, run_sweep, saved_runs, with_simulation
+from ..engine.settings import INTEGRATORS
 from ..output_files import output_folder
 from .arguments import SECONDS, WORKERS
 from .progress import compile_first
@@ -26,6 +27,9 @@ def add(sub):
     command.add_argument("--duration", type=SECONDS, help="simulated time of every run in s, replacing the file's "
                          "[simulation] duration; part of what identifies a run, so a folder of runs of another "
                          "duration is refused, not mixed (default: the file's, or each record's length)")
+    command.add_argument("--integrator", choices=INTEGRATORS, help="the integrator of every run, replacing the file's "
+                         "[simulation] integrator; part of what identifies a run, as --duration is (default: the "
+                         "file's, else explicit)")
     command.add_argument("--no-progress", action="store_true", help="no progress bar (there is one only when "
                          "stderr is a terminal anyway)")
 
@@ -33,8 +37,10 @@ def add(sub):
 def run(args) -> int:
     try:
         sweep = load_sweep(args.spec)
-        if args.duration is not None:
-            sweep = with_simulation(sweep, duration=args.duration)
+        given = {key: value for key, value in (("duration", args.duration), ("integrator", args.integrator))
+                 if value is not None}
+        if given:
+            sweep = with_simulation(sweep, **given)
     except SweepError as exc:
         print(f"error: {args.spec}: {exc}" if str(args.spec) not in str(exc) else f"error: {exc}", file=sys.stderr)
         return 2
@@ -42,6 +48,7 @@ def run(args) -> int:
     points = len(sweep.points())
     where = f"Dask scheduler {args.scheduler}" if args.scheduler else f"{args.workers or 'all'} local worker(s)"
     each = f", each run for {args.duration:g} s (--duration)" if args.duration is not None else ""
+    each += f", each by the {args.integrator} integrator (--integrator)" if args.integrator is not None else ""
     print(f"sweep {args.spec}: {points} runs over {', '.join(sweep.parameters)} on {where}{each}")
 
     def saved():

@@ -9,7 +9,7 @@ import numpy as np
 from ..analyses.sweep import SceneFileBuild
 from ..analyses.thresholds import SCAN_STEP, TOLERANCE, onset_threshold, overturning_threshold, scan_grid
 from ..inputs.scene_file import SceneFileError, read_toml
-from .arguments import FRACTION, POSITIVE, SCALES, SECONDS
+from .arguments import FRACTION, POSITIVE, SCALES, SECONDS, add_integrator, with_integrator
 from .console import acceleration_text, percent
 from .progress import compile_first, progress_bar, simulate_options
 
@@ -43,6 +43,7 @@ def add(sub):
                            "change is refined, between 0 and 1")
     threshold.add_argument("--duration", type=SECONDS, help="simulated time of each run in s (default: from the "
                            "file or the record)")
+    add_integrator(threshold)
 
 
 #: excitation kinds whose ``amplitude`` is an acceleration (a harmonic's is a displacement, m)
@@ -87,7 +88,7 @@ def run(args) -> int:
         return 2
     data, spec, motion_at = loaded
     unit = _parameter_unit(data.get("excitation", {}).get("kind"), args.parameter)
-    settings = dict(spec.simulation)
+    settings = with_integrator(spec.simulation, args)
     if args.duration is not None:
         settings["duration"] = args.duration
     step = SCAN_STEP if args.step is None else args.step
