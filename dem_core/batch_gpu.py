@@ -99,9 +99,8 @@ def _motions(runs: list) -> _Motions:
 @dataclass
 class Members:
     """A batch's arrays: the driver's named tuples with the members on their first axis (:mod:`.engine._members`),
-    ``motion`` (M,) each member's row of the chunk's samples, ``status`` (M, 3) its run's end (RUNNING while it
-    goes on), and ``started`` each member's state as it started (a member whose store fills is run again from it
-    on the CPU)."""
+    ``motion`` (M,) each member's row of the chunk's samples and ``status`` (M, 3) its run's end (RUNNING while it
+    goes on).  The members' runs keep their own states as they started."""
 
     model: ModelArrays
     settings: tuple
@@ -110,7 +109,6 @@ class Members:
     scratch: tuple
     motion: np.ndarray
     status: np.ndarray
-    started: list
 
 
 def _stacked(tuples: list):
@@ -147,12 +145,7 @@ def pack(runs: list, motions: _Motions) -> Members:
         model=_stacked(_padded_frictions([run.arrays for run in runs])),
         settings=_stacked([run.settings.replace(scale=motions.scale[m]) for m, run in enumerate(runs)]),
         state=_stacked(states), outputs=_stacked([outputs] * len(runs)), scratch=_stacked([scratch] * len(runs)),
-        motion=motions.index.copy(), status=np.tile(np.array([RUNNING, 0, 0], np.int64), (len(runs), 1)),
-        started=[run.state.copy() for run in runs])
-
-
-#: the parts of :class:`Members` a kernel writes, which a finished chunk hands back
-WRITTEN = ("state", "outputs", "status")
+        motion=motions.index.copy(), status=np.tile(np.array([RUNNING, 0, 0], np.int64), (len(runs), 1)))
 
 
 def _on_device(members: Members, cuda) -> Members:
@@ -160,14 +153,13 @@ def _on_device(members: Members, cuda) -> Members:
     def moved(part):
         return type(part)(*(cuda.to_device(a) for a in part)) if isinstance(part, tuple) else cuda.to_device(part)
 
-    return Members(*(moved(getattr(members, name)) if name != "started" else members.started
-                     for name in Members.__dataclass_fields__))
+    return Members(*(moved(getattr(members, name)) for name in Members.__dataclass_fields__))
 
 
 def cuda_launcher():
     """``(launch, fetch)``: ``launch(members, samples, n_steps)`` runs the CUDA kernel over the members for a chunk
     and returns their status (M, 3), the arrays moved to the GPU at its first call and kept there;
-    ``fetch(members)`` copies what the kernel writes (:data:`WRITTEN`) back into ``members``."""
+    ``fetch(members)`` copies what the kernel writes (the state, the outputs, the status) back into ``members``."""
     from numba import cuda
 
     from .engine._members import THREADS_PER_BLOCK, advance_members
@@ -195,7 +187,7 @@ def cuda_launcher():
 
 def run_members(runs: list, progress=None, launcher=None) -> float:
     """Advance every run of ``runs`` (:class:`Simulation` runs set up and not yet stepped) to its end on the GPU,
-    each left as its own :meth:`Simulation.run` would leave it; returns the kernel's wall time (s).  A member whose
+    each left as its own :meth:`Simulation.advance` would leave it; returns the kernel's wall time (s).  A member whose
     store of retired slips fills is run again from its start on the CPU.
 
     progress : optional ``function(done, total)`` after each chunk, ``done`` the members that ended; what it raises
@@ -237,8 +229,8 @@ def _hand_back(runs: list, members: Members, took: float) -> None:
     for m, run in enumerate(runs):
         code, i, j = (int(x) for x in members.status[m])
         run.run_time = took / len(runs)
-        if code == STATUS_FULL:
-            run.state, run.scratch = members.started[m].copy(), None
+        if code == STATUS_FULL:  # the run's own state is still its start's
+            run.scratch = None
             run.advance()
             continue
         run.state = State(*(a[m].copy() for a in members.state))

@@ -53,9 +53,9 @@ from ._points import (FRICTION, GAP, INC, KEY, NX, NY, PAIR, PN, POSITION_IMPULS
 from ._tally import tally_slip
 from ._world import boxes_apart
 from .model_arrays import INV_INERTIA, INV_MASS, MASS
-from .settings import (ACTIVE_GAP, DT, GRAVITY, HALF_SKIN, MAX_SUBSTEPS, MAX_SWEEPS, POINT_STORE, PROJECTION_SWEEPS,
+from .settings import (ACTIVE_GAP, DT, GRAVITY, HALF_SKIN, MAX_SUBSTEPS, MAX_SWEEPS, PROJECTION_SWEEPS,
                        RESCUE_SWEEPS, RESTITUTION, SHORTEST_SUBSTEP, SLOP, SOLVER_FAILURE, SOLVER_TOLERANCE,
-                       STATUS_FULL, STATUS_OK, STATUS_PASSES, STATUS_UNCONVERGED, THETA)
+                       STATUS_OK, STATUS_PASSES, STATUS_UNCONVERGED, THETA)
 from .state import (LISTED, MU, NARROW, PAIR_I, PAIR_J, POINT_KEY, REFERENCE, SOLVER_SWEEPS, STATUS_FALLBACKS,
                     UNCONVERGED)
 from .state import STATUS_PASSES as PASSES_DONE
@@ -354,8 +354,8 @@ def keep_impulses(rows, ints, n, normal_impulse, tangential_impulse, pair_slip, 
 def moreau_part(model, settings, state, scratch, part, remaining, load_x, load_y):
     """Moreau-Jean's stage: part ``part`` of a step, ``remaining`` (s) of it left, under the ground's inertial load
     (load_x, load_y) m/s^2 over the step, by the steps of the module docstring.  Returns ``(status, i, j, tau)``:
-    STATUS_OK and the part's length ``tau`` (s), STATUS_UNCONVERGED and the block where the solve failed, or
-    STATUS_FULL and POINT_STORE if the index set would not fit its rows."""
+    STATUS_OK and the part's length ``tau`` (s), or STATUS_UNCONVERGED and the block where the solve failed.  The
+    scratch's point rows hold two points a listed pair, the most a pair has."""
     real, integer, counters = settings.real, settings.integer, state.counters
     pos, vel, ids = state.pos, state.vel, state.pair_ids
     inv_mass, inv_inertia = model.body[INV_MASS], model.body[INV_INERTIA]
@@ -363,11 +363,8 @@ def moreau_part(model, settings, state, scratch, part, remaining, load_x, load_y
     wx, wy, wnx, wny = scratch.world[0], scratch.world[1], scratch.world[2], scratch.world[3]
     h = real[DT]
     half_skin = real[HALF_SKIN]
-    listed = counters[LISTED]
-    if 2 * listed > rows.shape[0]:
-        return STATUS_FULL, POINT_STORE, 0, 0.0
     n = 0
-    for e in range(listed):
+    for e in range(counters[LISTED]):
         p = order[e]
         if boxes_apart(scratch.boxes, ids[p, PAIR_I], ids[p, PAIR_J], half_skin):
             forget_pair(p, state.pair_memory, state.spring_force, state.normal_impulse, state.tangential_impulse)

@@ -43,10 +43,10 @@ INTEGER_NAMES = ("integrator", "contact_law", "stride", "last_step", "stop_at_ov
 #: code's first body field names which, :data:`STORES`) would overflow; the chunk is taken again with it larger
 (STATUS_OK, STATUS_NONFINITE, STATUS_DEEP_OVERLAP, STATUS_RUNAWAY, STATUS_ENERGY, STATUS_OVERTURNED, STATUS_FELL_OFF,
  STATUS_UNCONVERGED, STATUS_FULL) = range(9)
-#: the stores a run holds at a fixed capacity: its candidate pairs, the slip of pairs that left the list, and
-#: Moreau-Jean's contact points
-STORES = ("pairs", "retired", "points")
-PAIR_STORE, RETIRED_STORE, POINT_STORE = range(len(STORES))
+#: the stores a run holds at a fixed capacity: its listed pairs and the slips of pairs that left the list
+#: (Moreau-Jean's contact points, two a pair at most, have rows for two a pair: they cannot fill)
+STORES = ("pairs", "retired")
+PAIR_STORE, RETIRED_STORE = range(len(STORES))
 #: steps between energy balance checks
 ENERGY_CHECK_INTERVAL = 16
 

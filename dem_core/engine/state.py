@@ -12,7 +12,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from .settings import PAIR_STORE, POINT_STORE, RETIRED_STORE
+from .settings import PAIR_STORE
 
 #: columns of State.pair_ids
 PAIR_I, PAIR_J, PAIR_KEY, PAIR_INTERFACE = range(4)
@@ -99,12 +99,12 @@ class State(NamedTuple):
         return State(*(a.copy() for a in self))
 
     def grown(self, store: int) -> "State":
-        """A copy with ``store`` (PAIR_STORE or RETIRED_STORE of :mod:`.settings`; POINT_STORE, whose points are
-        two a pair, grows with the pairs) of twice the capacity, the entries kept."""
+        """A copy with ``store`` (PAIR_STORE or RETIRED_STORE of :mod:`.settings`) of twice the capacity, the entries
+        kept."""
         pairs, retired = self.capacities
-        if store in (PAIR_STORE, POINT_STORE):
+        if store == PAIR_STORE:
             pairs *= 2
-        elif store == RETIRED_STORE:
+        else:
             retired *= 2
         return with_capacities(self, pairs, retired)
 
