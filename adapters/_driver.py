@@ -1,5 +1,6 @@
 """What every adapter shares: the time loop with the ground motion as an inertial load,
-outputs at output_dt, instability checks, friction mapping, and the common result type."""
+outputs at output_dt, the joints' slip measured as the native core measures it, instability checks, friction
+mapping, and the common result type."""
 
 import time
 import warnings
@@ -7,9 +8,11 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from dem_core.engine.model import compile_model
+from dem_core.engine.model import compile_model, interface_pairs
 from dem_core.engine.result import Result
+from dem_core.engine.settings import interface_stride
 from dem_core.engine.stacks import columns, find_stacks, first_overturns
+from dem_core.engine.state import interface_offsets
 from dem_core.inputs.excitation import still
 from dem_core.simulation import SimulationUnstable, run_duration
 
@@ -66,30 +69,37 @@ def run(engine: str, scene, excitation, duration, dt, output_dt, build) -> Resul
     out = np.full((len(out_steps), len(scene.blocks), 3), np.nan)
     start = np.array([[*b.centroid, b.angle] for b in scene.blocks])
     reach = RUNAWAY_HEIGHTS * max(max(b.vertices[:, 1].max() for b in scene.blocks), 1.0)
+    joints = _Joints(scene, len(out_steps), interface_stride(dt))
     written, failure = 0, None
     t0 = time.perf_counter()
     set_gravity, advance, next_out = engine_run.set_gravity, engine_run.step, 0
     try:
         for step in range(n_steps + 1):
-            if step == next_out:
+            sampled = step % joints.stride == 0 or step == n_steps
+            if step == next_out or sampled:
                 state = engine_run.state()
                 bad = ~np.all(np.isfinite(state), axis=1) | (np.hypot(*(state[:, :2] - start[:, :2]).T) > reach)
                 if np.any(bad):
                     failure = (step, int(np.argmax(bad)))
                     break
-                out[written] = state
-                written += 1
-                next_out = int(out_steps[written]) if written < len(out_steps) else -1
+                if sampled:
+                    joints.follow(state)
+                if step == next_out:
+                    out[written] = state
+                    joints.write(written)
+                    written += 1
+                    next_out = int(out_steps[written]) if written < len(out_steps) else -1
             if step == n_steps:
                 break
             set_gravity(gx[step], gy[step])
             advance()
     finally:
         engine_run.close()
-    run_time = time.perf_counter() - t0
+    run_time = time.perf_counter() - t0 - joints.seconds
     result = _result(engine, scene, excitation, out[:written], out_steps[:written] * dt, dt,
                      {**engine_run.info, "engine": engine, "steps": int(step), "compile_time_s": build_time,
-                      "run_time_s": run_time, "excitation": excitation.name, "ground_motion": "inertial"})
+                      "run_time_s": run_time, "excitation": excitation.name, "ground_motion": "inertial"},
+                     joints, written)
     if failure is not None:
         step, k = failure
         raise SimulationUnstable(
@@ -100,17 +110,47 @@ def run(engine: str, scene, excitation, duration, dt, output_dt, build) -> Resul
     return result
 
 
-def _result(engine, scene, excitation, out, t, dt, info) -> Result:
+class _Joints:
+    """The slip of the interfaces touching at the start, measured on the engine's states every
+    ``stride`` steps (docs/method.md section 3) as the native core measures it, and the time that takes (s), which
+    is ours and not the engine's."""
+
+    def __init__(self, scene, n_out: int, stride: int):
+        self.model = compile_model(scene, find_stacks(scene))
+        self.stride = stride
+        self.base = np.array([*self.model.bodies.centroid0[0], self.model.bodies.angle0[0]])
+        self.offset = interface_offsets(self.model, np.vstack([self.base, [[*b.centroid, b.angle]
+                                                                            for b in scene.blocks]]))
+        self.travel = np.zeros(len(self.offset))
+        self.history = np.full((n_out, len(self.offset)), np.nan)
+        self.seconds = 0.0
+
+    def follow(self, state):
+        t0 = time.perf_counter()
+        offset = interface_offsets(self.model, np.vstack([self.base, state]))
+        self.travel += np.abs(offset - self.offset)
+        self.offset = offset
+        self.seconds += time.perf_counter() - t0
+
+    def write(self, row: int):
+        self.history[row] = self.travel
+
+
+def _result(engine, scene, excitation, out, t, dt, info, joints, written) -> Result:
     ground_x, ground_y = excitation.displacement(t)
     theta = out[:, :, 2]
-    column_stacks = find_stacks(scene)
-    first, _ = first_overturns(compile_model(scene, column_stacks), out[:, :, 0], out[:, :, 1], theta)
+    model = joints.model
+    first, _ = first_overturns(model, out[:, :, 0], out[:, :, 1], theta)
     overturn_time = np.where(first >= 0, t[np.maximum(first, 0)] if len(t) else np.nan, np.nan)
     peak = np.max(np.abs(theta), axis=0) if len(t) else np.abs([b.angle for b in scene.blocks])
+    names = [b.name for b in scene.bodies]
+    interfaces = tuple((names[a], names[b]) for a, b in interface_pairs(model))
+    history = joints.history[:written]
+    slips = {pair: float(s) for pair, s in zip(interfaces, history[-1]) if s > 0} if written else {}
     return Result(t, out[:, :, 0] + ground_x[:, None], out[:, :, 1] + ground_y[:, None], theta, ground_x, ground_y,
-                  tuple(scene.block_names), peak, overturn_time, None, dt, info,
-                  critical_angle=np.array([b.critical_angle for b in scene.blocks]),
-                  columns=columns(scene, column_stacks))
+                  tuple(scene.block_names), peak, overturn_time, slips, dt, info, interfaces=interfaces,
+                  slip_history=history, critical_angle=np.array([b.critical_angle for b in scene.blocks]),
+                  columns=columns(scene, find_stacks(scene)))
 
 
 def product_friction(engine: str, scene, pairs) -> np.ndarray:

@@ -34,12 +34,27 @@ from .engine.scratch import make_scratch
 from .engine.settings import (EXPLICIT, INTEGRATORS, LOAD_CELL_LEAD, MOREAU, MOREAU_ACTIVE_GAP, MOREAU_DT,
                               MOREAU_MAX_SUBSTEPS, MOREAU_MAX_SWEEPS, MOREAU_PROJECTION_SWEEPS, MOREAU_RESCUE_SWEEPS,
                               MOREAU_SHORTEST_SUBSTEP, MOREAU_SLOP, MOREAU_SOLVER_FAILURE, MOREAU_SOLVER_TOLERANCE,
-                              MOREAU_STATUS_PASSES, MOREAU_THETA, MOREAU_TIME_FRACTION, STATUS_ENERGY,
-                              STATUS_FELL_OFF, STATUS_FULL, STATUS_NONFINITE, STATUS_OK, STATUS_OVERTURNED,
-                              STATUS_RUNAWAY, STATUS_UNCONVERGED, Settings, make_settings)
+                              MOREAU_STATUS_PASSES, MOREAU_THETA, MOREAU_TIME_FRACTION, STATUS_ENERGY, STATUS_FELL_OFF,
+                              STATUS_FULL, STATUS_NONFINITE, STATUS_OK, STATUS_OVERTURNED, STATUS_RUNAWAY,
+                              STATUS_UNCONVERGED, Settings, interface_stride, make_settings)
 from .engine.stacks import columns, find_stacks
-from .engine.state import (LISTED, NARROW, OUTPUTS, PAIR_KEY, REBUILDS, RETIRED, SOLVER_SWEEPS, STATUS_FALLBACKS,
-                           STATUS_PASSES, SUBSTEPPED, UNCONVERGED, Outputs, State, empty_outputs, initial_state)
+from .engine.state import (
+    LISTED,
+    NARROW,
+    OUTPUTS,
+    PAIR_KEY,
+    REBUILDS,
+    RETIRED,
+    SOLVER_SWEEPS,
+    STATUS_FALLBACKS,
+    STATUS_PASSES,
+    SUBSTEPPED,
+    UNCONVERGED,
+    Outputs,
+    State,
+    empty_outputs,
+    initial_state,
+)
 from .inputs.excitation import GroundMotion, refuse_extreme, still
 from .inputs.scene import Scene
 
@@ -606,18 +621,17 @@ def run_settings(model: Model, integrator: int, dt: float, last_step: int, strid
     the explicit integrator's ``substeps`` past an overturn and Moreau-Jean's ``theta``; the base's centre at the
     start, the motion at unit scale and the tolerances of this module."""
     law, bodies, gravity = model.law, model.bodies, model.gravity
-    smallest = float(bodies.size[1:].min())
     return make_settings(
         dt=dt, speed_limit=speed_limit, energy_tolerance=ENERGY_TOLERANCE,
         energy_scale=float(gravity * np.sum(bodies.radius * bodies.mass)), gravity=gravity, floor=model.floor,
         half_skin=0.5 * law.skin, scale=1.0, start_x=bodies.centroid0[0, 0], start_y=bodies.centroid0[0, 1],
-        theta=theta, active_gap=MOREAU_ACTIVE_GAP * smallest, slop=MOREAU_SLOP * smallest,
+        theta=theta, active_gap=MOREAU_ACTIVE_GAP * gravity * dt**2, slop=MOREAU_SLOP * gravity * dt**2,
         solver_tolerance=MOREAU_SOLVER_TOLERANCE * gravity * dt, solver_failure=MOREAU_SOLVER_FAILURE,
         shortest_substep=MOREAU_SHORTEST_SUBSTEP, restitution=law.restitution, integrator=integrator,
-        contact_law=law.law, stride=stride, last_step=last_step, stop_at_overturn=stop_at_overturn,
-        inertial=inertial, substeps=substeps, max_sweeps=MOREAU_MAX_SWEEPS, rescue_sweeps=MOREAU_RESCUE_SWEEPS,
-        projection_sweeps=MOREAU_PROJECTION_SWEEPS, status_passes=MOREAU_STATUS_PASSES,
-        max_substeps=MOREAU_MAX_SUBSTEPS)
+        contact_law=law.law, stride=stride, interface_stride=interface_stride(dt), last_step=last_step,
+        stop_at_overturn=stop_at_overturn, inertial=inertial, substeps=substeps, max_sweeps=MOREAU_MAX_SWEEPS,
+        rescue_sweeps=MOREAU_RESCUE_SWEEPS, projection_sweeps=MOREAU_PROJECTION_SWEEPS,
+        status_passes=MOREAU_STATUS_PASSES, max_substeps=MOREAU_MAX_SUBSTEPS)
 
 
 #: a run of more steps than this is refused; above WARN_STEPS it is announced with its expected wall time

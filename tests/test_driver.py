@@ -67,7 +67,7 @@ def test_the_settings_are_named_once_and_read_by_name():
 
 #: (scene, motion, duration, options, whether pairs leave the list with a slip, which fills the retired store)
 CASES = {
-    "Moreau-Jean, a colonnade to its collapse": (scenes.colonnade(), scaled(EL_CENTRO, 5.0), 10.0,
+    "Moreau-Jean, a colonnade to its collapse": (scenes.colonnade(), scaled(EL_CENTRO, 4.0), 10.0,
                                                  {"integrator": "moreau", "stop_at_overturn": False}, True),
     "central differences, a column to its collapse": (scenes.column(), scaled(EL_CENTRO, 4.0), 4.0,
                                                       {"stop_at_overturn": False}, False),

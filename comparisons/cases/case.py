@@ -92,6 +92,8 @@ class Case:
         :mod:`comparisons.harness.consensus` once every engine has run).
     bands : ``{metric: {engine: band}}``, |error| at the engine's usual step; an engine missing from a
         metric has no band there (it is reported, not asserted).
+    converged_bands : ``{metric: {engine: band}}``, |error| at the engine's finest step of the full ladder
+        (:data:`comparisons.harness.case_runs.LADDER`): how close it converges as its step shrinks.
     reference_uncertainty : how far the reference itself may be from the truth, in the metric's unit
         (relative for relative metrics); consensus cases compute theirs from the engines' spread.
     accuracy : the |error| an engine must reach to count as right in the verdict (never taken below the
@@ -109,6 +111,7 @@ class Case:
     duration: float
     reference_kind: str
     bands: Mapping[str, Mapping[str, float]] = field(default_factory=dict)
+    converged_bands: Mapping[str, Mapping[str, float]] = field(default_factory=dict)
     reference: Callable | None = None
     errors: Callable | None = None
     measures: Callable | None = None
@@ -126,7 +129,7 @@ class Case:
             raise ValueError(f"{self.name}: give errors (against a reference) or measures (for a consensus)")
         if (self.reference_kind == "consensus") != (self.measures is not None):
             raise ValueError(f"{self.name}: a consensus case gives measures, every other case errors")
-        for metric, per_engine in self.bands.items():
+        for metric, per_engine in [*self.bands.items(), *self.converged_bands.items()]:
             unknown = set(per_engine) - set(ENGINES)
             if unknown:
                 raise ValueError(f"{self.name}: bands for unknown engines {sorted(unknown)} on {metric}")

@@ -26,7 +26,7 @@ from comparisons.harness.engines import settings_label
 LADDER = {
     "dem": {"full": (1, 2, 4, 8), "quick": (1, 4)},
     "dem-overlap": {"full": (1, 2, 4, 8), "quick": (1, 4)},
-    "dem-moreau": {"full": (1, 2, 4, 8), "quick": (1, 4)},
+    "dem-moreau": {"full": (1, 2, 4, 10), "quick": (1, 4)},
     "pymunk": {"full": (2e-3, 1e-3, 5e-4, 2.5e-4), "quick": (1e-3, 2.5e-4)},
     "pybullet": {"full": (2e-3, 1e-3, 5e-4, 2.5e-4), "quick": (1e-3, 5e-4)},
     "mujoco": {"full": (2e-3, 1e-3, 5e-4, 2.5e-4), "quick": (1e-3, 2.5e-4)},

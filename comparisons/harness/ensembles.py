@@ -58,7 +58,7 @@ SLIDING_BASE = 40.0
 LADDER = {
     "dem": (1, 4),
     "dem-overlap": (1, 4),
-    "dem-moreau": (1, 4),
+    "dem-moreau": (1, 4, 10),
     "pymunk": (2e-3, 1e-3, 5e-4),
     "pybullet": (2e-3, 1e-3),
     "mujoco": (2e-3, 1e-3, 5e-4),

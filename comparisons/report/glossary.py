@@ -55,6 +55,9 @@ METRICS = {
     "max_slip": "largest slip",
     "residual_slip": "slip at the end (relative to the largest)",
     "rms_slip": "RMS slip history (relative to the largest)",
+    "slip_travel": "the joint's slip as every engine's result measures it, its travel back and forth (relative to "
+                   "the rigid-plastic block's)",
+    "joint_slip_m": "the largest slip of any joint, measured on the blocks' motion (m)",
     "peak_rotation": "peak rotation",
     "rms_rotation": "RMS rotation history (relative to the peak)",
     "overturn_mismatch": "whether it overturns (1 where it and the reference disagree)",
@@ -81,6 +84,8 @@ AXIS_NAMES = {
     "max_slip": "largest slip",
     "residual_slip": "final slip",
     "rms_slip": "RMS slip",
+    "slip_travel": "slip travel",
+    "joint_slip_m": "joint slip (m)",
     "peak_rotation": "peak rotation",
     "rms_rotation": "RMS rotation",
     "onset_acceleration": "onset acceleration",

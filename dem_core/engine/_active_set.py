@@ -24,8 +24,8 @@ velocity by that fraction of its own impulse's effect.
 import numba as nb
 import numpy as np
 
-from ._points import (FRICTION, GAP, INC, NX, NY, PN, PT, REF, RIX, RIY, RRX, RRY, SLID, TARGET, apply_impulse,
-                      relative_velocity)
+from ._points import (FRICTION, GAP, INC, NX, NY, PN, PT, REF, RIX, RIY, RRX, RRY, SLID, TARGET, TRAVEL,
+                      apply_impulse, relative_velocity)
 
 #: widest half-band (unknowns) solved directly: a column's interfaces couple points up to 3 apart (7 unknowns),
 #: a colonnade's epistyle on three columns up to 7 (15 unknowns)
@@ -328,3 +328,38 @@ def solve_statuses(vel, inv_mass, inv_inertia, rows, ints, n, tolerance, passes,
                 ints[c, SLID] = 1 if status[c] >= SLIDE_UP else 0
             return True, done
     return False, passes
+
+
+@nb.njit(cache=True, inline="always")
+def solve_positions(rows, ints, n, slop, width, delassus, band, rhs):
+    """Step 5 of :mod:`._moreau` directly: the position impulses (kg m, per point ``(normal, tangential)`` into
+    ``rhs``) that bring each pushing point to its face (``GAP`` to 0), each sticking point back along its face
+    (``TRAVEL`` to 0) and each other point deeper than ``slop`` m to ``-slop``, the others free, with the Delassus
+    matrix of the velocity solve (:func:`delassus_band`, half-band ``width``): the linearised geometry is the
+    velocity problem's, so one band solve gives what Gauss-Seidel sweeps approach.  Returns False where a pivot
+    vanished."""
+    lo = HALF_BAND - width
+    hi = HALF_BAND + width + 1
+    for c in range(n):
+        row = rows[c]
+        un = 2 * c
+        ut = un + 1
+        pushed = row[PN] > 0.0
+        normal = pushed or row[GAP] < -slop
+        sticks = pushed and ints[c, SLID] == 0
+        for k in range(lo, hi):
+            band[un, k] = delassus[un, k] if normal else 0.0
+            band[ut, k] = delassus[ut, k] if sticks else 0.0
+        if normal:
+            band[un, HALF_BAND] *= 1.0 + REGULARISATION
+            rhs[un] = -row[GAP] if pushed else -slop - row[GAP]
+        else:
+            band[un, HALF_BAND] = 1.0
+            rhs[un] = 0.0
+        if sticks:
+            band[ut, HALF_BAND] *= 1.0 + REGULARISATION
+            rhs[ut] = -row[TRAVEL]
+        else:
+            band[ut, HALF_BAND] = 1.0
+            rhs[ut] = 0.0
+    return solve_band(band, rhs, 2 * n, width)

@@ -12,22 +12,24 @@ Per step:
 
 1. ground: the input of the step and of the next from the motion's samples (:func:`~._ground.ground_at`), the base
    placed (:func:`~._ground.place_base`);
-2. outputs: the state written if the step is an output (:func:`~._outputs.write_due`);
-3. the step's division: central differences take it whole, or in SUBSTEPS parts while a block is overturned
+2. interfaces: every INTERFACE_STRIDE steps and at the last, each recorded interface's offset, whose travel is
+   its slip (:func:`~._interfaces.follow_interfaces`);
+3. outputs: the state written if the step is an output (:func:`~._outputs.write_due`);
+4. the step's division: central differences take it whole, or in SUBSTEPS parts while a block is overturned
    (:func:`~._explicit.explicit_parts`); Moreau-Jean splits it where a point meets its face, into MAX_SUBSTEPS
    parts at most.
 
 Per part:
 
-4. geometry: world vertices, normals and boxes (:func:`~._world.world_geometry`, :func:`~._world.bounding_boxes`);
-5. broad phase: the pairs listed again when a body has moved half a skin (:func:`~._broadphase.needs_relist`,
+5. geometry: world vertices, normals and boxes (:func:`~._world.world_geometry`, :func:`~._world.bounding_boxes`);
+6. broad phase: the pairs listed again when a body has moved half a skin (:func:`~._broadphase.needs_relist`,
    :func:`~._broadphase.list_pairs`), and their incidence and order (:func:`pairs_listed`);
-6. the integrator's stage: the contact forces and central differences (:func:`~._explicit.explicit_part`), or
+7. the integrator's stage: the contact forces and central differences (:func:`~._explicit.explicit_part`), or
    Moreau-Jean's velocity solve and position update (:func:`~._moreau.moreau_part`).
 
 After the step:
 
-7. checks: the counters, a lost state, the overturns and the energy balance (:func:`~._checks.end_step`); an
+8. checks: the counters, a lost state, the overturns and the energy balance (:func:`~._checks.end_step`); an
    overturn that ends the run writes the state as the last output.
 
 Every stage takes scalars and arrays, or the named tuples of arrays above, and allocates nothing, so that the loop
@@ -48,18 +50,19 @@ from ._broadphase import incidence, list_pairs, needs_relist
 from ._checks import end_step
 from ._explicit import explicit_part, explicit_parts
 from ._ground import ground_at, place_base
+from ._interfaces import follow_interfaces
 from ._moreau import moreau_part
 from ._outputs import write_due, write_output
 from ._world import bounding_boxes, world_geometry
 from .model_arrays import INV_MASS, LOCAL_X, LOCAL_Y, NORMAL_X, NORMAL_Y, RADIUS
-from .settings import (DT, HALF_SKIN, INERTIAL, INTEGRATOR, LAST_STEP, MAX_SUBSTEPS, MOREAU, SCALE, START_X, START_Y,
-                       STATUS_FULL, STATUS_OK, STATUS_OVERTURNED)
+from .settings import (DT, HALF_SKIN, INERTIAL, INTEGRATOR, INTERFACE_STRIDE, LAST_STEP, MAX_SUBSTEPS, MOREAU, SCALE,
+                       START_X, START_Y, STATUS_FULL, STATUS_OK, STATUS_OVERTURNED)
 from .state import LISTED, STEP
 
 
 @nb.njit(cache=True, inline="always")
 def pairs_listed(model, state, scratch, moreau):
-    """Stage 5, after a list is made and when a chunk starts: which listed pairs each body belongs to
+    """Stage 6, after a list is made and when a chunk starts: which listed pairs each body belongs to
     (:func:`~._broadphase.incidence`) and, for Moreau-Jean, the pairs' order of its solve
     (:func:`~._active_set.pair_order`)."""
     listed = state.counters[LISTED]
@@ -86,6 +89,10 @@ def drive(model, settings, state, outputs, scratch, samples, n_steps):
     for k in range(n_steps + 1):
         ground_at(samples, k, real[SCALE], real[START_X], real[START_Y], dt, inertial, window, 0)
         place_base(pos, vel, window, 0)
+        step = state.counters[STEP]
+        if step % integer[INTERFACE_STRIDE] == 0 or step >= integer[LAST_STEP]:
+            follow_interfaces(pos, model.interface_keys, model.interface_geometry, state.interface_offset,
+                              state.interface_slip)
         write_due(settings, state, outputs)
         if k == n_steps or state.counters[STEP] >= integer[LAST_STEP]:
             break
@@ -121,6 +128,8 @@ def drive(model, settings, state, outputs, scratch, samples, n_steps):
         status, b = end_step(model, settings, state, scratch, taken)
         if status == STATUS_OVERTURNED:
             place_base(pos, vel, window, 1)
+            follow_interfaces(pos, model.interface_keys, model.interface_geometry, state.interface_offset,
+                              state.interface_slip)
             write_output(state, outputs)
         if status != STATUS_OK:
             return status, b, b

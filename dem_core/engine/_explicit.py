@@ -48,7 +48,7 @@ def _push(pair_force, p, end, body, fx, fy, px, py, pos, couple):
 
 
 @nb.njit(cache=True, inline="always")
-def corner_pair(p, ids, constants, memory, spring_force, pair_slip, interface_slip, pos, vel, pair_force, wx, wy,
+def corner_pair(p, ids, constants, memory, spring_force, pair_slip, pos, vel, pair_force, wx, wy,
                 wnx, wny, vstart, body, zeta_n, zeta_t, limit, dt, points, keys):
     """Corner-law forces of listed pair ``p``, into the pair's row of ``pair_force`` (resultant force
     and moment on its first body, then on its second).
@@ -110,12 +110,12 @@ def corner_pair(p, ids, constants, memory, spring_force, pair_slip, interface_sl
         fy = fn * ny + ft * ty
         _push(pair_force, p, 1 - ref_end, inc, fx, fy, px, py, pos, 0.0)
         _push(pair_force, p, ref_end, ref, -fx, -fy, px, py, pos, 0.0)
-    tally_slip(p, ids, pair_slip, interface_slip, slipped)
+    tally_slip(p, ids, pair_slip, slipped)
     return count, 0.0
 
 
 @nb.njit(cache=True, inline="always")
-def overlap_pair(p, ids, constants, spring_force, pair_slip, interface_slip, pos, vel, pair_force, wx, wy, vstart,
+def overlap_pair(p, ids, constants, spring_force, pair_slip, pos, vel, pair_force, wx, wy, vstart,
                  body, dt, ox, oy, clip_work):
     """Overlap-area-law forces of listed pair ``p``, into the pair's row of ``pair_force``.
 
@@ -145,7 +145,7 @@ def overlap_pair(p, ids, constants, spring_force, pair_slip, interface_slip, pos
                                          constants[p, MU] * fn)
     spring_force[p, 0] = elastic
     if slip:
-        tally_slip(p, ids, pair_slip, interface_slip, abs(v_t) * dt)
+        tally_slip(p, ids, pair_slip, abs(v_t) * dt)
     couple = 0.0
     if fn > 0.0:  # the dashpot spread evenly along the contact length l resists relative rotation
         s_min = math.inf
@@ -165,12 +165,12 @@ def overlap_pair(p, ids, constants, spring_force, pair_slip, interface_slip, pos
 
 @nb.njit(cache=True, inline="always")
 def pair_forces(p, corner, ids, constants, memory, spring_force, normal_impulse, tangential_impulse, pair_slip,
-                interface_slip, pos, vel, pair_force, pair_touching, pair_excess, wx, wy, wnx, wny, vstart, body, law,
+                pos, vel, pair_force, pair_touching, pair_excess, wx, wy, wnx, wny, vstart, body, law,
                 dt, boxes, points, keys, ox, oy, clip_work):
     """Step 1, one listed pair ``p``: if its boxes touch, its contacts under the corner or the overlap-area law and
     their forces into its row of ``pair_force``, whether it touches into ``pair_touching[p]`` and its penetration
-    past the limit into ``pair_excess[p]``; if not, it forgets its contact.  A pair writes only its own rows (and its
-    own recorded interface), so pairs may run in parallel.  body, law : the model's rows per body and its law's
+    past the limit into ``pair_excess[p]``; if not, it forgets its contact.  A pair writes only its own rows, so
+    pairs may run in parallel.  body, law : the model's rows per body and its law's
     constants (:mod:`.model_arrays`); boxes : (4, nb) m, the bodies' boxes.  (At most 30 arguments: Python passes
     more as a tuple, which numba cannot inline.)"""
     i = ids[p, PAIR_I]
@@ -183,11 +183,11 @@ def pair_forces(p, corner, ids, constants, memory, spring_force, normal_impulse,
         forget_pair(p, memory, spring_force, normal_impulse, tangential_impulse)
         return
     if corner:
-        touching, excess = corner_pair(p, ids, constants, memory, spring_force, pair_slip, interface_slip, pos, vel,
+        touching, excess = corner_pair(p, ids, constants, memory, spring_force, pair_slip, pos, vel,
                                        pair_force, wx, wy, wnx, wny, vstart, body, law[LAW_ZETA_N], law[LAW_ZETA_T],
                                        min(body[CONTACT_LIMIT, i], body[CONTACT_LIMIT, j]), dt, points, keys)
     else:
-        touching, excess = overlap_pair(p, ids, constants, spring_force, pair_slip, interface_slip, pos, vel,
+        touching, excess = overlap_pair(p, ids, constants, spring_force, pair_slip, pos, vel,
                                         pair_force, wx, wy, vstart, body, dt, ox[p], oy[p], clip_work[p])
     pair_touching[p] = touching
     pair_excess[p] = excess
@@ -267,7 +267,6 @@ def explicit_part(model, settings, state, scratch, part, parts, h, kick, load_x,
     corner = settings.integer[CONTACT_LAW] == CORNER
     ids, constants, memory, spring_force = state.pair_ids, state.pair_constants, state.pair_memory, state.spring_force
     normal_impulse, tangential_impulse, pair_slip = state.normal_impulse, state.tangential_impulse, state.pair_slip
-    interface_slip = state.interface_slip
     pair_force, pair_touching, pair_excess = scratch.pair_force, scratch.pair_touching, scratch.pair_excess
     wx, wy, wnx, wny = scratch.world[0], scratch.world[1], scratch.world[2], scratch.world[3]
     vstart, body, law, boxes, force = model.vstart, model.body, model.law, scratch.boxes, scratch.force
@@ -276,7 +275,7 @@ def explicit_part(model, settings, state, scratch, part, parts, h, kick, load_x,
     listed = counters[LISTED]
     for p in prange(listed):
         pair_forces(p, corner, ids, constants, memory, spring_force, normal_impulse, tangential_impulse, pair_slip,
-                    interface_slip, pos, vel, pair_force, pair_touching, pair_excess, wx, wy, wnx, wny, vstart, body,
+                    pos, vel, pair_force, pair_touching, pair_excess, wx, wy, wnx, wny, vstart, body,
                     law, h, boxes, points, keys, ox, oy, clip_work)
     for b in prange(pos.shape[0]):
         gather_forces(b, start, entries, pair_force, force)

@@ -22,8 +22,9 @@ touching or close within the step) the impulses ``P = (P_n, P_t)`` obey
 The points are solved directly, by statuses (open, sticking, sliding: :mod:`._active_set`), from the last step's
 impulses under the points' feature keys (the keys that carry the explicit law's tangential springs).  Where the
 statuses do not settle, projected Gauss-Seidel finishes the solve from there, each point's 2 x 2 problem exactly
-(:func:`point_impulse`).  A point left inside its face by the step is pushed out at the position level
-(:func:`project_positions`): positions move, velocities do not, so the correction adds no kinetic energy.
+(:func:`point_impulse`).  A point left inside its face by the step is pushed out at the position level, and a
+sticking point is put back where it stuck (:func:`project_positions`): positions move, velocities do not, so the
+correction adds no kinetic energy and moves no block along a face it sticks to.
 
 A part of a step, in order (the pairs in the order of :func:`~._active_set.pair_order`, made with each list):
 
@@ -35,7 +36,8 @@ A part of a step, in order (the pairs in the order of :func:`~._active_set.pair_
    (:func:`~._active_set.solve_statuses`), and where its statuses did not hold Gauss-Seidel
    (:func:`point_blocks`, :func:`solve_points`), which sweeps on or stops the run where it is far from a solution;
 4. the positions (:func:`integrate`);
-5. the points left inside their faces pushed out (:func:`project_positions`);
+5. the points left inside their faces pushed out, and the sticking points put back where they stuck
+   (:func:`project_positions`);
 6. the impulses kept for the next step's warm start and the slips tallied (:func:`keep_impulses`), then the
    ground's work (:func:`~._checks.ground_work`).
 """
@@ -44,12 +46,13 @@ import math
 
 import numba as nb
 
-from ._active_set import solve_statuses
+from ._active_set import HALF_BAND, delassus_band, half_band, responses, solve_positions, solve_statuses
 from ._broadphase import forget_pair
 from ._checks import ground_work
 from ._manifold import FACE_BITS, corner_manifold
-from ._points import (FRICTION, GAP, INC, KEY, NX, NY, PAIR, PN, POSITION_IMPULSE, PT, REF, RIX, RIY, RRX, RRY,
-                      SLID, SLOT, TARGET, U0, WNN, WNT, WTT, apply_impulse, delassus, relative_velocity)
+from ._points import (FRICTION, GAP, INC, KEY, NX, NY, PAIR, PN, POSITION_IMPULSE, PT, REF, RIX,
+                      RIY, RRX, RRY, SLID, SLOT, TARGET, TRAVEL, U0, WNN, WNT, WTT, apply_impulse, delassus,
+                      point_travel, relative_velocity)
 from ._tally import tally_slip
 from ._world import boxes_apart
 from .model_arrays import INV_INERTIA, INV_MASS, MASS
@@ -263,47 +266,75 @@ def integrate(pos, start_vel, vel, mid, h, theta):
 
 
 @nb.njit(cache=True, inline="always")
-def project_positions(pos, mid, inv_mass, inv_inertia, rows, ints, n, h, slop, sweeps, shift, blocks_ready):
-    """Step 5: the points' gaps after the step (followed to first order along ``h`` times the normal velocity of
-    ``mid``) brought back to the contact's geometry by Gauss-Seidel sweeps on the positions alone (``shift``
-    (nb, 3) scratch): a point that carried an impulse ends on its face (Signorini's complementarity: a point
-    that pushes touches), one left deeper than ``slop`` m inside is pushed out.  Velocities do not change, so no
-    kinetic energy is added.  ``blocks_ready``: whether the rows hold their Delassus blocks (:func:`point_blocks`).
-    Returns whether any point needed it."""
+def project_positions(pos, mid, inv_mass, inv_inertia, rows, ints, n, h, slop, sweeps, shift, blocks_ready,
+                      matrix_ready, jac, resp, delassus, band, rhs, first, last):
+    """Step 5: the points' gaps and tangential travels after the step (the rigid motion of ``h`` times the
+    velocities of ``mid``, turns exact: :func:`~._points.point_travel`) brought back to the contact's geometry by
+    position impulses (``shift`` (nb, 3) scratch, the positions' change).  A point that carried an impulse ends on
+    its face (Signorini's complementarity: a point that pushes touches), and one that stuck where it started the
+    step (a sticking point does not move along its face); one left deeper than ``slop`` m inside is pushed out.
+    Where the points' Delassus matrix fits the band (``matrix_ready``: whether the velocity solve made it, else it
+    is made here) one band solve gives the impulses
+    (:func:`~._active_set.solve_positions`); else ``sweeps`` Gauss-Seidel sweeps on the positions, a sticking
+    point's 2 x 2 problem solved exactly, the others' along the normal.  Velocities do not change, so no kinetic
+    energy is added.  ``blocks_ready``: whether the rows hold their Delassus blocks (:func:`point_blocks`).  jac,
+    resp, delassus, band, rhs, first, last: the direct solve's scratch (:mod:`._active_set`).  Returns whether any
+    point needed it."""
     off = False
     for c in range(n):
         row = rows[c]
-        u_n, _ = relative_velocity(mid, ints[c, INC], ints[c, REF], row[RIX], row[RIY], row[RRX], row[RRY], row[NX],
-                                   row[NY])
-        row[GAP] += h * u_n
+        d_n, d_t = point_travel(mid, h, ints[c, INC], ints[c, REF], row[RIX], row[RIY], row[RRX], row[RRY], row[NX],
+                                row[NY])
+        row[GAP] += d_n
+        row[TRAVEL] = d_t
         row[POSITION_IMPULSE] = 0.0
-        if row[GAP] < -slop or (row[PN] > 0.0 and row[GAP] > slop):
+        pushed = row[PN] > 0.0
+        if row[GAP] < -slop or (pushed and (row[GAP] > slop or (ints[c, SLID] == 0 and abs(d_t) > slop))):
             off = True
     if not off:
         return False
-    if not blocks_ready:
-        point_blocks(rows, ints, inv_mass, inv_inertia, n)
     for b in range(shift.shape[0]):
         for d in range(3):
             shift[b, d] = 0.0
-    for _ in range(sweeps):
+    width = half_band(ints, inv_mass, n, first, last)
+    width = width if width <= HALF_BAND else -1
+    if width >= 0 and not matrix_ready:
+        responses(rows, ints, inv_mass, inv_inertia, n, jac, resp)
+        delassus_band(ints, n, width, first, last, jac, resp, delassus)
+    if width >= 0 and solve_positions(rows, ints, n, slop, width, delassus, band, rhs):
         for c in range(n):
             row = rows[c]
-            i = ints[c, INC]
-            r = ints[c, REF]
-            s_n, _ = relative_velocity(shift, i, r, row[RIX], row[RIY], row[RRX], row[RRY], row[NX], row[NY])
-            gap = row[GAP] + s_n
-            if row[PN] > 0.0:
-                lam = row[POSITION_IMPULSE] - gap / row[WNN]
-            elif gap < -slop or row[POSITION_IMPULSE] > 0.0:
-                lam = max(row[POSITION_IMPULSE] + (-slop - gap) / row[WNN], 0.0)
-            else:
-                lam = row[POSITION_IMPULSE]
-            d = lam - row[POSITION_IMPULSE]
-            if d != 0.0:
-                apply_impulse(shift, inv_mass, inv_inertia, i, r, row[RIX], row[RIY], row[RRX], row[RRY],
-                              d * row[NX], d * row[NY])
-                row[POSITION_IMPULSE] = lam
+            dn = rhs[2 * c]
+            dt_ = rhs[2 * c + 1]
+            apply_impulse(shift, inv_mass, inv_inertia, ints[c, INC], ints[c, REF], row[RIX], row[RIY], row[RRX],
+                          row[RRY], dn * row[NX] - dt_ * row[NY], dn * row[NY] + dt_ * row[NX])
+    else:
+        if not blocks_ready:
+            point_blocks(rows, ints, inv_mass, inv_inertia, n)
+        for _ in range(sweeps):
+            for c in range(n):
+                row = rows[c]
+                i = ints[c, INC]
+                r = ints[c, REF]
+                s_n, s_t = relative_velocity(shift, i, r, row[RIX], row[RIY], row[RRX], row[RRY], row[NX], row[NY])
+                gap = row[GAP] + s_n
+                dt_ = 0.0
+                if row[PN] > 0.0 and ints[c, SLID] == 0:
+                    wnn, wnt, wtt = row[WNN], row[WNT], row[WTT]
+                    det = wnn * wtt - wnt * wnt
+                    travel = row[TRAVEL] + s_t
+                    dn = (-gap * wtt + travel * wnt) / det
+                    dt_ = (gap * wnt - travel * wnn) / det
+                elif row[PN] > 0.0:
+                    dn = -gap / row[WNN]
+                elif gap < -slop or row[POSITION_IMPULSE] > 0.0:
+                    dn = max(row[POSITION_IMPULSE] + (-slop - gap) / row[WNN], 0.0) - row[POSITION_IMPULSE]
+                else:
+                    dn = 0.0
+                if dn != 0.0 or dt_ != 0.0:
+                    apply_impulse(shift, inv_mass, inv_inertia, i, r, row[RIX], row[RIY], row[RRX], row[RRY],
+                                  dn * row[NX] - dt_ * row[NY], dn * row[NY] + dt_ * row[NX])
+                    row[POSITION_IMPULSE] += dn
     for b in range(1, pos.shape[0]):
         pos[b, 0] += shift[b, 0]
         pos[b, 1] += shift[b, 1]
@@ -312,11 +343,10 @@ def project_positions(pos, mid, inv_mass, inv_inertia, rows, ints, n, h, slop, s
 
 
 @nb.njit(cache=True, inline="always")
-def keep_impulses(rows, ints, n, normal_impulse, tangential_impulse, pair_slip, interface_slip, ids, base_impulse, vel,
-                  h):
+def keep_impulses(rows, ints, n, normal_impulse, tangential_impulse, pair_slip, ids, base_impulse, vel, h):
     """Step 6: each point's impulses into its pair's contact memory (the next step's warm start), the slip of the
-    points that slid (|u_t+| h, the largest of a pair's) into the pair's or its interface's tally, and the total
-    impulse on the base into ``base_impulse`` (2,)."""
+    points that slid (|u_t+| h, the largest of a pair's) into the pair's tally (:func:`~._tally.tally_slip`), and
+    the total impulse on the base into ``base_impulse`` (2,)."""
     base_impulse[0] = 0.0
     base_impulse[1] = 0.0
     last = -1
@@ -326,7 +356,7 @@ def keep_impulses(rows, ints, n, normal_impulse, tangential_impulse, pair_slip, 
         p = ints[c, PAIR]
         if p != last:
             if last >= 0:
-                tally_slip(last, ids, pair_slip, interface_slip, slipped)
+                tally_slip(last, ids, pair_slip, slipped)
             last = p
             slipped = 0.0
         q = ints[c, SLOT]
@@ -345,7 +375,7 @@ def keep_impulses(rows, ints, n, normal_impulse, tangential_impulse, pair_slip, 
                                        row[NX], row[NY])
             slipped = max(slipped, abs(u_t) * h)
     if last >= 0:
-        tally_slip(last, ids, pair_slip, interface_slip, slipped)
+        tally_slip(last, ids, pair_slip, slipped)
 
 
 
@@ -408,9 +438,10 @@ def moreau_part(model, settings, state, scratch, part, remaining, load_x, load_y
     mid = scratch.mid
     integrate(pos, start_vel, vel, mid, tau, real[THETA])
     project_positions(pos, mid, inv_mass, inv_inertia, rows, ints, n, tau, real[SLOP], integer[PROJECTION_SWEEPS],
-                      scratch.shift, not held)
-    keep_impulses(rows, ints, n, state.normal_impulse, state.tangential_impulse, state.pair_slip,
-                  state.interface_slip, ids, scratch.base_impulse, vel, tau)
+                      scratch.shift, not held, integer[STATUS_PASSES] > 0, scratch.jacobian, scratch.response,
+                      scratch.delassus, scratch.band, scratch.rhs, scratch.band_first, scratch.band_last)
+    keep_impulses(rows, ints, n, state.normal_impulse, state.tangential_impulse, state.pair_slip, ids,
+                  scratch.base_impulse, vel, tau)
     reaction = scratch.reaction
     reaction[0, 0] = scratch.base_impulse[0] / tau
     reaction[0, 1] = scratch.base_impulse[1] / tau

@@ -6,14 +6,17 @@ the point is, the reference body the one whose face it meets, and the normal is 
 incident body.  Impulses act positively on the incident body and negatively on the reference.
 """
 
+import math
+
 import numba as nb
 
 #: columns of the per-point rows: the normal (reference face's, into the incident body), the lever arms from the
 #: incident and reference bodies' centres of mass, the point's own Delassus block (1/kg; filled only where
 #: Gauss-Seidel or the position sweeps need it), mu, the gap (m), the normal target velocity (m/s), the normal
-#: velocity at the step's start (m/s), the impulses (N s) and the position projection's impulse (kg m)
-NX, NY, RIX, RIY, RRX, RRY, WNN, WNT, WTT, FRICTION, GAP, TARGET, U0, PN, PT, POSITION_IMPULSE = range(16)
-N_COLUMNS = 16
+#: velocity at the step's start (m/s), the impulses (N s), the tangential travel of the point over the step (m) and
+#: the position projection's normal impulse (kg m)
+NX, NY, RIX, RIY, RRX, RRY, WNN, WNT, WTT, FRICTION, GAP, TARGET, U0, PN, PT, TRAVEL, POSITION_IMPULSE = range(17)
+N_COLUMNS = 17
 #: columns of the per-point integers: incident body, reference body, pair, slot (0 or 1) within the pair,
 #: feature key, whether the point slid (its status in the direct solve, or the last sweep)
 INC, REF, PAIR, SLOT, KEY, SLID = range(6)
@@ -49,3 +52,22 @@ def apply_impulse(vel, inv_mass, inv_inertia, i, r, rix, riy, rrx, rry, px, py):
     vel[r, 0] -= inv_mass[r] * px
     vel[r, 1] -= inv_mass[r] * py
     vel[r, 2] -= inv_inertia[r] * (rrx * py - rry * px)
+
+
+@nb.njit(cache=True, inline="always")
+def point_travel(mid, h, i, r, rix, riy, rrx, rry, nx, ny):
+    """``(d_n, d_t)`` m: how far the incident body's material point moved over a step of ``h`` s at the velocities
+    ``mid`` (each body translated by ``h`` times its velocity and turned by ``h`` times its angular velocity, the
+    turn exact), relative to the reference body and in its turned frame, along the normal and along
+    ``t = (-n_y, n_x)`` at the step's start."""
+    turn_i = h * mid[i, 2]
+    turn_r = h * mid[r, 2]
+    ci = -2.0 * math.sin(0.5 * turn_i) ** 2  # cos - 1, without cancellation
+    si = math.sin(turn_i)
+    ex = h * (mid[i, 0] - mid[r, 0]) + ci * rix - si * riy
+    ey = h * (mid[i, 1] - mid[r, 1]) + si * rix + ci * riy
+    cr = -2.0 * math.sin(0.5 * turn_r) ** 2
+    sr = math.sin(turn_r)
+    dx = (1.0 + cr) * ex + sr * ey + cr * rrx + sr * rry
+    dy = -sr * ex + (1.0 + cr) * ey - sr * rrx + cr * rry
+    return dx * nx + dy * ny, -dx * ny + dy * nx

@@ -1,7 +1,8 @@
-"""Compiled: where the slip of a pair goes, the one rule both integrators tally by.
+"""Compiled: the slip of a pair that met during the run, the one rule both integrators tally it by.
 
-Private module.  A pair that is a recorded interface adds its slip to the interface's tally, which the outputs
-follow over time; any other pair keeps its own, handed to the retired slips if it leaves the list.
+Private module.  A recorded interface (touching at the start) has its slip measured on the bodies' motion
+(:mod:`._interfaces`); any other pair (blocks that met later: a fallen drum, a column leaning on another) keeps
+the slip of its contact points, handed to the retired slips if it leaves the list.
 """
 
 import numba as nb
@@ -10,11 +11,8 @@ from .state import PAIR_INTERFACE
 
 
 @nb.njit(cache=True, inline="always")
-def tally_slip(p, ids, pair_slip, interface_slip, amount):
-    """``amount`` (m, the largest slip of pair ``p``'s points over a step) into its interface's or its own tally."""
-    if amount > 0.0:
-        k = ids[p, PAIR_INTERFACE]
-        if k >= 0:
-            interface_slip[k] += amount
-        else:
-            pair_slip[p] += amount
+def tally_slip(p, ids, pair_slip, amount):
+    """``amount`` (m, the largest slip of pair ``p``'s points over a step) into its own tally, unless it is a
+    recorded interface."""
+    if amount > 0.0 and ids[p, PAIR_INTERFACE] < 0:
+        pair_slip[p] += amount

@@ -11,6 +11,7 @@ from typing import NamedTuple
 import numpy as np
 
 from . import geometry
+from ._interfaces import A_X, A_Y, B_X, B_Y, HALF_WIDTH, N_GEOMETRY, T_X, T_Y, TURN0, offsets_over
 from .contact import LAWS, rocking_damping_ratio
 from .stacks import find_stacks
 
@@ -122,14 +123,16 @@ class Faces(NamedTuple):
 class Model(NamedTuple):
     """A compiled scene: ``bodies``, ``law``, ``stacks``, the ``faces`` touching at the start;
     ``interface_keys`` (n_if,) int64 sorted ``i * nb + j`` of those faces' pairs, whose slip is recorded
-    over time; ``gravity`` m/s^2; ``floor`` m, top of the base relative to its centre of mass;
-    ``top`` m, the highest block vertex above the top of the base at the start."""
+    over time, and ``interface_geometry`` (n_if, 8) their rows in that order (:mod:`._interfaces`); ``gravity``
+    m/s^2; ``floor`` m, top of the base relative to its centre of mass; ``top`` m, the highest block vertex above
+    the top of the base at the start."""
 
     bodies: Bodies
     law: Law
     stacks: Stacks
     faces: Faces
     interface_keys: np.ndarray
+    interface_geometry: np.ndarray
     gravity: float
     floor: float
     top: float
@@ -223,14 +226,60 @@ def compile_faces(scene) -> Faces:
                  extent=np.array(extent, float))
 
 
+def _facing_edge(vertices: np.ndarray, direction: np.ndarray) -> tuple:
+    """The ends (2, 2) of the edge of the counter-clockwise polygon ``vertices`` whose outward normal points most
+    along ``direction``."""
+    following = np.roll(vertices, -1, axis=0)
+    edges = following - vertices
+    normals = np.column_stack([edges[:, 1], -edges[:, 0]]) / np.hypot(edges[:, 0], edges[:, 1])[:, None]
+    k = int(np.argmax(normals @ direction))
+    return vertices[k], following[k]
+
+
+def interface_geometry(scene, bodies: Bodies, faces: Faces, keys: np.ndarray) -> np.ndarray:
+    """(n_if, N_GEOMETRY) the rows of :mod:`._interfaces` of the interfaces ``keys`` (``i * nb + j``, sorted).
+
+    Each interface is the first body's face turned to the second and the second's face turned back, which touch
+    at the start, flush or (a block tilted onto a corner) at an end.  The touching point is the centre of the
+    two faces' overlap along the tangent ``t = (n_y, -n_x)``, on each face's line, in each body's frame; half the
+    interface's width is half the shorter face, the distance from that point to the end a block rocks on; the
+    starting turn is the bodies' relative angle less the second face's tilt from flush."""
+    n = len(bodies.mass)
+    face_of = {int(i) * n + int(j): f for f, (i, j) in enumerate(zip(faces.i, faces.j))}
+    rows = np.zeros((len(keys), N_GEOMETRY))
+    for k, key in enumerate(keys):
+        f = face_of[int(key)]
+        a, b = divmod(int(key), n)
+        face_a = _facing_edge(scene.bodies[a].vertices, faces.normal[f])
+        tangent = (face_a[0] - face_a[1]) / np.hypot(*(face_a[0] - face_a[1]))  # (n_y, -n_x), n the face's normal
+        normal = np.array([-tangent[1], tangent[0]])
+        face_b = _facing_edge(scene.bodies[b].vertices, -normal)
+        along_a = sorted(float(p @ tangent) for p in face_a)
+        along_b = sorted(float(p @ tangent) for p in face_b)
+        middle = 0.5 * (max(along_a[0], along_b[0]) + min(along_a[1], along_b[1]))
+        points = []
+        for (p, q) in (face_a, face_b):
+            u = (middle - p @ tangent) / ((q - p) @ tangent)
+            points.append(p + u * (q - p))
+        edge_b = face_b[0] - face_b[1] if (face_b[0] - face_b[1]) @ tangent > 0 else face_b[1] - face_b[0]
+        tilt = float(np.arctan2(edge_b @ normal, edge_b @ tangent))
+        rows[k, [A_X, A_Y]] = geometry.transform((points[0] - bodies.centroid0[a])[None, :], -bodies.angle0[a])[0]
+        rows[k, [B_X, B_Y]] = geometry.transform((points[1] - bodies.centroid0[b])[None, :], -bodies.angle0[b])[0]
+        rows[k, [T_X, T_Y]] = geometry.transform(tangent[None, :], -bodies.angle0[a])[0]
+        rows[k, HALF_WIDTH] = 0.5 * min(np.hypot(*(face_a[1] - face_a[0])), np.hypot(*(face_b[1] - face_b[0])))
+        rows[k, TURN0] = bodies.angle0[b] - bodies.angle0[a] - tilt
+    return rows
+
+
 def compile_model(scene, stacks=None) -> Model:
     """The :class:`Model` of ``scene`` (``stacks``: its stacks, if already found)."""
     bodies = compile_bodies(scene)
     faces = compile_faces(scene)
     n = len(scene.bodies)
     base_top = scene.base.vertices[:, 1].max()
+    keys = np.array(sorted(faces.i * n + faces.j), np.int64)
     return Model(bodies=bodies, law=compile_law(scene, bodies), stacks=compile_stacks(scene, stacks), faces=faces,
-                 interface_keys=np.array(sorted(faces.i * n + faces.j), np.int64),
+                 interface_keys=keys, interface_geometry=interface_geometry(scene, bodies, faces, keys),
                  gravity=float(scene.gravity), floor=float(base_top - scene.base.centroid[1]),
                  top=float(max(b.vertices[:, 1].max() for b in scene.blocks) - base_top))
 
@@ -239,3 +288,13 @@ def interface_pairs(model: Model) -> list:
     """``(i, j)`` body indices of the recorded interfaces, in the order of ``interface_keys``."""
     n = len(model.bodies.mass)
     return [(int(k // n), int(k % n)) for k in model.interface_keys]
+
+
+def interface_travel(model: Model, states: np.ndarray) -> np.ndarray:
+    """(n, n_if) m: the slip of each recorded interface up to each of the ``n`` states of a history, ``states`` (n,
+    nb, 3) every body's x, y, theta (the base first): the travel of its offset (:mod:`._interfaces`) from the first
+    state, the measure the driver takes every millisecond, here at the history's own interval."""
+    offsets = np.zeros((len(states), len(model.interface_keys)))
+    offsets_over(np.ascontiguousarray(states, float), model.interface_keys, model.interface_geometry, offsets)
+    steps = np.abs(np.diff(offsets, axis=0))
+    return np.concatenate([np.zeros((1, offsets.shape[1])), np.cumsum(steps, axis=0)]) if len(states) else offsets

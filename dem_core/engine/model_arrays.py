@@ -30,7 +30,8 @@ class ModelArrays(NamedTuple):
     body : (11, nb) rows MASS ... FRICTION.  stack_id : (nb,) int64.  stack_bottom : (ns,) int64.
     stack_mass : (ns,) kg.  stack_foot : (ns, 2, 2) m.  law : (9,) columns LAW_KN ... LAW_CT.
     friction_keys, friction_values : the interfaces with a coefficient of their own, keys sorted (NO_KEY pads).
-    interface_keys : (n_if,) int64 sorted keys of the recorded interfaces.
+    interface_keys : (n_if,) int64 sorted keys of the recorded interfaces.  interface_geometry : (n_if, 8) their
+    rows of :mod:`._interfaces`.
     """
 
     vertices: np.ndarray
@@ -44,6 +45,7 @@ class ModelArrays(NamedTuple):
     friction_keys: np.ndarray
     friction_values: np.ndarray
     interface_keys: np.ndarray
+    interface_geometry: np.ndarray
 
 
 def model_arrays(model) -> ModelArrays:
@@ -63,4 +65,5 @@ def model_arrays(model) -> ModelArrays:
                      float),
         friction_keys=np.ascontiguousarray(friction_keys, np.int64),
         friction_values=np.ascontiguousarray(friction_values, float),
-        interface_keys=np.ascontiguousarray(model.interface_keys, np.int64))
+        interface_keys=np.ascontiguousarray(model.interface_keys, np.int64),
+        interface_geometry=np.ascontiguousarray(model.interface_geometry, float).reshape(-1, 8))

@@ -36,14 +36,16 @@ class Result:
     overturn_time : (n_blocks,) s, first time the block passed its critical
         angle or fell half its size, or the column (stack) it belongs to tipped
         its centre of mass past its base (:mod:`dem_core.engine.stacks`); NaN if never.
-    interface_slip : {(name_a, name_b): m} accumulated slip per interface that slid,
-        or None when the engine does not measure it (sliding measures are then NaN).
+    interface_slip : {(name_a, name_b): m} the slip of every interface that slid: at an interface touching
+        at the start, the travel of one block over the other measured on their motion (docs/method.md
+        section 3), at a pair that met later its contact points' slip; None where a result carries no slip
+        (sliding measures are then NaN).
     dt : s, the time step used; info : run facts (engine, stability limit,
         steps, compile and run wall times, ...).
     interfaces : ((name_a, name_b), ...) the interfaces touching at the start, whose slip is
         followed over time.
     slip_history : (n, n_interfaces) slip accumulated at each interface up to each output, m;
-        None when the engine does not measure it.
+        None where a result carries no slip.
     critical_angle : (n_blocks,) each block's own critical angle atan(b/h), rad.
     columns : (:class:`~dem_core.engine.stacks.Column`, ...) the stacks of blocks standing on the
         base (a column's drums and capital) with the tilt at which each tips over as one body.

@@ -30,14 +30,24 @@ REAL_NAMES = ("dt", "speed_limit", "energy_tolerance", "energy_scale", "gravity"
               "shortest_substep", "restitution")
 (DT, SPEED_LIMIT, ENERGY_TOLERANCE, ENERGY_SCALE, GRAVITY, FLOOR, HALF_SKIN, SCALE, START_X, START_Y, THETA,
  ACTIVE_GAP, SLOP, SOLVER_TOLERANCE, SOLVER_FAILURE, SHORTEST_SUBSTEP, RESTITUTION) = range(len(REAL_NAMES))
-#: the integer settings: the integrator and the contact law (their codes), the output stride (steps), the last
-#: step, whether an overturn ends the run, 1 for the inertial frame (0: a moving base), the substeps of a central
-#: difference step while a block is overturned, and Moreau-Jean's Gauss-Seidel sweeps, rescue sweeps, position
-#: sweeps, direct passes by statuses and the most parts a step is split into
-INTEGER_NAMES = ("integrator", "contact_law", "stride", "last_step", "stop_at_overturn", "inertial", "substeps",
-                 "max_sweeps", "rescue_sweeps", "projection_sweeps", "status_passes", "max_substeps")
-(INTEGRATOR, CONTACT_LAW, STRIDE, LAST_STEP, STOP_AT_OVERTURN, INERTIAL, SUBSTEPS, MAX_SWEEPS, RESCUE_SWEEPS,
- PROJECTION_SWEEPS, STATUS_PASSES, MAX_SUBSTEPS) = range(len(INTEGER_NAMES))
+#: the integer settings: the integrator and the contact law (their codes), the output stride (steps), the steps
+#: between the samples of the joints' offsets, the last step, whether an overturn ends the run, 1 for the inertial
+#: frame (0: a moving base), the substeps of a central difference step while a block is overturned, and
+#: Moreau-Jean's Gauss-Seidel sweeps, rescue sweeps, position sweeps, direct passes by statuses and the most parts
+#: a step is split into
+INTEGER_NAMES = ("integrator", "contact_law", "stride", "interface_stride", "last_step", "stop_at_overturn",
+                 "inertial", "substeps", "max_sweeps", "rescue_sweeps", "projection_sweeps", "status_passes",
+                 "max_substeps")
+(INTEGRATOR, CONTACT_LAW, STRIDE, INTERFACE_STRIDE, LAST_STEP, STOP_AT_OVERTURN, INERTIAL, SUBSTEPS, MAX_SWEEPS,
+ RESCUE_SWEEPS, PROJECTION_SWEEPS, STATUS_PASSES, MAX_SUBSTEPS) = range(len(INTEGER_NAMES))
+#: s between the samples of the joints' offsets, whose travel is the slip (engine/_interfaces.py): every engine's
+#: joints are measured on their motion every millisecond, or every step where its steps are longer
+INTERFACE_INTERVAL = 1e-3
+
+
+def interface_stride(dt: float) -> int:
+    """Steps of ``dt`` s between the samples of the joints' offsets: INTERFACE_INTERVAL, or one step."""
+    return max(1, round(INTERFACE_INTERVAL / dt))
 
 #: how a run's driver ends a chunk: it can go on (OK), or why it stopped.  FULL: a fixed-capacity store (the
 #: code's first body field names which, :data:`STORES`) would overflow; the chunk is taken again with it larger
@@ -61,9 +71,11 @@ MOREAU_DT = 1e-3
 #: of the scene (1/p of its most agile block, p = sqrt(3 g / (4 R)) the rocking frequency)
 MOREAU_TIME_FRACTION = 0.02
 #: Moreau-Jean's index set takes the points whose gap at the step's end (at the start's velocity) is below this
-#: fraction of the smallest block's size; points are pushed out at the position level beyond MOREAU_SLOP of it
-MOREAU_ACTIVE_GAP = 1e-5
-MOREAU_SLOP = 1e-6
+#: fraction of g h^2, the distance gravity closes from rest in a step of h; points are pushed out at the position
+#: level beyond MOREAU_SLOP g h^2.  Scaled with the step, both vanish as it shrinks, and so does what they add to the
+#: error (a corner held that far early, or left that deep)
+MOREAU_ACTIVE_GAP = 1.0
+MOREAU_SLOP = 0.1
 #: Gauss-Seidel stops when no point's velocity changed by more than this fraction of g h in a sweep, or after
 #: MOREAU_MAX_SWEEPS sweeps.  A step whose last sweep still changed a velocity by more than MOREAU_SOLVER_FAILURE
 #: of g h is far from a solution of the contact problem (a stack's first step, an impact running through a

@@ -12,6 +12,7 @@ from typing import NamedTuple
 
 import numpy as np
 
+from ._interfaces import offsets_over
 from .settings import PAIR_STORE
 
 #: columns of State.pair_ids
@@ -58,7 +59,8 @@ class State(NamedTuple):
         a pair may appear more than once).
     peak_theta : (nb,) rad, the largest |theta| so far.  overturn_step : (nb,) int64, the step at which each body
         overturned (-1: not yet).  stack_step : (ns,) int64, the step at which each stack tipped.
-    interface_slip : (n_if,) m, the slip accumulated at each recorded interface.
+    interface_slip : (n_if,) m, the slip accumulated at each recorded interface (its offset's travel).
+    interface_offset : (n_if,) m, each recorded interface's offset at the last step (:mod:`._interfaces`).
     built_at : (nb, 3) positions when the pairs were last listed.
     ledger : (3,) J, the mechanical energy at the start, the ground's net work and its gross work.
     counters : (N_COUNTERS,) int64: steps done, narrow-phase pairs (central differences) or contact points
@@ -82,6 +84,7 @@ class State(NamedTuple):
     overturn_step: np.ndarray
     stack_step: np.ndarray
     interface_slip: np.ndarray
+    interface_offset: np.ndarray
     built_at: np.ndarray
     ledger: np.ndarray
     counters: np.ndarray
@@ -130,21 +133,30 @@ class Outputs(NamedTuple):
     step: np.ndarray
 
 
+def interface_offsets(model, pos: np.ndarray) -> np.ndarray:
+    """(n_if,) m: each recorded interface's offset (:mod:`._interfaces`) with the bodies at ``pos`` (nb, 3)."""
+    offsets = np.zeros((1, len(model.interface_keys)))
+    offsets_over(np.ascontiguousarray(pos, float)[None], model.interface_keys, model.interface_geometry, offsets)
+    return offsets[0]
+
+
 def initial_state(model) -> State:
     """The state at the start of ``model`` (:class:`~dem_core.engine.model.Model`): blocks where the scene puts
     them, at rest, no pair listed (the first step lists them), stores of :func:`first_capacities`."""
     b = model.bodies
     nb = len(b.mass)
     pairs, retired = first_capacities(nb)
+    pos = np.column_stack([b.centroid0, b.angle0])
     return State(
-        pos=np.column_stack([b.centroid0, b.angle0]), vel=np.zeros((nb, 3)),
+        pos=pos, vel=np.zeros((nb, 3)),
         pair_ids=np.full((pairs, 4), -1, np.int64), pair_constants=np.zeros((pairs, 6)),
         pair_memory=np.full((pairs, 3), -1, np.int64), spring_force=np.zeros((pairs, 2)),
         normal_impulse=np.zeros((pairs, 2)), tangential_impulse=np.zeros((pairs, 2)), pair_slip=np.zeros(pairs),
         retired_key=np.full(retired, -1, np.int64), retired_slip=np.zeros(retired),
         peak_theta=np.abs(b.angle0).copy(), overturn_step=np.full(nb, -1, np.int64),
         stack_step=np.full(len(model.stacks.bottom), -1, np.int64),
-        interface_slip=np.zeros(len(model.interface_keys)), built_at=np.full((nb, 3), np.inf),
+        interface_slip=np.zeros(len(model.interface_keys)), interface_offset=interface_offsets(model, pos),
+        built_at=np.full((nb, 3), np.inf),
         ledger=np.zeros(3), counters=np.zeros(N_COUNTERS, np.int64))
 
 
