@@ -77,13 +77,14 @@ def run(engine: str, scene, excitation, duration, dt, output_dt, build) -> Resul
         for step in range(n_steps + 1):
             sampled = step % joints.stride == 0 or step == n_steps
             if step == next_out or sampled:
+                asked = time.perf_counter()
                 state = engine_run.state()
                 bad = ~np.all(np.isfinite(state), axis=1) | (np.hypot(*(state[:, :2] - start[:, :2]).T) > reach)
                 if np.any(bad):
                     failure = (step, int(np.argmax(bad)))
                     break
                 if sampled:
-                    joints.follow(state)
+                    joints.follow(state, asked if step != next_out else time.perf_counter())
                 if step == next_out:
                     out[written] = state
                     joints.write(written)
@@ -125,12 +126,13 @@ class _Joints:
         self.history = np.full((n_out, len(self.offset)), np.nan)
         self.seconds = 0.0
 
-    def follow(self, state):
-        t0 = time.perf_counter()
+    def follow(self, state, since: float):
+        """The joints' travel on to ``state`` (nb - 1, 3); what it took from ``since`` (``time.perf_counter()``: when
+        the state was asked for, where it was asked for this alone) counted as ours."""
         offset = interface_offsets(self.model, np.vstack([self.base, state]))
         self.travel += np.abs(offset - self.offset)
         self.offset = offset
-        self.seconds += time.perf_counter() - t0
+        self.seconds += time.perf_counter() - since
 
     def write(self, row: int):
         self.history[row] = self.travel
