@@ -16,6 +16,7 @@ from comparisons.benchmarks import (
     batch_throughput,
     calibrate_damping,
     column_ensemble,
+    moreau_stages,
     overturn_rule,
     scaling,
     stability_probe,
@@ -40,6 +41,7 @@ BENCHMARKS = {
     "calibrate-damping": calibrate_damping,
     "stiffness-ensembles": stiffness_ensembles,
     "overturn-rule": overturn_rule,
+    "moreau-stages": moreau_stages,
 }
 
 

@@ -8,5 +8,6 @@
 * :mod:`.stiffness_ensembles` (``stiffness-ensembles``): whether multi-block answers depend on K_n;
 * :mod:`.column_ensemble` (``column-ensemble``): the 8-drum column's ensemble, Moreau-Jean against the peers;
 * :mod:`.batch_throughput` (``batch-throughput``): member-runs per second of ``simulate_batch``;
-* :mod:`.overturn_rule` (``overturn-rule``): whether blocks that pass their critical angle come back.
+* :mod:`.overturn_rule` (``overturn-rule``): whether blocks that pass their critical angle come back;
+* :mod:`.moreau_stages` (``moreau-stages``): where Moreau-Jean's step spends its time.
 """
