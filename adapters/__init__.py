@@ -2,8 +2,8 @@
 
 ``adapters.simulate(scene, excitation, duration, engine="pymunk" | "pybullet" | "mujoco" | "dem", dt=None,
 output_dt=None, **engine_options)`` returns a :class:`dem_core.Result` like :func:`dem_core.simulate`
-(the slip at each interface is measured on the blocks' recorded motion, as the native core measures it every
-step: :func:`dem_core.engine.model.interface_travel`); an unstable run raises
+(the slip at each interface is measured on the blocks' motion every millisecond by the native core's own stage,
+:func:`dem_core.engine._interfaces.follow_interfaces`); an unstable run raises
 :class:`dem_core.SimulationUnstable` in every engine.  How each engine maps the
 scene (geometry, mass, friction, restitution, contact softness, ground motion) is in its module's
 docstring and in the README's engine table.

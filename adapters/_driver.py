@@ -8,6 +8,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from dem_core.engine._interfaces import follow_interfaces
 from dem_core.engine.model import compile_model, interface_pairs
 from dem_core.engine.result import Result
 from dem_core.engine.settings import interface_stride
@@ -112,9 +113,9 @@ def run(engine: str, scene, excitation, duration, dt, output_dt, build) -> Resul
 
 
 class _Joints:
-    """The slip of the interfaces touching at the start, measured on the engine's states every
-    ``stride`` steps (docs/method.md section 3) as the native core measures it, and the time that takes (s), which
-    is ours and not the engine's."""
+    """The slip of the interfaces touching at the start, measured on the engine's states every ``stride`` steps by
+    the native core's own stage (:func:`dem_core.engine._interfaces.follow_interfaces`, docs/method.md section 3),
+    and the time that takes (s), which is ours and not the engine's."""
 
     def __init__(self, scene, n_out: int, stride: int):
         self.model = compile_model(scene, find_stacks(scene))
@@ -129,9 +130,8 @@ class _Joints:
     def follow(self, state, since: float):
         """The joints' travel on to ``state`` (nb - 1, 3); what it took from ``since`` (``time.perf_counter()``: when
         the state was asked for, where it was asked for this alone) counted as ours."""
-        offset = interface_offsets(self.model, np.vstack([self.base, state]))
-        self.travel += np.abs(offset - self.offset)
-        self.offset = offset
+        follow_interfaces(np.vstack([self.base, state]), self.model.interface_keys, self.model.interface_geometry,
+                          self.offset, self.travel)
         self.seconds += time.perf_counter() - since
 
     def write(self, row: int):

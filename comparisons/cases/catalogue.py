@@ -78,7 +78,8 @@ def _free_rocking_bands(overlap_quarter, overlap_decay=None, moreau_decay=0.015)
     quarter period dem -0.03% or less, dem-overlap +0.3% to +0.9%, pymunk +0.06% to +0.26%, pybullet
     +0.01% to +0.5%, mujoco -0.06% to -0.26%; worst peak after impacts 1-5 dem 0.6% to 1.2%, dem-overlap
     0.6% to 4.0%, pymunk 0.7% to 6.6%, pybullet 1.4% to 9.2%, mujoco 0.7% to 2.6% (the squat block aside);
-    dem-moreau quarter period 0.016% to 0.065%, peaks 0.28% (1 x 6 m from 0.2 alpha) to 1.4% (the squat block).
+    dem-moreau quarter period 0.011% to 0.046%, peaks 0.12% (the squat block) to 0.91% (the Housner block from 0.5
+    alpha).
     """
     bands = {"quarter_period": {"dem": 0.005, "dem-overlap": overlap_quarter, "dem-moreau": 0.002, "pymunk": 0.015,
                                 "pybullet": 0.015, "mujoco": 0.005}}
@@ -137,7 +138,7 @@ def _slip(result):
 
 def _joint_slips(result):
     """(n_if,) m: the slip at each interface touching at the start, its offset's travel over the run, as every
-    engine's result measures it (:func:`dem_core.engine.model.interface_travel`)."""
+    engine's result measures it (docs/method.md section 3)."""
     return result.slip_history[-1]
 
 

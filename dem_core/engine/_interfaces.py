@@ -1,10 +1,11 @@
 """Compiled: the interfaces' slip, the tangential travel of one block over the other, measured on their motion.
 
-Private module, the driver's stage after the base is placed (:func:`follow_interfaces`) and the measure of any
-engine's histories (:func:`offsets_over`).  An interface is a pair of bodies touching at the start, ``a`` (the
-first of the pair) and ``b``; its row of :data:`~.model_arrays.ModelArrays` ``interface_geometry`` holds the
-point where they touch in each body's own frame, the interface's tangent in ``a``'s frame (``t = (n_y, -n_x)``,
-``n`` from ``a`` into ``b``), half the interface's width ``w`` and the bodies' starting relative turn.
+Private module: :func:`follow_interfaces`, the driver's stage after the base is placed, which also measures any
+other engine's states (:class:`adapters._driver._Joints`) and any history (:func:`~.model.interface_travel`).
+An interface is a pair of bodies touching at the start, ``a`` (the first of the pair) and ``b``; its row of
+:data:`~.model_arrays.ModelArrays` ``interface_geometry`` holds the point where they touch in each body's own
+frame, the interface's tangent in ``a``'s frame (``t = (n_y, -n_x)``, ``n`` from ``a`` into ``b``), half the
+interface's width ``w`` and the bodies' starting relative turn.
 
 The offset of the interface is where ``b``'s point is along ``t`` in ``a``'s frame, less the part that rocking
 without slip gives it: turned by ``phi`` relative to ``a`` about an end of the interface, ``b``'s point moves
@@ -53,12 +54,3 @@ def follow_interfaces(pos, keys, geometry, offset, travel):
         s = interface_offset(pos[keys[k] // nb_], pos[keys[k] % nb_], geometry[k])
         travel[k] += abs(s - offset[k])
         offset[k] = s
-
-
-@nb.njit(cache=True)
-def offsets_over(states, keys, geometry, out):
-    """Each interface's offset at each of the ``n`` states (n, nb, 3) of a history, into ``out`` (n, n_if) m."""
-    nb_ = states.shape[1]
-    for t in range(states.shape[0]):
-        for k in range(keys.shape[0]):
-            out[t, k] = interface_offset(states[t, keys[k] // nb_], states[t, keys[k] % nb_], geometry[k])

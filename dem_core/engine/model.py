@@ -11,9 +11,10 @@ from typing import NamedTuple
 import numpy as np
 
 from . import geometry
-from ._interfaces import A_X, A_Y, B_X, B_Y, HALF_WIDTH, N_GEOMETRY, T_X, T_Y, TURN0, offsets_over
+from ._interfaces import A_X, A_Y, B_X, B_Y, HALF_WIDTH, N_GEOMETRY, T_X, T_Y, TURN0, follow_interfaces
 from .contact import LAWS, rocking_damping_ratio
 from .stacks import find_stacks
+from .state import interface_offsets
 
 #: a corner-law contact deeper than this fraction of the smaller block's smaller extent stops the run
 MAX_PENETRATION_FRACTION = 0.05
@@ -292,9 +293,13 @@ def interface_pairs(model: Model) -> list:
 
 def interface_travel(model: Model, states: np.ndarray) -> np.ndarray:
     """(n, n_if) m: the slip of each recorded interface up to each of the ``n`` states of a history, ``states`` (n,
-    nb, 3) every body's x, y, theta (the base first): the travel of its offset (:mod:`._interfaces`) from the first
-    state, the measure the driver takes every millisecond, here at the history's own interval."""
-    offsets = np.zeros((len(states), len(model.interface_keys)))
-    offsets_over(np.ascontiguousarray(states, float), model.interface_keys, model.interface_geometry, offsets)
-    steps = np.abs(np.diff(offsets, axis=0))
-    return np.concatenate([np.zeros((1, offsets.shape[1])), np.cumsum(steps, axis=0)]) if len(states) else offsets
+    nb, 3) every body's x, y, theta (the base first): the travel of its offset from the first state, taken by the
+    driver's own stage (:func:`~._interfaces.follow_interfaces`) at the history's interval."""
+    states = np.ascontiguousarray(states, float)
+    history = np.zeros((len(states), len(model.interface_keys)))
+    if len(states):
+        offset, travel = interface_offsets(model, states[0]), np.zeros(history.shape[1])
+        for k, state in enumerate(states):
+            follow_interfaces(state, model.interface_keys, model.interface_geometry, offset, travel)
+            history[k] = travel
+    return history

@@ -12,7 +12,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from ._interfaces import offsets_over
+from ._interfaces import follow_interfaces
 from .settings import PAIR_STORE
 
 #: columns of State.pair_ids
@@ -135,9 +135,10 @@ class Outputs(NamedTuple):
 
 def interface_offsets(model, pos: np.ndarray) -> np.ndarray:
     """(n_if,) m: each recorded interface's offset (:mod:`._interfaces`) with the bodies at ``pos`` (nb, 3)."""
-    offsets = np.zeros((1, len(model.interface_keys)))
-    offsets_over(np.ascontiguousarray(pos, float)[None], model.interface_keys, model.interface_geometry, offsets)
-    return offsets[0]
+    offsets, travel = np.zeros(len(model.interface_keys)), np.zeros(len(model.interface_keys))
+    follow_interfaces(np.ascontiguousarray(pos, float), model.interface_keys, model.interface_geometry, offsets,
+                      travel)
+    return offsets
 
 
 def initial_state(model) -> State:
