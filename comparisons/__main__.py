@@ -18,6 +18,7 @@ from comparisons.benchmarks import (
     column_ensemble,
     moreau_stages,
     overturn_rule,
+    restitution,
     scaling,
     stability_probe,
     stiffness_ensembles,
@@ -42,6 +43,7 @@ BENCHMARKS = {
     "stiffness-ensembles": stiffness_ensembles,
     "overturn-rule": overturn_rule,
     "moreau-stages": moreau_stages,
+    "restitution": restitution,
 }
 
 

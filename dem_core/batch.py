@@ -27,7 +27,7 @@ from . import batch_gpu
 from .batch_gpu import gpu_available
 from .engine.result import Result
 from .inputs.excitation import GroundMotion
-from .simulation import Simulation, SimulationUnstable, check_run_arguments, set_up_scene, warn_caller
+from .simulation import Simulation, SimulationUnstable, check_run_arguments, integrator_for, set_up_scene, warn_caller
 
 #: where a batch can run: ``"auto"`` takes the GPU where numba-cuda finds one, the integrator is the explicit one
 #: and the batch has at least GPU_MEMBERS_PER_THREAD members per CPU thread, else the CPU's threads
@@ -104,7 +104,7 @@ def simulate_batch(scene, motions, duration: float | None = None, *, device: str
     WAKE_SECONDS), each distinct one once, at the caller's line.
     """
     threads, scenes, motions, keep = _checked(scene, motions, device, threads, histories, simulate_options)
-    gpu = _gpu_for(device, simulate_options, len(motions), threads)
+    gpu = _gpu_for(device, integrator_for(scenes[0], simulate_options.get("integrator")), len(motions), threads)
     started = time.perf_counter()
     rows, given, shared = {}, set(), {}
     first, built, said = _first_member(scenes, motions, duration, simulate_options, rows, shared)
@@ -268,10 +268,10 @@ def check_device(device: str) -> None:
                          "members on the CPU's threads")
 
 
-def _gpu_for(device: str, simulate_options: dict, members: int, threads: int) -> str:
-    """The GPU's name if the batch of ``members`` runs there, else ''; ``ValueError`` for ``device="gpu"`` with
-    Moreau-Jean."""
-    explicit = simulate_options.get("integrator", "explicit") == "explicit"
+def _gpu_for(device: str, integrator: str, members: int, threads: int) -> str:
+    """The GPU's name if the batch of ``members`` under ``integrator`` runs there, else ''; ``ValueError`` for
+    ``device="gpu"`` with Moreau-Jean."""
+    explicit = integrator == "explicit"
     if device == "gpu" and not explicit:
         raise ValueError("device='gpu' steps by central differences (integrator='explicit'); Moreau-Jean's members "
                          "run on the CPU (device='cpu' or 'auto')")

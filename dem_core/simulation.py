@@ -163,16 +163,22 @@ class SceneSetUp(NamedTuple):
 def set_up_scene(scene, dt: float | None = None, *, safety: float = DEFAULT_SAFETY,
                  steps_per_impact: float = DEFAULT_STEPS_PER_IMPACT, step_fraction: float = 1.0,
                  stop_at_overturn: bool = True, enforce_stability_limit: bool = True,
-                 integrator: str = "explicit") -> SceneSetUp:
+                 integrator: str | None = None) -> SceneSetUp:
     """The :class:`SceneSetUp` of ``scene`` with the step options of :class:`Simulation` (the same names and
     defaults); ``ValueError`` naming a wrong option (Moreau-Jean's step options are checked with the motion, by
     :func:`moreau_time_step`), and the warning of a step beyond the stability limit."""
+    integrator = integrator_for(scene, integrator)
     options = dict(dt=dt, safety=safety, steps_per_impact=steps_per_impact, step_fraction=step_fraction,
                    stop_at_overturn=stop_at_overturn, enforce_stability_limit=enforce_stability_limit,
                    integrator=integrator)
     if _integrator_code(integrator) == MOREAU and scene.contact.law != "corner":
         raise ValueError(f"the Moreau-Jean integrator works on the corner law's contact points; the scene's "
                          f"contact law is {scene.contact.law!r}")
+    given = scene.contact.explicit_restitution
+    if integrator == "explicit" and given is not None and 0.0 < scene.contact.impact_restitution < given:
+        raise ValueError(f"restitution {scene.contact.impact_restitution:g}: the explicit core's dashpots give at "
+                         f"least {given:g} (docs/method.md 1.3); ask 0 for that, or give a damping_ratio, or run "
+                         f"Moreau-Jean, which gives any restitution")
     stacks = find_stacks(scene)
     model = compile_model(scene, stacks)
     if _integrator_code(integrator) == MOREAU:
@@ -206,9 +212,10 @@ class Simulation:
                  dt: float | None = None, output_dt: float | None = None, *, ground_motion: str = "inertial",
                  safety: float = DEFAULT_SAFETY, steps_per_impact: float = DEFAULT_STEPS_PER_IMPACT,
                  step_fraction: float = 1.0, stop_at_overturn: bool = True, enforce_stability_limit: bool = True,
-                 parallel: bool = False, integrator: str = "explicit", theta: float = MOREAU_THETA,
+                 parallel: bool = False, integrator: str | None = None, theta: float = MOREAU_THETA,
                  scene_set_up: SceneSetUp | None = None):
         excitation = check_run_arguments(scene, excitation)
+        integrator = integrator_for(scene, integrator)
         if ground_motion not in GROUND_MOTION_MODES:
             raise ValueError(f"ground_motion must be one of {GROUND_MOTION_MODES}, got {ground_motion!r}")
         if not 0.5 <= theta <= 1.0:
@@ -379,8 +386,10 @@ class Simulation:
             info["unconverged_steps"] = int(counters[UNCONVERGED])
             info["status_passes_per_step"] = int(counters[STATUS_PASSES]) / max(step, 1)
             info["status_fallbacks"] = int(counters[STATUS_FALLBACKS])
+            info["restitution"] = self.model.law.restitution
         else:
             info["collapse_substeps"] = self.settings.substeps
+            info["restitution"] = scene.contact.explicit_restitution
             info["substepped_steps"] = int(counters[SUBSTEPPED])
         if dt > self.limit:
             info["beyond_stability_limit"] = (f"dt = {dt:.4g} s is {dt / self.limit:.2f} times the stability limit "
@@ -472,16 +481,17 @@ def simulate(scene, excitation: GroundMotion | None = None, duration: float | No
              ground_motion: str = "inertial", safety: float = DEFAULT_SAFETY,
              steps_per_impact: float = DEFAULT_STEPS_PER_IMPACT, step_fraction: float = 1.0,
              stop_at_overturn: bool = True, enforce_stability_limit: bool = True, progress=None,
-             parallel: bool = False, integrator: str = "explicit", theta: float = MOREAU_THETA) -> Result:
+             parallel: bool = False, integrator: str | None = None, theta: float = MOREAU_THETA) -> Result:
     """Simulate ``scene`` under ``excitation`` with the native DEM.
 
     scene : :class:`~dem_core.inputs.scene.Scene` (its ``contact.law`` chooses the contact law).
     excitation : :class:`~dem_core.inputs.excitation.GroundMotion` (None: no ground motion).
     duration : s; default the excitation's natural end (records, pulses).
-    dt : s; None picks the smaller of ``safety`` x the stability limit
+    dt : s; None picks the integrator's: Moreau-Jean's :func:`moreau_time_step` (1e-3 s unless the motion or the
+        scene is faster), and for the explicit core the smaller of ``safety`` x the stability limit
         (:func:`dem_core.engine.stability.stability_limit`) and the shortest impact
         over ``steps_per_impact`` (:func:`dem_core.engine.stability.impact_duration`).
-        A dt above the limit is refused.
+        An explicit dt above the limit is refused.
     step_fraction : with dt None, the automatic step is multiplied by this (in (0, 1]; a convergence
         study's ``auto/N`` is ``1/N``), without compiling the scene a second time as
         ``dt=automatic_time_step(scene) / N`` would.
@@ -506,10 +516,10 @@ def simulate(scene, excitation: GroundMotion | None = None, duration: float | No
     parallel : spread the contacts over numba's threads (``NUMBA_NUM_THREADS``).  Off by default: on
         few cores the threads' overhead can outweigh the gain (docs/performance.md), so measure yours
         before turning it on.  The trajectory is the serial kernel's, bit for bit.  Explicit integrator only.
-    integrator : ``"explicit"`` (central differences on the contact springs, docs/method.md 1.6) or
-        ``"moreau"`` (Moreau-Jean time stepping at the velocity level on the corner law's points, rigid
-        contacts with no stiffness and no stability limit, docs/method.md 1.8).  With ``"moreau"`` the
-        automatic dt is :func:`moreau_time_step`'s; ``safety``, ``steps_per_impact`` and
+    integrator : ``"moreau"`` (Moreau-Jean time stepping at the velocity level on the corner law's points, rigid
+        contacts with no stiffness and no stability limit, docs/method.md 1.8) or ``"explicit"`` (central
+        differences on the contact springs, docs/method.md 1.6); None: :func:`integrator_for`'s, Moreau-Jean
+        unless the scene's law is the overlap-area law.  With ``"moreau"`` ``safety``, ``steps_per_impact`` and
         ``enforce_stability_limit`` do not apply, and the contact law must be the corner law.
     theta : Moreau-Jean's weight of the new velocity in the position update, in [0.5, 1] (``MOREAU_THETA``).
 
@@ -569,6 +579,16 @@ def moreau_time_step(model, excitation: GroundMotion, dt: float | None = None, s
         return seconds("dt", dt)
     agile = math.sqrt(4.0 * float(model.bodies.radius[1:].min()) / (3.0 * model.gravity))
     return min(MOREAU_DT, MOREAU_TIME_FRACTION * min(excitation.time_scale, agile)) * step_fraction
+
+
+def integrator_for(scene, integrator: str | None = None) -> str:
+    """``integrator`` (``ValueError`` naming the choices if it is none of :data:`INTEGRATORS`), or where None the
+    default: Moreau-Jean on the corner law's points, as accurate as the explicit core and many times faster
+    (docs/method.md 1.8), and the explicit core for the overlap-area law, whose only integrator it is."""
+    if integrator is None:
+        return INTEGRATORS[MOREAU] if scene.contact.law == "corner" else INTEGRATORS[EXPLICIT]
+    _integrator_code(integrator)
+    return integrator
 
 
 def _integrator_code(integrator: str) -> int:

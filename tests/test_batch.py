@@ -86,7 +86,7 @@ def test_the_members_warnings_point_at_the_callers_line_and_one_said_by_many_mem
     motions = [excitation.sine_pulse(a, 0.2) for a in (2.0, 2.0, 3.0, 2.0)]
     with warnings.catch_warnings(record=True) as said:
         warnings.simplefilter("always")
-        simulate_batch(block, motions, 0.01, threads=2, dt=beyond, enforce_stability_limit=False)
+        simulate_batch(block, motions, 0.01, threads=2, dt=beyond, enforce_stability_limit=False, integrator="explicit")
     assert [str(w.message)[:30] for w in said] == [f"dt = {beyond:.4g} s is 1.50 times"[:30]]
     assert {w.filename for w in said} == {__file__}
 
@@ -103,7 +103,8 @@ def test_an_unstable_member_keeps_its_partial_measures_and_a_refused_one_its_rea
     beyond = 3.0 * stability.stability_limit(compile_model(block))
     motions = [excitation.sine_pulse(3.0, 0.5), excitation.harmonic(0.01, 1.0)]
     with pytest.warns(RuntimeWarning, match="stability limit"):
-        table = simulate_batch(block, motions, None, dt=beyond, enforce_stability_limit=False).table
+        table = simulate_batch(block, motions, None, dt=beyond, enforce_stability_limit=False,
+                               integrator="explicit").table
     assert table["status"].tolist() == ["unstable", "refused"]
     assert "gained energy" in table["error"][0] and np.isfinite(table["max_peak_abs_theta_rad"][0])
     assert "no natural end" in table["error"][1]

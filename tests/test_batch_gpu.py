@@ -65,6 +65,7 @@ BOTH_LAWS = [scenes.stack([(0.8, 1.0), (0.6, 0.8)], contact=ContactParameters(la
 @pytest.mark.parametrize("case", CASES)
 def test_the_gpu_kernels_code_gives_each_member_the_run_simulate_gives(case):
     scene, motions, duration, options = CASES[case]
+    options = {"integrator": "explicit", **options}
     runs = [Simulation(scene, motion, duration, **options) for motion in motions]
     run_members(runs, launcher=serial_launcher())
     for motion, run in zip(motions, runs):
@@ -81,7 +82,7 @@ def test_members_under_either_contact_law_share_a_batch():
 
 def test_members_under_either_integrator_share_a_batch():
     motion = scaled(EL_CENTRO, 2.0)
-    options = [{}, {"integrator": "moreau"}]
+    options = [{"integrator": "explicit"}, {"integrator": "moreau"}]
     runs = [Simulation(scenes.column(), motion, 2.0, **option) for option in options]
     run_members(runs, launcher=serial_launcher())
     for option, run in zip(options, runs):
@@ -107,25 +108,27 @@ def test_an_unstable_member_stops_alone_and_says_where():
     """A member beyond its stability limit stops with the CPU's error; the other member runs to its end."""
     scene = scenes.block(1.0, 6.0)
     with pytest.warns(RuntimeWarning, match="times the stability limit"):
-        runs = [Simulation(scene, sine_pulse(2.5, 1.0), 1.0, dt=d, enforce_stability_limit=False)
-                for d in (5e-5, 1e-3)]
+        runs = [Simulation(scene, sine_pulse(2.5, 1.0), 1.0, dt=d, enforce_stability_limit=False,
+                           integrator="explicit") for d in (5e-5, 1e-3)]
     run_members(runs, launcher=serial_launcher())
     runs[0].result()
     with pytest.raises(dem_core.SimulationUnstable) as gpu:
         runs[1].result()
     with pytest.raises(dem_core.SimulationUnstable) as cpu, pytest.warns(RuntimeWarning):
-        dem_core.simulate(scene, sine_pulse(2.5, 1.0), 1.0, dt=1e-3, enforce_stability_limit=False)
+        dem_core.simulate(scene, sine_pulse(2.5, 1.0), 1.0, dt=1e-3, enforce_stability_limit=False,
+                          integrator="explicit")
     assert str(gpu.value) == str(cpu.value)
 
 
 def test_what_the_gpu_kernel_cannot_take_is_refused_naming_the_member():
-    block = Simulation(scenes.block(1.0, 6.0), sine_pulse(2.0, 0.5), 0.1)
+    block = Simulation(scenes.block(1.0, 6.0), sine_pulse(2.0, 0.5), 0.1, integrator="explicit")
     moreau = Simulation(scenes.block(1.0, 6.0), sine_pulse(2.0, 0.5), 0.1, integrator="moreau")
     with pytest.raises(ValueError, match="member 1: the GPU kernel steps by central differences"):
         check_members([block, moreau])
     check_members([block, moreau], on_gpu=False)  # the kernel's CPU build takes both
     with pytest.raises(ValueError, match="member 1's scene has"):
-        check_members([block, Simulation(scenes.stack([(1.0, 3.0), (1.0, 3.0)]), sine_pulse(2.0, 0.5), 0.1)])
+        check_members([block, Simulation(scenes.stack([(1.0, 3.0), (1.0, 3.0)]), sine_pulse(2.0, 0.5), 0.1,
+                                         integrator="explicit")])
 
 
 @pytest.mark.skipif(bool(gpu_available()), reason="a GPU is here")
@@ -145,19 +148,20 @@ from dem_core import scenes, simulate_batch
 from dem_core.inputs.excitation import record, scaled, sine_pulse
 from dem_core.batch import GPU_MEMBERS_PER_THREAD
 assert GPU_MEMBERS_PER_THREAD > 1
-few = simulate_batch(scenes.block(1.0, 6.0), [sine_pulse(3.0, 0.2)], 0.01, device="auto", threads=1)
+few = simulate_batch(scenes.block(1.0, 6.0), [sine_pulse(3.0, 0.2)], 0.01, device="auto", threads=1,
+                     integrator="explicit")
 seen = []
 dem_core.batch.GPU_MEMBERS_PER_THREAD = 2  # two members on one thread fill the simulated GPU
 block = simulate_batch(scenes.block(1.0, 6.0), [sine_pulse(3.0, 0.2), scaled(record("el_centro_1940"), 4.0)], 0.1,
                        device="auto", threads=1, histories=[1], measures=lambda result: {"outputs": len(result.t)},
-                       progress=lambda done, total: seen.append((done, total)))
+                       progress=lambda done, total: seen.append((done, total)), integrator="explicit")
 stack = simulate_batch(scenes.stack([(0.8, 1.0), (0.7, 0.9), (0.6, 0.8)]), [sine_pulse(6.0, 0.1)], 0.01,
-                       device="gpu")
+                       device="gpu", integrator="explicit")
 def interrupt(done, total):
     raise KeyboardInterrupt
 try:  # the short pulse's member ends within the first chunk, the other does not
     simulate_batch(scenes.block(1.0, 6.0), [sine_pulse(3.0, 0.005), sine_pulse(3.0, 0.2)], device="gpu",
-                   progress=interrupt)
+                   progress=interrupt, integrator="explicit")
 except dem_core.batch.BatchInterrupted as stopped:
     finished = stopped.partial.table["member"].tolist()
 try:
@@ -183,9 +187,10 @@ def test_the_cuda_kernel_under_the_simulator_gives_the_cpus_rows():
     assert simulated["kept"] == [1] and simulated["progress"] == [2, 2]
     assert simulated["finished"] == [0]  # Ctrl-C: the member that ended is handed back
     block = simulate_batch(scenes.block(1.0, 6.0), [sine_pulse(3.0, 0.2), scaled(EL_CENTRO, 4.0)], 0.1, device="cpu",
-                           measures=lambda result: {"outputs": len(result.t)}).table.drop(columns="wall_time_s")
+                           measures=lambda result: {"outputs": len(result.t)},
+                           integrator="explicit").table.drop(columns="wall_time_s")
     stack = simulate_batch(scenes.stack([(0.8, 1.0), (0.7, 0.9), (0.6, 0.8)]), [sine_pulse(6.0, 0.1)], 0.01,
-                           device="cpu").table.drop(columns="wall_time_s")
+                           device="cpu", integrator="explicit").table.drop(columns="wall_time_s")
     for name, cpu in (("block", block), ("stack", stack)):
         gpu = simulated[name]
         assert list(gpu) == list(cpu.columns)

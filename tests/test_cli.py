@@ -44,7 +44,8 @@ def test_run_writes_tables_summary_and_figures(tmp_path, capsys):
     metrics = pd.read_csv(out / "metrics.csv")
     assert list(metrics["block"]) == ["drum1", "drum2", "drum3"]
     summary = json.loads((out / "summary.json").read_text())
-    assert summary["dt_s"] < summary["stability_limit_s"]
+    assert summary["integrator"] == "moreau" and summary["restitution"] == 0.0  # the defaults
+    assert re.search(r"Moreau-Jean integrator .* impacts: restitution 0$", printed, re.MULTILINE)
     assert re.search(r"simulated 3 s in [\d.]+ s \(setting up and compiling the engine: [\d.]+ s\)", printed)
     # each interface's sliding once in interfaces.csv; metrics.csv's per-block column adds a block's joints
     interfaces = pd.read_csv(out / "interfaces.csv")

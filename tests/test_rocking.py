@@ -23,9 +23,9 @@ STIFFNESS_FACTORS = (1.0, pytest.param(100.0, marks=pytest.mark.slow))
 #: the 0.25 x 1.0 m block from 3 degrees and from 0.5 alpha, the 1 x 6 m monolith from 0.2 and 0.5 alpha
 FREE_ROCKING = ("free_rocking", "free_rocking_large", "free_rocking_slender", "free_rocking_slender_large")
 #: Housner's rule takes the impact as rigid, plastic and without slip; a compliant corner stores and returns
-#: some tangential energy, which matters for squat blocks: the 0.4 x 1.0 m block's fifth peak is 3.5% high
-#: (4.2% at 100 x K_n; -4.6% with a tangential damping ratio of 0.2: the answer turns on the tangential
-#: contact, not on K_n)
+#: some tangential energy, which matters for squat blocks: at critical damping (restitution 0.135) the
+#: 0.4 x 1.0 m block's fifth peak was 3.5% high (4.2% at 100 x K_n; -4.6% with a tangential damping ratio of
+#: 0.2: the answer turns on the tangential contact, not on K_n)
 SQUAT = "free_rocking_squat"
 
 
@@ -37,7 +37,8 @@ def _free_rocking_errors(name, factor):
     """The case's errors of a native run at ``factor`` times the default K_n, recorded at every step."""
     case = cases.case(name)
     scene = case.scene().replace(contact=_contact(factor))
-    result = dem_core.simulate(scene, case.motion(), duration=case.duration, output_dt=1e-9)  # every step
+    result = dem_core.simulate(scene, case.motion(), duration=case.duration, output_dt=1e-9,  # every step
+                               integrator="explicit")
     assert len(peaks_between_crossings(result.theta[:, 0], 6)) == 6, "the block stopped before its fifth impact"
     return case.errors(result, case.reference())
 
@@ -55,9 +56,9 @@ def test_squat_block_rocks_with_the_right_period():
     assert cases.case(SQUAT).within_band("quarter_period", "dem", errors["quarter_period"])
 
 
-@pytest.mark.xfail(strict=True, reason="known: a compliant corner impact of a squat block (alpha = 0.38) loses "
-                   "about 5% less or more than Housner's rigid rule depending on the tangential contact")
 def test_squat_block_loses_housners_energy():
+    """At the least restitution the explicit core's dashpots give (the default, plastic impacts asked) the squat
+    block's peaks are within the slender blocks' band (measured 0.8%)."""
     errors = _free_rocking_errors(SQUAT, 1.0)
     # the band the slender blocks meet (the squat case declares none for the native core's decay)
     assert cases.case("free_rocking").within_band("peak_decay", "dem", errors["peak_decay"])
@@ -79,7 +80,8 @@ def test_housner_closed_forms_are_the_small_angle_limit_of_the_reference(housner
 def test_pulse_peak_matches_the_rocking_equation(name, factor):
     case = cases.case(name)
     reference = case.reference()
-    result = dem_core.simulate(case.scene().replace(contact=_contact(factor)), case.motion(), duration=case.duration)
+    result = dem_core.simulate(case.scene().replace(contact=_contact(factor)), case.motion(), duration=case.duration,
+                               integrator="explicit")
     assert not reference.overturned and not result.overturned
     assert result.peak_theta[0] == pytest.approx(reference.peak, rel=case.band("peak_rotation", "dem"))
 
@@ -98,7 +100,8 @@ def rigid_ramp_onset():
 def test_rocking_onset_under_a_ramp_is_the_rigid_value(rigid_ramp_onset, factor):
     """The corner springs resist the overturning moment at the corner itself, as a rigid block does."""
     scene = scenes.block(cases.ONSET_WIDTH, cases.ONSET_HEIGHT, contact=_contact(factor))
-    result = dem_core.simulate(scene, excitation.ramp(cases.ONSET_RAMP_RATE), duration=4.5, output_dt=1e-3)
+    result = dem_core.simulate(scene, excitation.ramp(cases.ONSET_RAMP_RATE), duration=4.5, output_dt=1e-3,
+                               integrator="explicit")
     onset = cases.ONSET_RAMP_RATE * first_exceedance(result.t, result.theta[:, 0],
                                                      scene.blocks[0].critical_angle / 30.0)
     assert onset == pytest.approx(rigid_ramp_onset, rel=cases.case("onset_ramp").band("onset_acceleration", "dem"))
@@ -113,7 +116,8 @@ def test_onset_mode_follows_friction_against_slenderness():
     # the ramp stops between the two thresholds: only the first mode can start
     for mu, peak, mode in ((0.3, 0.4 * g, "sliding"), (0.7, 0.6 * g, "rocking")):
         scene = scenes.block(1.0, 2.0, friction=mu, base_width=20.0)
-        result = dem_core.simulate(scene, excitation.ramp(2.0, peak=peak), duration=4.0, output_dt=1e-3)
+        result = dem_core.simulate(scene, excitation.ramp(2.0, peak=peak), duration=4.0, output_dt=1e-3,
+                                   integrator="explicit")
         rocked = result.peak_theta[0] > block.alpha / 30.0
         slid = result.total_sliding > 0.05  # a rocking block slips a millimetre or so at its pivot
         assert (rocked, slid) == ((mode == "rocking"), (mode == "sliding")), (mu, result.peak_theta, result.total_sliding)
@@ -129,7 +133,8 @@ def test_record_rocking_matches_the_rocking_equation(factor):
     motion = excitation.record("northridge_1994", pga=4.0)
     reference = analytical.rocking_response(block, lambda t: float(motion.horizontal.acceleration(t)), 15.0,
                                             max_step=motion.horizontal.dt)
-    result = dem_core.simulate(scenes.block(1.0, 6.0, contact=_contact(factor)), motion, duration=15.0)
+    result = dem_core.simulate(scenes.block(1.0, 6.0, contact=_contact(factor)), motion, duration=15.0,
+                               integrator="explicit")
     assert not reference.overturned and not result.overturned
     band = cases.case("record_rocking_northridge").band("peak_rotation", "dem")
     assert result.peak_theta[0] == pytest.approx(reference.peak, rel=band)

@@ -10,8 +10,10 @@ from dem_core.simulation import COLLAPSE_STEP_FACTOR, Simulation, set_up_scene
 
 def _mode_difference(scene, motion, duration, refine=1):
     dt = dem_core.automatic_time_step(scene) / refine
-    a = dem_core.simulate(scene, motion, duration=duration, ground_motion="inertial", output_dt=1e-3, dt=dt)
-    b = dem_core.simulate(scene, motion, duration=duration, ground_motion="moving_base", output_dt=1e-3, dt=dt)
+    a = dem_core.simulate(scene, motion, duration=duration, ground_motion="inertial", output_dt=1e-3, dt=dt,
+                          integrator="explicit")
+    b = dem_core.simulate(scene, motion, duration=duration, ground_motion="moving_base", output_dt=1e-3, dt=dt,
+                          integrator="explicit")
     np.testing.assert_allclose(a.base_x, b.base_x, atol=1e-9)
     scale_x = max(np.max(np.abs(a.relative_x - a.relative_x[0])), 1e-3)
     scale_t = max(np.max(np.abs(a.theta)), 1e-3)
@@ -72,8 +74,9 @@ def test_going_on_past_an_overturn_takes_the_same_steps_until_a_block_is_overtur
     scene = scenes.block(1.0, 6.0)
     for pga, overturns in ((3.0, False), (9.0, True)):
         motion = excitation.record("el_centro_1940", pga=pga)
-        stops = dem_core.simulate(scene, motion, duration=15.0, output_dt=1e-3)
-        goes_on = dem_core.simulate(scene, motion, duration=15.0, output_dt=1e-3, stop_at_overturn=False)
+        stops = dem_core.simulate(scene, motion, duration=15.0, output_dt=1e-3, integrator="explicit")
+        goes_on = dem_core.simulate(scene, motion, duration=15.0, output_dt=1e-3, stop_at_overturn=False,
+                                    integrator="explicit")
         assert stops.overturned == goes_on.overturned == overturns
         assert goes_on.dt == stops.dt
         n = len(stops.t) - 1  # the stopping run's last output is the overturn, between output times
@@ -90,9 +93,9 @@ def test_the_substeps_past_an_overturn_follow_the_fall_a_short_step_gives(ground
     substeps' length throughout, it lands within one output (1 ms) and comes to rest within 2 mm of each other."""
     scene, motion = scenes.block(0.25, 1.0), excitation.sine_pulse(3.5, 1.0)
     options = dict(duration=2.0, stop_at_overturn=False, output_dt=1e-3, ground_motion=ground_motion)
-    substepped = dem_core.simulate(scene, motion, **options)
+    substepped = dem_core.simulate(scene, motion, **options, integrator="explicit")
     n = substepped.info["collapse_substeps"]
-    fine = dem_core.simulate(scene, motion, dt=substepped.dt / n, **options)
+    fine = dem_core.simulate(scene, motion, dt=substepped.dt / n, **options, integrator="explicit")
     assert n > 1 and fine.info["substepped_steps"] == 0 < substepped.info["substepped_steps"]
     landed = [r.t[np.argmax(np.abs(r.theta[:, 0]) > np.pi / 2 - 0.02)] for r in (substepped, fine)]
     assert landed[0] == pytest.approx(landed[1], abs=1.5e-3) and landed[0] > substepped.time_of_overturn
@@ -121,9 +124,9 @@ def test_a_column_collapses_through_to_rest_when_asked_to_go_on():
 
 def test_automatic_time_step_is_the_step_simulate_takes():
     for scene in (scenes.column(8), scenes.colonnade(3, 2, epistyle="b")):
-        assert dem_core.simulate(scene, duration=1e-3).dt == dem_core.automatic_time_step(scene)
+        assert dem_core.simulate(scene, duration=1e-3, integrator="explicit").dt == dem_core.automatic_time_step(scene)
         # going on past an overturn keeps the step and takes the fewest substeps within the collapse step
-        goes_on = dem_core.simulate(scene, duration=1e-3, stop_at_overturn=False)
+        goes_on = dem_core.simulate(scene, duration=1e-3, stop_at_overturn=False, integrator="explicit")
         assert goes_on.dt == dem_core.automatic_time_step(scene)
         n = goes_on.info["collapse_substeps"]
         collapse = dem_core.automatic_time_step(scene, toppled=True) * COLLAPSE_STEP_FACTOR
@@ -135,8 +138,9 @@ def test_a_step_fraction_runs_the_automatic_step_over_n_as_an_explicit_dt_does()
     ``dt=automatic_time_step(scene) / N``, bit for bit, with the scene compiled once."""
     scene, motion = scenes.column(3), excitation.sine_pulse(3.0, 0.25)
     for n in (2, 4):
-        fraction = dem_core.simulate(scene, motion, duration=0.3, step_fraction=1.0 / n)
-        explicit = dem_core.simulate(scene, motion, duration=0.3, dt=dem_core.automatic_time_step(scene) / n)
+        fraction = dem_core.simulate(scene, motion, duration=0.3, step_fraction=1.0 / n, integrator="explicit")
+        explicit = dem_core.simulate(scene, motion, duration=0.3, dt=dem_core.automatic_time_step(scene) / n,
+                                     integrator="explicit")
         assert fraction.dt == explicit.dt
         assert np.array_equal(fraction.theta, explicit.theta) and np.array_equal(fraction.x, explicit.x)
     for bad in (0.0, 1.5, -0.25):
@@ -155,9 +159,10 @@ def test_threads_and_the_broad_phase_margin_do_not_change_the_trajectory(monkeyp
 
     scene = scenes.colonnade(5, 3, epistyle="b", epistyle_density=8000.0)
     motion = excitation.harmonic(pga=4.0, frequency=1.0)
-    runs = [dem_core.simulate(scene, motion, duration=1.5, parallel=flag) for flag in (False, True)]
+    runs = [dem_core.simulate(scene, motion, duration=1.5, parallel=flag, integrator="explicit")
+            for flag in (False, True)]
     monkeypatch.setattr(model_module, "SKIN_FRACTION", 0.02)
-    runs.append(dem_core.simulate(scene, motion, duration=1.5))
+    runs.append(dem_core.simulate(scene, motion, duration=1.5, integrator="explicit"))
     assert np.max(np.abs(runs[0].theta)) > 0.01  # the colonnade rocks
     assert runs[2].info["pair_lists"] > runs[0].info["pair_lists"]
     for other in runs[1:]:
@@ -171,7 +176,8 @@ from dem_core.engine import _driver
 from dem_core.simulation import Simulation
 scene = scenes.colonnade(2, 2, epistyle="a")
 for parallel in {order}:
-    Simulation(scene, excitation.harmonic(pga=1.0, frequency=2.0), duration=0.01, parallel=parallel).advance(5)
+    Simulation(scene, excitation.harmonic(pga=1.0, frequency=2.0), duration=0.01, parallel=parallel,
+               integrator="explicit").advance(5)
 threaded = _driver.drive_threaded
 info = threaded.get_metadata(threaded.signatures[0])["parfor_diagnostics"]
 print(info.count_parfors())
@@ -205,8 +211,8 @@ def test_a_run_pickled_halfway_continues_to_the_same_trajectory_in_another_proce
     from dem_core.simulation import Simulation
 
     scene, motion = scenes.column(3), excitation.harmonic(pga=3.0, frequency=1.0)
-    whole = dem_core.simulate(scene, motion, duration=0.5)
-    half = Simulation(scene, motion, duration=0.5)
+    whole = dem_core.simulate(scene, motion, duration=0.5, integrator="explicit")
+    half = Simulation(scene, motion, duration=0.5, integrator="explicit")
     half.advance(half.settings.last_step // 2)
     saved = tmp_path / "half.pkl"
     saved.write_bytes(pickle.dumps(half))
@@ -227,8 +233,8 @@ def test_ctrl_c_stops_a_run_between_chunks_and_it_can_go_on():
     import threading
 
     scene, motion = scenes.column(2), excitation.harmonic(pga=2.0, frequency=1.0)
-    whole = dem_core.simulate(scene, motion, duration=60.0)
-    run = dem_core.Simulation(scene, motion, duration=60.0)
+    whole = dem_core.simulate(scene, motion, duration=60.0, integrator="explicit")
+    run = dem_core.Simulation(scene, motion, duration=60.0, integrator="explicit")
     timer = threading.Timer(0.4, lambda: os.kill(os.getpid(), signal.SIGINT))
     timer.start()
     with pytest.raises(KeyboardInterrupt):

@@ -31,7 +31,7 @@ def test_newmark_rectangular_pulse_slip(ratio):
     reference = analytical.newmark_max_slip(a_p, t_p, mu)
     stop = a_p * t_p / (mu * G)  # the slip stops when the relative velocity returns to zero
     result = dem_core.simulate(squat_block(mu), excitation.rectangular_pulse(a_p, t_p), duration=stop + 0.3,
-                               output_dt=1e-3)
+                               output_dt=1e-3, integrator="explicit")
     assert np.max(np.abs(slip_history(result))) == pytest.approx(reference, rel=NEWMARK_BAND)
 
 
@@ -41,7 +41,7 @@ def test_newmark_slip_is_self_similar():
     for mu, t_p in ((0.2, 0.2), (0.5, 0.4)):
         a_p = 2.0 * mu * G
         result = dem_core.simulate(squat_block(mu), excitation.rectangular_pulse(a_p, t_p), duration=3 * t_p,
-                                   output_dt=1e-3)
+                                   output_dt=1e-3, integrator="explicit")
         values.append(np.max(np.abs(slip_history(result))) / (a_p * t_p**2))
     assert values[0] == pytest.approx(values[1], rel=2e-3)
     assert values[0] == pytest.approx(0.5 * (2.0 - 1.0), rel=NEWMARK_BAND)
@@ -51,7 +51,7 @@ def test_newmark_slip_is_self_similar():
 def record_sliding():
     mu, duration = 0.1, 35.0
     motion = excitation.record("el_centro_1940")
-    result = dem_core.simulate(squat_block(mu), motion, duration=duration, output_dt=0.005)
+    result = dem_core.simulate(squat_block(mu), motion, duration=duration, output_dt=0.005, integrator="explicit")
     reference = analytical.rigid_plastic_sliding(motion.horizontal.samples, motion.horizontal.dt, mu,
                                                  t_end=duration)
     return result, reference
@@ -79,7 +79,7 @@ def test_sliding_under_horizontal_and_vertical_motion(vertical):
     reference = analytical.rigid_plastic_sliding(
         motion.horizontal.samples, motion.horizontal.dt, mu, t_end=duration,
         vertical=motion.vertical.samples if vertical else None)
-    result = dem_core.simulate(squat_block(mu), motion, duration=duration, output_dt=0.01)
+    result = dem_core.simulate(squat_block(mu), motion, duration=duration, output_dt=0.01, integrator="explicit")
     slip = slip_history(result)
     assert np.max(np.abs(slip)) == pytest.approx(reference.max_slip, rel=RECORD_BAND)
     assert result.total_sliding == pytest.approx(reference.total_slip, rel=RECORD_BAND)
@@ -95,7 +95,8 @@ def test_sliding_converges_as_dt_shrinks():
     limit = dem_core.stability.stability_limit(compile_model(scene))
 
     def max_slip(dt):
-        result = dem_core.simulate(scene, excitation.rectangular_pulse(a_p, t_p), duration=0.8, dt=dt, output_dt=dt)
+        result = dem_core.simulate(scene, excitation.rectangular_pulse(a_p, t_p), duration=0.8, dt=dt, output_dt=dt,
+                                   integrator="explicit")
         return np.max(np.abs(slip_history(result)))
 
     converged = max_slip(0.9 * limit / 64)
@@ -113,7 +114,7 @@ def test_block_on_an_incline_slides_only_beyond_the_friction_angle(mu):
         slope = np.arctan(factor * mu)
         a_hold = G * np.tan(slope)
         motion = excitation.ramp(a_hold / 1.0, peak=a_hold)
-        result = dem_core.simulate(squat_block(mu), motion, duration=3.0, output_dt=1e-3)
+        result = dem_core.simulate(squat_block(mu), motion, duration=3.0, output_dt=1e-3, integrator="explicit")
         slid = np.max(np.abs(slip_history(result))) > 1e-3
         assert slid == analytical.slides_on_incline(slope, mu), (mu, factor)
 
@@ -124,6 +125,7 @@ def test_pulse_starts_rocking_or_slide_rock_as_zhang_makris_predict(name, expect
     slip a little later than the rigid criterion (measured between 1.05 and 1.08 times it)."""
     case = cases.case(name)
     assert case.reference() == expected
-    result = dem_core.simulate(case.scene(), case.motion(), duration=case.duration, output_dt=1e-3)
+    result = dem_core.simulate(case.scene(), case.motion(), duration=case.duration, output_dt=1e-3,
+                               integrator="explicit")
     assert thresholds.motion_mode(case.scene(), result, slip=cases.SLIDE_ROCK_SLIP) == expected
     assert case.within_band("mode_mismatch", "dem", case.errors(result, case.reference())["mode_mismatch"])

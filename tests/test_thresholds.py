@@ -143,14 +143,16 @@ def test_ramp_onsets_of_a_sliding_block_and_a_rocking_block():
 
 def test_interface_slip_separates_rocking_from_sliding():
     scene = scenes.block(0.25, 1.0)
-    rocking = dem_core.simulate(scene, excitation.sine_pulse(6.0, 0.25), duration=2.0, output_dt=1e-3)
+    rocking = dem_core.simulate(scene, excitation.sine_pulse(6.0, 0.25), duration=2.0, output_dt=1e-3,
+                                integrator="explicit")
     assert np.max(rocking.theta) > 0.05 and np.min(rocking.theta) < -0.05  # on both corners
     (slip,) = thresholds.interface_slip_history(scene, rocking).values()
     # rocks about corners that stay put but for the compliant contact's give at each impact
     assert np.max(np.abs(slip)) < 0.5 * thresholds.SLIP_THRESHOLD  # measured 3.2e-5 m
 
     scene = scenes.block(1.0, 0.5, friction=0.3, base_width=40.0)
-    sliding = dem_core.simulate(scene, excitation.rectangular_pulse(6.0, 0.3), duration=0.8, output_dt=1e-3)
+    sliding = dem_core.simulate(scene, excitation.rectangular_pulse(6.0, 0.3), duration=0.8, output_dt=1e-3,
+                                integrator="explicit")
     (slip,) = thresholds.interface_slip_history(scene, sliding).values()
     np.testing.assert_allclose(slip, sliding.relative_x[:, 0] - sliding.relative_x[0, 0], atol=1e-6)
 

@@ -100,7 +100,7 @@ def run(args: argparse.Namespace) -> None:
         for integrator in args.integrators:
             simulate_batch(scene, motions(tan_alpha, 2), 0.2, integrator=integrator, device="cpu")  # compiled
             if gpu and integrator == "explicit":
-                simulate_batch(scene, motions(tan_alpha, 2), 0.2, device="gpu")
+                simulate_batch(scene, motions(tan_alpha, 2), 0.2, device="gpu", integrator="explicit")
             for members in args.members:
                 _measure(name, scene, integrator, motions(tan_alpha, members), args, threads, gpu)
 
@@ -117,8 +117,9 @@ def _timed(function, repeats: int):
 
 def _gpu_code_on_cpu(scene, members_motions, duration: float) -> list:
     """The members set up as simulate_batch sets them up and run by the GPU kernel's code on one CPU thread."""
-    shared = set_up_scene(scene)
-    runs = [Simulation(scene, motion, duration, scene_set_up=shared) for motion in members_motions]
+    shared = set_up_scene(scene, integrator="explicit")
+    runs = [Simulation(scene, motion, duration, scene_set_up=shared, integrator="explicit")
+            for motion in members_motions]
     run_members(runs, launcher=serial_launcher())
     return runs
 
@@ -138,7 +139,8 @@ def _measure(name, scene, integrator, members_motions, args, threads, gpu: str) 
         print(_line(f"simulate_batch, {threads} threads", members, wall, steps, one)
               + ("" if same else "  PEAKS DIFFER FROM 1 THREAD"), flush=True)
     if gpu and integrator == "explicit":
-        wall, on_gpu = _timed(lambda: simulate_batch(scene, members_motions, args.duration, device="gpu"), repeats)
+        wall, on_gpu = _timed(lambda: simulate_batch(scene, members_motions, args.duration, device="gpu",
+                                                                    integrator="explicit"), repeats)
         cpu_peaks = single.table["max_peak_abs_theta_rad"].to_numpy()
         differs = np.max(np.abs(on_gpu.table["max_peak_abs_theta_rad"].to_numpy() - cpu_peaks) / cpu_peaks)
         print(_line(f"simulate_batch, GPU ({gpu})", members, wall, steps, one)

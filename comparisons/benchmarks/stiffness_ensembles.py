@@ -49,7 +49,7 @@ def peaks(scene, factor: float, ensemble: list, amplitude_factor: float = 1.0) -
     scene = scene.replace(contact=dem_core.contact.stiffer(scene.contact, factor))
     uplift = scene.gravity * np.tan(scene.rocking_slenderness)
     motions = [strong_motion(name, scale * amplitude_factor * uplift) for name, scale in ensemble]
-    table = dem_core.simulate_batch(scene, motions).table
+    table = dem_core.simulate_batch(scene, motions, integrator="explicit").table
     refused = table[table["status"] == "refused"]
     if len(refused):
         raise ValueError(f"member {refused['member'].iloc[0]} ({refused['motion'].iloc[0]}) could not be run: "

@@ -38,10 +38,14 @@ def stiffness_convergence(scene, excitation, duration=None, factors=(1.0, 10.0, 
                           **simulate_options):
     """Table with one row per stiffness factor: ``kn`` (N/m^2), ``dt_s``, ``run_time_s``, the
     measures of :data:`MEASURES` and, for each, ``change:<measure>``: the relative change from
-    the run at the largest factor (for the overturn time, in seconds).
+    the run at the largest factor (for the overturn time, in seconds).  The runs are the explicit core's, whose
+    contacts have a stiffness (Moreau-Jean's rigid ones have none: ``integrator="moreau"`` is refused).
     on_run : called as ``on_run(factor, result)`` after every run (a progress report)."""
     if not factors or min(factors) <= 0:
         raise ValueError(f"factors must be positive, got {factors}")
+    if simulate_options.setdefault("integrator", "explicit") != "explicit":
+        raise ValueError(f"the stiffness check runs the explicit core, whose contacts have a stiffness; "
+                         f"integrator={simulate_options['integrator']!r} has none")
     rows = []
     for factor in sorted(factors):
         contact = stiffer(scene.contact, factor)

@@ -88,9 +88,10 @@ DAMPING = _number(float, lambda v: 0 <= v < 1, "a damping ratio from 0 up to (no
 
 def add_integrator(command) -> None:
     """The ``--integrator`` option of a command that runs scenes: the same choices, default and words everywhere."""
-    command.add_argument("--integrator", choices=INTEGRATORS, help="explicit central differences on the contact "
-                         "springs, or Moreau-Jean's velocity-level steps on rigid contacts (docs/method.md 1.8; "
-                         "default: the scene file's [simulation] integrator, else explicit)")
+    command.add_argument("--integrator", choices=INTEGRATORS, help="moreau, Moreau-Jean's velocity-level steps on "
+                         "rigid contacts, or explicit, central differences on the contact springs (docs/method.md "
+                         "1.8; default: the scene file's [simulation] integrator, else moreau, or explicit for the "
+                         "overlap-area law)")
 
 
 def with_integrator(settings: dict, args) -> dict:

@@ -12,6 +12,7 @@ from ..batch import DEVICES, check_device
 from ..inputs import records
 from ..inputs.excitation import record
 from ..output_files import output_folder
+from ..simulation import integrator_for
 from .arguments import DEFAULT_SCENE, LEVELS, POSITIVE, SECONDS, STATE, WORKERS, add_integrator, scene_and_settings
 from .progress import compile_first, progress_bar
 
@@ -71,7 +72,8 @@ def run(args) -> int:
     levels = stripes(args.levels, args.max or DEFAULT_TOP[args.im])
     total = len(levels) * len(suite)
     print(f"fragility of {path.name}: {len(suite)} record(s) x {len(levels)} {label} levels from {levels[0]:.4g} to "
-          f"{levels[-1]:.4g} {unit} ({total} runs), integrator {settings.get('integrator', 'explicit')}", flush=True)
+          f"{levels[-1]:.4g} {unit} ({total} runs), integrator {integrator_for(spec.scene, settings.get('integrator'))}",
+          flush=True)
     compile_first(spec.scene, next(iter(suite.values())), settings)
     bar = progress_bar(total=total, desc="runs", unit="run")
     done = [0]

@@ -43,11 +43,14 @@ def print_run(result, duration: float, setup: float) -> None:
         print(f"Moreau-Jean integrator (theta {info.get('theta')}) on the {info.get('contact_law', '?')} law's "
               f"points, rigid contacts; dt = {result.dt:.3g} s, {info.get('steps')} steps; contact solve "
               f"(docs/method.md 1.8): {info.get('status_passes_per_step', float('nan')):.3g} direct passes and "
-              f"{info.get('sweeps_per_step', float('nan')):.2g} iterative sweeps a step")
+              f"{info.get('sweeps_per_step', float('nan')):.2g} iterative sweeps a step; impacts: restitution "
+              f"{info.get('restitution', float('nan')):.3g}")
     else:
-        print(f"{info.get('contact_law', '?')} contact law, K_n = {info.get('kn', float('nan')):.3g} N/m^2; dt = "
-              f"{result.dt:.3g} s (stability limit {info.get('stability_limit_s', float('nan')):.3g} s), "
-              f"{info.get('steps')} steps")
+        e = info.get("restitution")
+        impacts = "dashpots as given" if e is None else f"restitution {e:.3g} at the points' dashpots"
+        print(f"{info.get('contact_law', '?')} contact law, K_n = {info.get('kn', float('nan')):.3g} N/m^2, "
+              f"{impacts}; dt = {result.dt:.3g} s (stability limit {info.get('stability_limit_s', float('nan')):.3g} "
+              f"s), {info.get('steps')} steps")
     print(f"simulated {end:.4g} s{early} in {info['run_time_s']:.2f} s (setting up and compiling the engine: "
           f"{setup:.2f} s)")
 

@@ -29,7 +29,7 @@ def add(sub):
                          "duration is refused, not mixed (default: the file's, or each record's length)")
     command.add_argument("--integrator", choices=INTEGRATORS, help="the integrator of every run, replacing the file's "
                          "[simulation] integrator; part of what identifies a run, as --duration is (default: the "
-                         "file's, else explicit)")
+                         "file's, else moreau, or explicit for the overlap-area law)")
     command.add_argument("--no-progress", action="store_true", help="no progress bar (there is one only when "
                          "stderr is a terminal anyway)")
 

@@ -200,7 +200,7 @@ def compile_law(scene, bodies: Bodies) -> Law:
         friction_values=np.array([mu for _, mu in overrides], float),
         max_penetration=MAX_PENETRATION_FRACTION if p.law == "corner" else MAX_OVERLAP_FRACTION,
         skin=SKIN_FRACTION * float(bodies.size[1:].min()),
-        restitution=0.0 if p.restitution is None else float(p.restitution))
+        restitution=p.impact_restitution)
 
 
 def compile_stacks(scene, stacks=None) -> Stacks:

@@ -61,7 +61,7 @@ def stability_limit(model: Model, toppled: bool = False, method: str | None = No
     * ``"energy"`` (default up to ``DENSE_BLOCKS`` blocks): that largest eigenvalue, dense, and the dt
       that makes it 4;
     * ``"bound"`` (default above): block Gershgorin bounds of it, in time linear in the contacts, a
-      step below the ``"energy"`` one (1.0 to 1.8 times below on the project's scenes);
+      step below the ``"energy"`` one (1.0 to 1.9 times below on the project's scenes);
     * ``"amplification"``: the spectral radius of the scheme's one-step amplification matrix,
       ``v' = v + dt M^-1 (-K x - C v)``, ``x' = x + dt v'``, and the largest dt that keeps it at 1,
       by bisection: the definition, slow, used by the tests to check the other two.

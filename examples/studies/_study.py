@@ -25,6 +25,8 @@ from dem_core.analyses.sweep import Sweep, SweepError, run_sweep  # noqa: E402
 from dem_core.analyses.thresholds import Threshold  # noqa: E402
 
 REPORTS = ROOT / "reports" / "studies"
+#: what the studies run unless they say otherwise: the default integrator on the default contact law's points
+DEFAULT_MODEL = "the default model (Moreau-Jean on the corner law's points: rigid contacts, plastic impacts)"
 CACHE = ROOT / ".study_cache"
 _SWEPT = []  # tables of the sweeps run by this process, for the compute time in the README
 _SEARCHED = []  # seconds each threshold search of this process took when it first ran (NaN: not recorded)

@@ -5,13 +5,10 @@ import time
 
 import matplotlib.pyplot as plt
 import numpy as np
-from _study import curve, plain_log_ticks, save_figure, sweep, write_readme
+from _study import DEFAULT_MODEL, curve, plain_log_ticks, save_figure, sweep, write_readme
 
 from dem_core import excitation, scenes
 from dem_core.analyses.sweep import RunSpec
-from dem_core.engine.contact import DEFAULT_STIFFNESS
-
-CORNER_STIFFNESS = DEFAULT_STIFFNESS["corner"]  # N/m^2 per m, the default law's
 
 NAME = "frequency_response"
 SMALL = {"frequency": list(np.round(np.geomspace(1.0, 20.0, 12), 3)), "pga": [3.0, 5.0, 7.0],
@@ -96,7 +93,7 @@ def main():
                            "against frequency, one row per PGA, one line per friction coefficient."),
                save_figure(figure(large, "8-drum column 6 m x 1 m under harmonic motion", 0.7), NAME,
                            "column_8_drums.png", "The same for the 8-drum column.")]
-    text = [f"Set-up: default contact law (corner, K_n {CORNER_STIFFNESS:.0e} N/m^2), harmonic ground "
+    text = [f"Set-up: {DEFAULT_MODEL}, harmonic ground "
             f"motion scaled to its PGA; small-scale column 5 s, mu {', '.join(f'{m:g}' for m in SMALL['mu'])}; "
             f"8-drum column 10 s, mu {', '.join(f'{m:g}' for m in LARGE['mu'])}. Overturned runs are crosses at "
             "the top of the figures, failed runs open diamonds at the bottom."]

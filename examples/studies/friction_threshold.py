@@ -12,13 +12,19 @@ import time
 
 import matplotlib.pyplot as plt
 import numpy as np
-from _study import cached_threshold, fmt, markdown_table, results_table, save_figure, threshold_columns, write_readme
+from _study import (
+    DEFAULT_MODEL,
+    cached_threshold,
+    fmt,
+    markdown_table,
+    results_table,
+    save_figure,
+    threshold_columns,
+    write_readme,
+)
 
 from dem_core import excitation, scenes
 from dem_core.analyses.thresholds import overturning_threshold
-from dem_core.engine.contact import DEFAULT_STIFFNESS
-
-CORNER_STIFFNESS = DEFAULT_STIFFNESS["corner"]  # N/m^2 per m, the default law's
 
 NAME = "friction_threshold"
 FRICTIONS = (0.2, 0.3, 0.4, 0.485, 0.6, 0.8, 1.0)
@@ -46,8 +52,8 @@ def main():
 
 
 def report(table, started):
-    setup = [f"Set-up: columns 6 m x 1 m of 1 and 3 drums, the same friction at every interface, default contact law "
-             f"(corner, K_n {CORNER_STIFFNESS:.0e} N/m^2); records El Centro 1940 and Kalamata 1986 (read at "
+    setup = [f"Set-up: columns 6 m x 1 m of 1 and 3 drums, the same friction at every interface, "
+             f"{DEFAULT_MODEL}; records El Centro 1940 and Kalamata 1986 (read at "
              f"0.01 s) scaled to the PGA searched; {STEP:.0%} steps from {LOW:.3g} m/s^2 to "
              + ", ".join(f"{h:g} m/s^2 ({r})" for r, h in RECORDS.items()) + f", refined to {TOLERANCE:.1%}. "
              "Smallest overturning PGA (m/s^2); * a larger PGA left standing what a smaller one toppled.", ""]

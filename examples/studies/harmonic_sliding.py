@@ -13,14 +13,11 @@ import time
 
 import matplotlib.pyplot as plt
 import numpy as np
-from _study import markdown_table, results_table, save_figure, write_readme
+from _study import DEFAULT_MODEL, markdown_table, results_table, save_figure, write_readme
 
 import dem_core
 from dem_core import excitation, scenes
 from dem_core.analyses.thresholds import interface_slip_history, motion_mode
-from dem_core.engine.contact import DEFAULT_STIFFNESS
-
-CORNER_STIFFNESS = DEFAULT_STIFFNESS["corner"]  # N/m^2 per m, the default law's
 
 NAME = "harmonic_sliding"
 FREQUENCIES = (0.5, 2.0, 20.0)  # Hz
@@ -57,8 +54,8 @@ def main():
     started = time.perf_counter()
     table = results_table(NAME, [run(f, a) for a in AMPLITUDES for f in FREQUENCIES])
     setup = [f"Set-up: 8-drum column 6 m x 1 m, friction {FRICTION:g} at every interface (sliding starts at mu g = "
-             f"{FRICTION * G:.3g} m/s^2, rocking at g b/h = {G / 6:.3g} m/s^2 for a rigid column), default contact law "
-             f"(corner, K_n {CORNER_STIFFNESS:.0e} N/m^2); u_g = A sin(2 pi f t) for {DURATION:g} s (or up to "
+             f"{FRICTION * G:.3g} m/s^2, rocking at g b/h = {G / 6:.3g} m/s^2 for a rigid column), "
+             f"{DEFAULT_MODEL}; u_g = A sin(2 pi f t) for {DURATION:g} s (or up to "
              "an overturn). Total sliding: the slip accumulated at every interface (paths, summed); ground travel: "
              "4 A f times the run's length. The motion starts with the ground at its peak velocity A 2 pi f: a column "
              "at rest that slides at once drifts by (A 2 pi f)^2 / (2 mu g) before friction stops it (start drift).",

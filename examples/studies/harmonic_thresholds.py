@@ -13,15 +13,21 @@ import time
 import matplotlib.pyplot as plt
 import numpy as np
 from _rigid import overturning as rigid_overturning
-from _study import (cached_threshold, fmt, markdown_table, plain_log_ticks, results_table, save_figure,
-                    threshold_columns, write_readme)
+from _study import (
+    DEFAULT_MODEL,
+    cached_threshold,
+    fmt,
+    markdown_table,
+    plain_log_ticks,
+    results_table,
+    save_figure,
+    threshold_columns,
+    write_readme,
+)
 
 from comparisons.references.analytical import RockingBlock
 from dem_core import excitation, scenes
 from dem_core.analyses.thresholds import onset_threshold, overturning_threshold
-from dem_core.engine.contact import DEFAULT_STIFFNESS
-
-CORNER_STIFFNESS = DEFAULT_STIFFNESS["corner"]  # N/m^2 per m, the default law's
 
 NAME = "harmonic_thresholds"
 FREQUENCIES = (0.5, 1.0, 2.0, 4.0)  # Hz
@@ -61,8 +67,8 @@ def main():
 
 
 def report(table, started):
-    setup = [f"Set-up: 8-drum column 6 m x 1 m, friction {FRICTION:g}, default contact law (corner, K_n "
-             f"{CORNER_STIFFNESS:.0e} N/m^2); harmonic ground motion u_g = A sin(2 pi f t) for {DURATION:g} s, "
+    setup = [f"Set-up: 8-drum column 6 m x 1 m, friction {FRICTION:g}, {DEFAULT_MODEL}; "
+             f"harmonic ground motion u_g = A sin(2 pi f t) for {DURATION:g} s, "
              f"scaled by its PGA A (2 pi f)^2. Onset: theta_cr/30, {ONSET_SCAN} PGAs from {LOW:.3g} to "
              f"{ONSET_HIGH:.3g} m/s^2, each change refined to {TOLERANCE:.1%}. Overturning: {STEP:.0%} steps from "
              f"{LOW:.3g} to {HIGH:g} m/s^2, refined to {TOLERANCE:.1%}; the rigid reference is the rocking equation of "

@@ -5,13 +5,10 @@ import time
 
 import matplotlib.pyplot as plt
 import numpy as np
-from _study import save_figure, sweep, write_readme
+from _study import DEFAULT_MODEL, save_figure, sweep, write_readme
 
 from dem_core import excitation, scenes
 from dem_core.analyses.sweep import RunSpec
-from dem_core.engine.contact import DEFAULT_STIFFNESS
-
-CORNER_STIFFNESS = DEFAULT_STIFFNESS["corner"]  # N/m^2 per m, the default law's
 
 NAME = "interface_friction"
 MU_ELSEWHERE = 0.48
@@ -38,7 +35,7 @@ def main():
               for n in (4, 8)}
     fig, axes = plt.subplots(2, 2, figsize=(12, 7.5))
     findings = [f"Set-up: columns 6 m x 1 m of 4 and 8 blocks, friction {MU_ELSEWHERE:g} except at one interface, "
-                f"default contact law (corner, K_n {CORNER_STIFFNESS:.0e} N/m^2), harmonic ground motion "
+                f"{DEFAULT_MODEL}, harmonic ground motion "
                 f"{AMPLITUDE:g} m at {FREQUENCY:g} Hz for {DURATION:g} s."]
     for row, (n, table) in enumerate(tables.items()):
         for k in range(n):

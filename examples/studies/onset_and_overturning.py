@@ -4,15 +4,12 @@ number of drums (1 to 8) and against taper."""
 import time
 
 import matplotlib.pyplot as plt
-from _study import results_table, save_figure, write_readme
+from _study import DEFAULT_MODEL, results_table, save_figure, write_readme
 
 from comparisons.cases.measures import first_exceedance
 from comparisons.references import analytical
 from dem_core import scenes
 from dem_core.analyses.thresholds import ROCKING_FRACTION, onset_under_ramp
-from dem_core.engine.contact import DEFAULT_STIFFNESS
-
-CORNER_STIFFNESS = DEFAULT_STIFFNESS["corner"]  # N/m^2 per m, the default law's
 
 NAME = "onset_and_overturning"
 RATE = 0.5  # m/s^2 per s
@@ -56,8 +53,8 @@ def main():
     rigid_onset = RATE * first_exceedance(rigid.t, rigid.theta, ROCKING_FRACTION * block.alpha)
     rigid_overturn = RATE * rigid.overturn_time
     findings = [
-        (f"Set-up: columns 6 m x 1 m, friction {FRICTION:g} (the builders' default), default contact law (corner, "
-         f"K_n {CORNER_STIFFNESS:.0e} N/m^2), ground acceleration rising at {RATE:g} m/s^2 per s; tapered "
+        (f"Set-up: columns 6 m x 1 m, friction {FRICTION:g} (the builders' default), {DEFAULT_MODEL}, "
+         f"ground acceleration rising at {RATE:g} m/s^2 per s; tapered "
          "columns keep the prismatic column's mass."),
         (f"Monolith: rocking starts at {one.rocking_onset:.3g} m/s^2 and it overturns at {one.overturning:.3g} m/s^2. "
          f"The rigid rocking equation under the same ramp passes theta_cr/30 at {rigid_onset:.3g} m/s^2 and "

@@ -2,12 +2,13 @@
 search against the rigid rocking equation.
 
 1. Check: the 6 m x 1 m monolith on a rigid base (friction 2: no sliding) under each bundled record, as
-   bundled, in the native core at the default stiffness and at 100 times it, against the rocking
-   equation (comparisons/references/rocking_equation.py); both by the same search, and again by a fine scan upward in
-   0.02 m/s^2 steps to the first overturn; the smaller of the two searches' answers is compared too.
+   bundled, in the native core's two integrators (Moreau-Jean, the default, and the explicit core at the default
+   stiffness), against the rocking equation (comparisons/references/rocking_equation.py); both by the same search,
+   and again by a fine scan upward in 0.02 m/s^2 steps to the first overturn; the smaller of the two searches'
+   answers is compared too.
 2. Study, in the thesis' set-up (friction 0.485; Mexico City SCT north-south): standalone columns of 1 to 3
-   drums and colonnades of three columns of 1, 2, 3 and 5 drums under one epistyle (type a, 2.5 m spacing), in
-   the default contact law.
+   drums and colonnades of three columns of 1, 2, 3 and 5 drums under one epistyle (type a, 2.5 m spacing), by
+   the default integrator on the corner law's points.
 
 Every search (:func:`dem_core.analyses.thresholds.overturning_threshold`): 2% steps from 0.8 of the rigid
 uplift acceleration g b / h up to a cap per record, each change refined to 0.5%; every overturning window
@@ -24,11 +25,9 @@ from _rigid import overturning as rigid_overturning
 from _study import cached_threshold, fmt, markdown_table, out_dir, save_figure, threshold_columns, write_readme
 
 from comparisons.references.analytical import RockingBlock
-from dem_core import ContactParameters, excitation, records, scenes
+from dem_core import excitation, records, scenes
 from dem_core.analyses.thresholds import overturning_threshold
 from dem_core.engine.contact import DEFAULT_STIFFNESS
-
-CORNER_STIFFNESS = DEFAULT_STIFFNESS["corner"]  # N/m^2 per m, the default law's
 
 NAME = "record_overturning"
 STEP, TOLERANCE = 0.02, 0.005
@@ -43,17 +42,14 @@ RIGID_AGREEMENT = 0.05
 FINE_STEP = 0.02
 #: the fine scan as search options: every FINE_STEP (a 100% relative step is always above it), up to the first overturn
 FINE = {"step": 1.0, "absolute_step": FINE_STEP, "first_only": True}
-CHECK_STIFFNESS = (CORNER_STIFFNESS, 100.0 * CORNER_STIFFNESS)
+#: the check's native models: column prefix -> (label, simulate options)
+CHECK_MODELS = {"moreau": ("Moreau-Jean", {"integrator": "moreau"}),
+                "explicit": (f"explicit, K_n {DEFAULT_STIFFNESS['corner']:.0e}", {"integrator": "explicit"})}
 CHECK_FRICTION = 2.0
 FRICTION = 0.485
 COMPONENT = {"mexico_city_1985": 1}  # the study uses Mexico City's north-south component, as the thesis
 COLUMN_DRUMS = (1, 2, 3)
 COLONNADE_DRUMS = (1, 2, 3, 5)
-
-
-def stiffness_key(kn: float) -> str:
-    """Column prefix of a stiffness, e.g. ``kn2e10``."""
-    return f"kn{kn:.0e}".replace("+", "")
 
 
 def motion(record, component=None):
@@ -71,18 +67,18 @@ def check_rows():
         fine = cached_threshold(NAME, f"check_{record}_rigid_fine", lambda: rigid_overturning(
             block, block.restitution, motion(record), LOW, CAP[record], tolerance=TOLERANCE, **FINE))
         row = {"record": record, **threshold_columns(rigid, "rigid_"), "rigid_fine": fine.smallest}
-        for kn in CHECK_STIFFNESS:
-            scene = scenes.column(1, friction=CHECK_FRICTION, contact=ContactParameters(kn=kn))
-            found = cached_threshold(NAME, f"check_{record}_{stiffness_key(kn)}", lambda: overturning_threshold(
-                scene, motion(record), LOW, CAP[record], step=STEP, tolerance=TOLERANCE, output_dt=0.05))
-            fine = cached_threshold(NAME, f"check_{record}_{stiffness_key(kn)}_fine", lambda: overturning_threshold(
-                scene, motion(record), LOW, CAP[record], tolerance=TOLERANCE, output_dt=0.05, **FINE))
-            row.update(threshold_columns(found, f"{stiffness_key(kn)}_"))
-            row[f"{stiffness_key(kn)}_fine"] = fine.smallest
+        scene = scenes.column(1, friction=CHECK_FRICTION)
+        for key, (_, options) in CHECK_MODELS.items():
+            found = cached_threshold(NAME, f"check_{record}_{key}", lambda: overturning_threshold(
+                scene, motion(record), LOW, CAP[record], step=STEP, tolerance=TOLERANCE, output_dt=0.05, **options))
+            fine = cached_threshold(NAME, f"check_{record}_{key}_fine", lambda: overturning_threshold(
+                scene, motion(record), LOW, CAP[record], tolerance=TOLERANCE, output_dt=0.05, **FINE, **options))
+            row.update(threshold_columns(found, f"{key}_"))
+            row[f"{key}_fine"] = fine.smallest
         row["wall_time_s"] = time.perf_counter() - started
         print(f"check {record}: rigid {row['rigid_smallest']:.3g} (fine {row['rigid_fine']:.3g}), " + ", ".join(
-            f"K_n {kn:.0e} {row[stiffness_key(kn) + '_smallest']:.3g} (fine {row[stiffness_key(kn) + '_fine']:.3g})"
-            for kn in CHECK_STIFFNESS), file=sys.stderr, flush=True)
+            f"{label} {row[key + '_smallest']:.3g} (fine {row[key + '_fine']:.3g})"
+            for key, (label, _) in CHECK_MODELS.items()), file=sys.stderr, flush=True)
         rows.append(row)
     return pd.DataFrame(rows)
 
@@ -141,13 +137,13 @@ def report(check, table, started):
 
 
 def against_rigid(check, threshold, shown) -> list:
-    """Rows of a check table: per record the rocking equation's threshold, then each stiffness' with its
+    """Rows of a check table: per record the rocking equation's threshold, then each model's with its
     difference from it and whether that is within RIGID_AGREEMENT; ``threshold(row, prefix)`` is a model's
     threshold, ``shown(row, prefix)`` its cell."""
     rows = []
     for _, r in check.iterrows():
         cells = [r.record, shown(r, "rigid")]
-        for k in map(stiffness_key, CHECK_STIFFNESS):
+        for k in CHECK_MODELS:
             ratio = threshold(r, k) / threshold(r, "rigid")
             cells += [shown(r, k), f"{ratio - 1:+.1%}" if np.isfinite(ratio) else "-",
                       "yes" if abs(ratio - 1) <= RIGID_AGREEMENT else "no" if np.isfinite(ratio) else "-"]
@@ -162,16 +158,15 @@ def check_tables(check) -> list:
         return fmt(r[f"{prefix}_smallest"], r[f"{prefix}_non_monotonic"],
                    0 if prefix == "rigid" else r[f"{prefix}_failed_runs"])
 
-    kn = [stiffness_key(k) for k in CHECK_STIFFNESS]
-    header = ["record", "rocking equation"] + [c for k in CHECK_STIFFNESS for c in
-                                               (f"K_n {k:.0e}", "difference", f"within {RIGID_AGREEMENT:.0%}")]
+    header = ["record", "rocking equation"] + [c for label, _ in CHECK_MODELS.values() for c in
+                                               (label, "difference", f"within {RIGID_AGREEMENT:.0%}")]
     lines = ["Check: smallest overturning PGA (m/s^2) of the 1 x 6 m monolith (friction 2) under each bundled "
-             "record as bundled, native core at two K_n (corner law) against the rocking equation; * a larger "
-             "PGA survived where a smaller one toppled.", ""]
+             "record as bundled, the native core's two integrators on the corner law's points against the rocking "
+             "equation; * a larger PGA survived where a smaller one toppled.", ""]
     lines += markdown_table(header, against_rigid(check, scanned, scan_cell))
-    lines += markdown_table(["record", "rocking equation: windows"] + [f"K_n {k:.0e}: windows"
-                                                                       for k in CHECK_STIFFNESS],
-                            [[r.record, r.rigid_windows] + [r[f"{k}_windows"] for k in kn]
+    lines += markdown_table(["record", "rocking equation: windows"] + [f"{label}: windows"
+                                                                       for label, _ in CHECK_MODELS.values()],
+                            [[r.record, r.rigid_windows] + [r[f"{k}_windows"] for k in CHECK_MODELS]
                              for _, r in check.iterrows()])
     lines += ["The smallest overturning PGA found by either search: the scan above with its refinements, or a "
               f"fine scan going up from {LOW:.2f} m/s^2 in {FINE_STEP} m/s^2 steps to the first overturn (a "
@@ -181,8 +176,8 @@ def check_tables(check) -> list:
 
 def study_tables(table, labels, recs) -> list:
     """Markdown lines of the study: each system's smallest overturning PGA under each record, and the windows."""
-    lines = [f"Study: smallest overturning PGA (m/s^2), friction {FRICTION:g}, default law "
-             f"(corner, K_n {CORNER_STIFFNESS:.0e} N/m^2); Mexico City north-south; (scale factor "
+    lines = [f"Study: smallest overturning PGA (m/s^2), friction {FRICTION:g}, the default integrator "
+             "(Moreau-Jean) on the corner law's points; Mexico City north-south; (scale factor "
              "over the record's own PGA).", ""]
     cell = {(r.kind, r.n_drums, r.record): r for r in table.itertuples(index=False)}
     lines += markdown_table(
@@ -199,23 +194,23 @@ def check_findings(check) -> list:
     """How many records each search of the native core puts within RIGID_AGREEMENT of the rocking equation, and
     where the fine scan found an earlier first overturn than the 2% scan."""
     findings = []
-    for k, stiffness in zip(map(stiffness_key, CHECK_STIFFNESS), CHECK_STIFFNESS):
+    for k, (label, _) in CHECK_MODELS.items():
         for scan, threshold in ((f"{STEP:.0%} scan", scanned),
                                 (f"either search (with the fine {FINE_STEP} m/s^2 scan)", lowest)):
             close = np.array([abs(threshold(r, k) / threshold(r, "rigid") - 1) <= RIGID_AGREEMENT
                               for _, r in check.iterrows()])
-            findings.append(f"Check at K_n {stiffness:.0e} N/m^2, {scan}: {int(close.sum())} of {len(check)} records "
+            findings.append(f"Check, {label}, {scan}: {int(close.sum())} of {len(check)} records "
                             f"within {RIGID_AGREEMENT:.0%} of the rocking equation"
                             + ("" if close.all() else ": not " + ", ".join(
                                 f"{r.record} ({threshold(r, k):.3g} against {threshold(r, 'rigid'):.3g})"
                                 for _, r in check[~close].iterrows())) + ".")
-    kn = stiffness_key(CHECK_STIFFNESS[0])
+    kn = next(iter(CHECK_MODELS))
     lower = [(r.record, r.rigid_smallest, lowest(r, "rigid"), r[f"{kn}_smallest"], lowest(r, kn))
              for _, r in check.iterrows() if lowest(r, "rigid") < (1 - TOLERANCE) * r.rigid_smallest
              or lowest(r, kn) < (1 - TOLERANCE) * r[f"{kn}_smallest"]]
     if lower:
         findings.append("The fine scan found an earlier first overturn than the 2% scan under " + "; ".join(
-            f"{record} (rocking equation {coarse:.4g} -> {fine:.4g}, native core at K_n {CHECK_STIFFNESS[0]:.0e} "
+            f"{record} (rocking equation {coarse:.4g} -> {fine:.4g}, {CHECK_MODELS[kn][0]} "
             f"{native_coarse:.4g} -> {native_fine:.4g})" for record, coarse, fine, native_coarse, native_fine in lower)
             + ": narrow windows below the first one a 2% scan finds. The study below scans in 2% steps, so under "
             "those records its values can lie above the smallest overturning PGA by as much.")

@@ -5,9 +5,9 @@ component whose PGA, 0.98 m/s^2, the thesis gives); Kalamata 1986; 1- to 3-drum 
 carrying the epistyle load; colonnades of three such columns under a single epistyle (type a); the
 standalone multi-drum column of table 6.1.  Each system and record is searched in two contact laws:
 the thesis' overlap-area law at its K_n = 1e8 N/m^2 and C_n = 1e3 N s/m, and the project's default
-corner law; the rigid rocking equation is the reference where one exists (the monolith, the
-monolith with its load held fixed, the rocking frame of monolithic columns).  The standalone
-columns without the load complete section 7.1's comparison of the three cases.
+corner law under the default integrator (Moreau-Jean); the rigid rocking equation is the reference where
+one exists (the monolith, the monolith with its load held fixed, the rocking frame of monolithic columns).
+The standalone columns without the load complete section 7.1's comparison of the three cases.
 
 The smallest overturning PGA is found by :func:`dem_core.analyses.thresholds.overturning_threshold`:
 a scan in 2% steps from 0.9 of the lower of the rigid uplift acceleration and the model's own
@@ -22,8 +22,16 @@ import numpy as np
 import pandas as pd
 from _rigid import overturning as rigid_overturning
 from _rigid import rigid_body, rocking_frame
-from _study import (cached_threshold, fmt, markdown_table, out_dir, plain_log_ticks, save_figure, threshold_columns,
-                    write_readme)
+from _study import (
+    cached_threshold,
+    fmt,
+    markdown_table,
+    out_dir,
+    plain_log_ticks,
+    save_figure,
+    threshold_columns,
+    write_readme,
+)
 
 import dem_core
 from comparisons.references.analytical import RockingBlock
@@ -132,7 +140,7 @@ def search(key, build, record, law, contact):
     ramp = onset_under_ramp(scene, RAMP_RATE, duration=3.0 * uplift / RAMP_RATE, output_dt=0.01).rocking
     low = 0.9 * min(uplift, ramp if np.isfinite(ramp) else uplift)
     high = RECORDS[record][3]
-    dt = dem_core.automatic_time_step(scene)
+    dt = dem_core.Simulation(scene, motion_for(record)(low), 0.01).dt  # the step of the runs searched
     found = cached_threshold(NAME, f"{key}_{record}_{law.replace(' ', '_')}", lambda: overturning_threshold(
         scene, motion_for(record), low, high, step=STEP, tolerance=TOLERANCE, output_dt=0.05))
     row = {"system": key, "record": record, "law": law, "kn": contact.kn, "law_name": contact.law, "dt_s": dt,
@@ -355,8 +363,8 @@ def write_report(table, damped, started):
         "Contact laws: the thesis' overlap-area law at K_n = 1e8 N/m^2 with its C_n = 1e3 N s/m and no rotational "
         "dashpot (C_r = 0), as the thesis wrote it; C_n = 1e3 N s/m is a damping ratio of about 4e-4 for a "
         "6 m monolith (critical 2 sqrt(K_n L m) = 2.5e6 N s/m), so its impacts are almost elastic. The default "
-        f"law: corner contacts, K_n = {ContactParameters().kn:.0e} N/m^2, critical damping. Time steps: chosen automatically, in the "
-        "second table.",
+        "law: the corner law's points under the default integrator, Moreau-Jean (rigid contacts, plastic impacts, "
+        "docs/method.md 1.8). Time steps: chosen automatically, in the second table.",
         "Records: Mexico City 1985 SCT north-south (PGA 0.976 m/s^2; the thesis: 0.98), Kalamata 1986 as bundled "
         "(PGA 2.91 m/s^2, read at 0.01 s: reports/studies/kalamata_sampling; the thesis' OTE N10W has 2.67 m/s^2), "
         "each scaled to the PGA searched. Athens 1999 is not bundled.",
