@@ -27,9 +27,10 @@ import numpy as np
 from ._points import (FRICTION, GAP, INC, NX, NY, PN, PT, REF, RIX, RIY, RRX, RRY, SLID, TARGET, TRAVEL,
                       apply_impulse, relative_velocity)
 
-#: widest half-band (unknowns) solved directly: a column's interfaces couple points up to 3 apart (7 unknowns),
-#: a colonnade's epistyle on three columns up to 7 (15 unknowns)
-HALF_BAND = 15
+#: widest half-band (unknowns) solved directly: a column's interfaces couple points up to 3 apart (7 unknowns), an
+#: epistyle on N columns up to 2N - 1 (4N - 1 unknowns: 11 on three columns, 27 on seven), so 63 takes an epistyle
+#: on sixteen columns; the work grows as the band's square only where a scene needs it
+HALF_BAND = 63
 #: relative compliance on the diagonal of every constrained row
 REGULARISATION = 1e-9
 #: relative slack on the friction cone: an impulse this close to its edge counts as on it

@@ -14,6 +14,7 @@ the lower drums by the y test.
 
 import numba as nb
 
+from ._build import kernel
 from ._contact_law import pair_parameters
 from ._world import boxes_apart
 from .model_arrays import (DEPTH, FRICTION, LAW_CN, LAW_CR, LAW_CT, LAW_KN, LAW_KT, LAW_KT_RATIO, LAW_ZETA_N,
@@ -245,7 +246,7 @@ def incidence(ids, listed, start, entries, fill):
             fill[b] += 1
 
 
-@nb.njit(cache=True, _nrt=False)
+@kernel(_nrt=False)
 def list_pairs(model, settings, state, scratch):
     """The broad-phase stage: the candidates (:func:`candidate_keys`) made the state's list (:func:`relist`), their
     incidence into the scratch (:func:`incidence`), the positions they were listed at, and the counters of listed

@@ -13,6 +13,7 @@ import math
 import numba as nb
 import numpy as np
 
+from ._build import kernel
 from .model_arrays import CRITICAL_ANGLE, DROP_LIMIT, INV_INERTIA, MASS, RADIUS, Y_START
 from .settings import (ENERGY_CHECK_INTERVAL, ENERGY_SCALE, ENERGY_TOLERANCE, FLOOR, GRAVITY, SPEED_LIMIT,
                        STATUS_ENERGY, STATUS_FELL_OFF, STATUS_NONFINITE, STATUS_OK, STATUS_OVERTURNED,
@@ -92,7 +93,7 @@ def mechanical_energy(pos, vel, mass, inv_inertia, gravity):
     return e
 
 
-@nb.njit(cache=True)
+@kernel()
 def first_overturns(states, bodies, stacks):
     """First index into ``states`` (n, nb, 3; row 0 of each state the base) at which each body
     overturned and each stack tipped: ``(overturn (nb,), stack (ns,))`` int64, -1 if never."""

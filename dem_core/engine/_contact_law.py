@@ -29,6 +29,8 @@ import math
 
 import numba as nb
 
+from ._build import kernel
+
 CORNER = 0
 OVERLAP_AREA = 1
 
@@ -41,7 +43,7 @@ def dashpot(given, zeta, stiffness, mass):
     return 2.0 * zeta * math.sqrt(stiffness * mass)
 
 
-@nb.njit(cache=True)
+@kernel()
 def pair_parameters(law, kn, zeta_n, zeta_t, zeta_r, kt_ratio, cn_given, cr_given, kt_given, ct_given,
                     mass_i, mass_j, width_i, width_j, depth_i, depth_j):
     """Contact constants of one pair of bodies (``mass_i = 0`` for the base: infinitely heavy).

@@ -39,14 +39,11 @@ atomic count (counting the named tuples' arrays took most of a step's time).  It
 broad phase are compiled as functions of their own rather than inlined, which halves the time it takes to compile.
 """
 
-import hashlib
-import types
-from pathlib import Path
-
 import numba as nb
 
 from ._active_set import pair_order
 from ._broadphase import incidence, list_pairs, needs_relist
+from ._build import ENGINE_DIGEST, variant
 from ._checks import end_step
 from ._explicit import explicit_part, explicit_parts
 from ._ground import ground_at, place_base
@@ -136,29 +133,6 @@ def drive(model, settings, state, outputs, scratch, samples, n_steps):
     return STATUS_OK, 0, 0
 
 
-def variant(function, name: str, **replaced):
-    """``function`` (a Python function, or a dispatcher's) under another name, its globals named in ``replaced``
-    swapped.  Numba's on-disk cache files a kernel by its name, line and bytecode, not by its compile options or
-    the functions it calls: each build of one function gets a name of its own."""
-    function = getattr(function, "py_func", function)
-    clone = types.FunctionType(function.__code__, {**function.__globals__, **replaced}, name, function.__defaults__,
-                               function.__closure__)
-    clone.__qualname__ = name
-    clone.__doc__ = function.__doc__
-    return clone
-
-
-def _engine_digest() -> str:
-    """A digest of the engine's source.  Numba checks only the driver's own file before loading it from its cache,
-    but the driver inlines the stages of the other modules (the manifold, the contact law, the checks): with the
-    digest in the driver's name, editing any of them compiles the driver afresh."""
-    digest = hashlib.sha256()
-    for path in sorted(Path(__file__).parent.glob("*.py")):
-        digest.update(path.read_bytes())
-    return digest.hexdigest()[:10]
-
-
-ENGINE_DIGEST = _engine_digest()
 #: the driver, serial, without reference counting; it releases the GIL, so that a batch runs members on several
 #: Python threads
 drive_serial = nb.njit(cache=True, nogil=True, _nrt=False)(variant(drive, f"drive_{ENGINE_DIGEST}"))

@@ -22,6 +22,7 @@ import math
 import numba as nb
 
 from ._broadphase import forget_pair
+from ._build import kernel
 from ._checks import any_block_overturned, ground_work
 from ._contact_law import CORNER, dashpot, effective_mass, normal_force, tangential_force
 from ._ground import place_base_within
@@ -255,7 +256,7 @@ def explicit_parts(model, settings, state):
     return parts, h, kick
 
 
-@nb.njit(cache=True, _nrt=False)
+@kernel(_nrt=False)
 def explicit_part(model, settings, state, scratch, part, parts, h, kick, load_x, load_y):
     """The explicit integrator's stage: part ``part`` of ``parts`` of a step, ``h`` (s) long, its first part's
     velocity update spanning ``kick`` (s) (:func:`explicit_parts`), under the ground's inertial load (load_x,

@@ -17,6 +17,8 @@ import math
 
 import numba as nb
 
+from ._build import kernel
+
 #: bits of a reference code and of a point code within a feature key
 FACE_BITS = 20
 POINT_BITS = 23
@@ -56,7 +58,7 @@ def face_separation(ax, ay, anx, any_, a0, na, bx, by, b0, nb_, bcx, bcy, first)
     return best, face
 
 
-@nb.njit(cache=True)
+@kernel()
 def reference_code(side, face):
     """Code of a reference face: ``side`` 0 for polygon A's face, 1 for B's."""
     return (side << FACE_BITS) | face

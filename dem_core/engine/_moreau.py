@@ -48,6 +48,7 @@ import numba as nb
 
 from ._active_set import HALF_BAND, delassus_band, half_band, responses, solve_positions, solve_statuses
 from ._broadphase import forget_pair
+from ._build import kernel
 from ._checks import ground_work
 from ._manifold import FACE_BITS, corner_manifold
 from ._points import (FRICTION, GAP, INC, KEY, NX, NY, PAIR, PN, POSITION_IMPULSE, PT, REF, RIX,
@@ -380,7 +381,7 @@ def keep_impulses(rows, ints, n, normal_impulse, tangential_impulse, pair_slip, 
 
 
 
-@nb.njit(cache=True, _nrt=False)
+@kernel(_nrt=False)
 def moreau_part(model, settings, state, scratch, part, remaining, load_x, load_y):
     """Moreau-Jean's stage: part ``part`` of a step, ``remaining`` (s) of it left, under the ground's inertial load
     (load_x, load_y) m/s^2 over the step, by the steps of the module docstring.  Returns ``(status, i, j, tau)``:

@@ -15,14 +15,15 @@ gains or loses a vertex.
 
 import math
 
-import numba as nb
 import numpy as np
+
+from ._build import kernel
 
 # Sutherland-Hodgman can produce at most n_subject + n_clip vertices.
 MAX_OVERLAP_VERTICES = 64
 
 
-@nb.njit(cache=True)
+@kernel()
 def clip_convex(px, py, p0, n_p, qx, qy, q0, n_q, outx, outy, scratch):
     """Clip convex polygon P by convex polygon Q (both counter-clockwise).
 
@@ -88,7 +89,7 @@ def clip_convex(px, py, p0, n_p, qx, qy, q0, n_q, outx, outy, scratch):
     return n_in
 
 
-@nb.njit(cache=True)
+@kernel()
 def polygon_moments(x, y, n):
     """Area, centroid and central second moments of a polygon.
 
@@ -131,7 +132,7 @@ def polygon_moments(x, y, n):
     return area, cxl + x0, cyl + y0, sxx, syy, sxy
 
 
-@nb.njit(cache=True)
+@kernel()
 def contact_frame(sxx, syy, sxy, cx, cy, ax_c, ay_c):
     """Tangent and normal of a contact from the overlap's second moments.
 
@@ -157,7 +158,7 @@ def contact_frame(sxx, syy, sxy, cx, cy, ax_c, ay_c):
     return ny, -nx, nx, ny
 
 
-@nb.njit(cache=True)
+@kernel()
 def overlap(px, py, n_p, qx, qy, n_q):
     """Overlap of two convex CCW polygons, allocating its own scratch space.
 
