@@ -57,6 +57,9 @@ def run(engine: str, scene, excitation, duration, dt, output_dt, build) -> Resul
         raise ValueError(f"{engine}: {exc}") from None
     if not dt > 0:
         raise ValueError(f"{engine}: dt must be positive, got {dt}")
+    if scene.contact.impact_restitution:
+        raise ValueError(f"{engine}: the scene asks a restitution of {scene.contact.impact_restitution:g}; this "
+                         f"adapter builds plastic impacts only (docs/validation.md), the native core gives any")
     n_steps = int(np.ceil(duration / dt - 1e-9))
     stride = max(1, round((0.01 if output_dt is None else output_dt) / dt))
     out_steps = np.arange(0, n_steps + 1, stride)

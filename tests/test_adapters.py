@@ -124,6 +124,14 @@ def test_pybullet_refuses_friction_it_cannot_represent_and_pymunk_falls_back_to_
     assert r.info["friction"] == "per contact"
 
 
+@pytest.mark.parametrize("engine", ENGINES)
+def test_a_restitution_the_peers_do_not_model_is_refused(engine):
+    """The adapters build plastic impacts; a scene asking another restitution is refused, not run without it."""
+    bouncing = scenes.block(1.0, 2.0, contact=dem_core.ContactParameters(restitution=0.3))
+    with pytest.raises(ValueError, match=f"{engine}: the scene asks a restitution of 0.3"):
+        adapters.simulate(bouncing, duration=0.01, engine=engine)
+
+
 def test_unknown_engine_and_option_are_named():
     with pytest.raises(ValueError, match="unknown engine 'bullet'.*pybullet"):
         adapters.simulate(scenes.block(1, 1), duration=0.1, engine="bullet")

@@ -3,6 +3,7 @@
 from comparisons.cases.case import ACCURACY, EXACT_ABSOLUTE, EXACT_RELATIVE
 from comparisons.harness.consensus import CONVERGED, NO_REFERENCE_SPREAD
 from comparisons.harness.ensembles import ROCKING_FLOOR, SLIDING_FLOOR
+from dem_core.engine.contact import EXPLICIT_LEAST_RESTITUTION
 
 #: table columns as the page heads them
 HEADERS = {
@@ -106,21 +107,22 @@ def glossary() -> list:
     """``(term, explanation)`` pairs, in the order the page lists them."""
     return [
         ("auto/N",
-         "a step of the native core: the step dem_core.simulate picks when given none (the smaller of 0.8 of the "
-         "stability limit of its contacts and a fifteenth of the shortest impact) divided by N. auto/1 is what a user "
-         "gets; auto/4 is four times finer."),
+         "a step of the native core: the step dem_core.simulate picks when given none (for the explicit core the "
+         "smaller of 0.8 of the stability limit of its contacts and a fifteenth of the shortest impact; for "
+         "Moreau-Jean 1e-3 s or less) divided by N. auto/1 is what a user gets; auto/4 is four times finer."),
         ("auto/1, 100 x K_n",
          "the native core at its automatic step with a contact 100 times stiffer than its law's default "
          "K_n (2e11 N/m^2 for the corner law, 2e10 for the overlap-area law; the step shrinks as K_n^-1/2)."),
         ("0.001 (a step in s)", "a fixed step of pymunk, PyBullet or MuJoCo; 1e-3 s is their usual one."),
         ("dem, dem-overlap",
-         "the native core with its default corner contact law, and with the thesis' overlap-area law (the same "
-         "scene with the law's default contact parameters)."),
+         "the native core's explicit integrator with its default corner contact law (its dashpots at their "
+         f"least restitution, {EXPLICIT_LEAST_RESTITUTION:g}, for the plastic impacts the scenes ask), and with "
+         "the thesis' overlap-area law (the same scene with the law's default contact parameters)."),
         ("dem-moreau",
-         "the native core's Moreau-Jean integrator (docs/method.md 1.8): the corner law's contact points as rigid "
-         "unilateral constraints with Coulomb friction, solved at the velocity level; its automatic step is 1e-3 s "
-         "or less where the motion or the scene is faster, and auto/N divides it. It has no K_n: its finest run "
-         "on the multi-block scenes is auto/4."),
+         "the native core's default integrator, Moreau-Jean (docs/method.md 1.8): the corner law's contact points "
+         "as rigid unilateral constraints with Coulomb friction, solved at the velocity level; its automatic step "
+         "is 1e-3 s or less where the motion or the scene is faster, and auto/N divides it. It has no K_n: its "
+         "finest run on the multi-block scenes is auto/4."),
         ("iterations",
          "solver settings of pymunk (30 instead of 10), PyBullet and MuJoCo (200 instead of 50 and 100), tried "
          "at 1e-3 s."),

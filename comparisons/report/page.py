@@ -389,12 +389,12 @@ def write_report(table: pd.DataFrame, stability: pd.DataFrame, out: Path, *, qui
 {ensemble_table.ensemble.nunique() if len(ensemble_table) else 0} ensembles,
 {spectra_table.spectrum.nunique() if len(spectra_table) else 0} overturning spectra) in {run_time_s:.0f} s of wall
 time, {when}. {_provenance_html(made)}</p>
-<p>Six engines: the native core under its corner contact law (<b>dem</b>), under the thesis' overlap-area law
-(<b>dem-overlap</b>) and with its Moreau-Jean integrator on the corner law's points (<b>dem-moreau</b>: rigid
-contacts, no stiffness), pymunk, PyBullet and MuJoCo. Each is judged against an exact reference where one exists
-(docs/method.md section 4), and against the consensus of the other engines on the multi-block scenes, where none
-does. Errors below {exact_floor("peak_rotation"):g} (relative) or {exact_floor("drift_m"):g} m or rad count as
-exact and are not ranked. Errors are in percent of the reference unless a unit is named. Wall times exclude
+<p>Six engines: the native core with its default integrator, Moreau-Jean, on the corner law's points
+(<b>dem-moreau</b>: rigid contacts, no stiffness), and with its explicit integrator under the corner contact law
+(<b>dem</b>) and under the thesis' overlap-area law (<b>dem-overlap</b>), pymunk, PyBullet and MuJoCo. Each is
+judged against an exact reference where one exists (docs/method.md section 4), and against the consensus of the
+other engines on the multi-block scenes, where none does. Errors below {exact_floor("peak_rotation"):g} (relative)
+or {exact_floor("drift_m"):g} m or rad count as exact and are not ranked. Errors are in percent of the reference unless a unit is named. Wall times exclude
 compiling and building. The terms are explained in the
 <a href="#glossary">glossary</a>; the thesis' parametric studies are <a href="#studies">linked below</a>.
 Tables: <a href="results.csv">results.csv</a>, <a href="ensembles.csv">ensembles.csv</a>,
