@@ -87,7 +87,7 @@ def test_the_members_warnings_point_at_the_callers_line_and_one_said_by_many_mem
     with warnings.catch_warnings(record=True) as said:
         warnings.simplefilter("always")
         simulate_batch(block, motions, 0.01, threads=2, dt=beyond, enforce_stability_limit=False, integrator="explicit")
-    assert [str(w.message)[:30] for w in said] == [f"dt = {beyond:.4g} s is 1.50 times"[:30]]
+    assert len(said) == 1 and str(said[0].message).startswith(f"dt = {beyond:.4g} s is 1.50 times")
     assert {w.filename for w in said} == {__file__}
 
 
