@@ -113,6 +113,7 @@ def test_the_explicit_core_refuses_a_restitution_below_its_least():
 
 
 @pytest.mark.slow
+@pytest.mark.filterwarnings("ignore:a long run")  # a hundred times K_n: 2.2e7 steps, said and meant
 def test_the_explicit_cores_joint_slips_converge_in_stiffness_at_a_plastic_impact():
     """The bundled default (the 8-drum column under 20 s of El Centro) with plastic impacts asked, so at the
     explicit core's least restitution: every joint's slip at ten times K_n within a tenth of the largest joint's at a
