@@ -394,8 +394,8 @@ time, {when}. {_provenance_html(made)}</p>
 (<b>dem</b>) and under the thesis' overlap-area law (<b>dem-overlap</b>), pymunk, PyBullet and MuJoCo. Each is
 judged against an exact reference where one exists (docs/method.md section 4), and against the consensus of the
 other engines on the multi-block scenes, where none does. Errors below {exact_floor("peak_rotation"):g} (relative)
-or {exact_floor("drift_m"):g} m or rad count as exact and are not ranked. Errors are in percent of the reference unless a unit is named. Wall times exclude
-compiling and building. The terms are explained in the
+or {exact_floor("drift_m"):g} m or rad count as exact and are not ranked. Errors are in percent of the reference
+unless a unit is named. Wall times exclude compiling and building. The terms are explained in the
 <a href="#glossary">glossary</a>; the thesis' parametric studies are <a href="#studies">linked below</a>.
 Tables: <a href="results.csv">results.csv</a>, <a href="ensembles.csv">ensembles.csv</a>,
 <a href="spectra.csv">spectra.csv</a>, <a href="stability.csv">stability.csv</a>.</p>

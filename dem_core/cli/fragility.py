@@ -71,9 +71,9 @@ def run(args) -> int:
     label, unit = INTENSITY_MEASURES[args.im]
     levels = stripes(args.levels, args.max or DEFAULT_TOP[args.im])
     total = len(levels) * len(suite)
+    integrator = integrator_for(spec.scene, settings.get("integrator"))
     print(f"fragility of {path.name}: {len(suite)} record(s) x {len(levels)} {label} levels from {levels[0]:.4g} to "
-          f"{levels[-1]:.4g} {unit} ({total} runs), integrator {integrator_for(spec.scene, settings.get('integrator'))}",
-          flush=True)
+          f"{levels[-1]:.4g} {unit} ({total} runs), integrator {integrator}", flush=True)
     compile_first(spec.scene, next(iter(suite.values())), settings)
     bar = progress_bar(total=total, desc="runs", unit="run")
     done = [0]

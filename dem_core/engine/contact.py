@@ -13,9 +13,10 @@ law (:mod:`dem_core.engine._moreau`).  The explicit core gives it with each poin
 whose spring-dashpot, released at zero force, rebounds with ``e`` (:func:`damping_ratio_for_restitution`,
 against the point's own spring and effective mass).  ``e = 0`` would take an infinite dashpot, and the stable
 step shrinks as the dashpot grows (about ``1 / (2 zeta)`` of the undamped one), so the explicit core gives at
-least :data:`EXPLICIT_LEAST_RESTITUTION` (what it gives for ``e = 0``; between the two it refuses a run).  The overlap-area law keeps the thesis' dashpot unless a
-restitution is given, and its rocking couple is calibrated against Housner's decay per slenderness
-(:data:`HOUSNER_DAMPING`): its impacts lose the right energy only at the stiffness it was calibrated at.
+least :data:`EXPLICIT_LEAST_RESTITUTION` (what it gives for ``e = 0``; between the two it refuses a run).  The
+overlap-area law keeps the thesis' dashpot unless a restitution is given, and its rocking couple is calibrated
+against Housner's decay per slenderness (:data:`HOUSNER_DAMPING`): its impacts lose the right energy only at the
+stiffness it was calibrated at.
 
 :func:`damping_ratio_for_restitution` and :func:`normal_damping` map a target coefficient of
 restitution or damping ratio onto a dashpot; :func:`stiffer` scales ``K_n``.
@@ -67,7 +68,8 @@ def housner_damping_ratio(alpha: float) -> float:
 
 
 #: default damping ratios per law: (normal, tangential); the corner law's normal dashpots follow the restitution
-DEFAULT_DAMPING = {"corner": (None, 1.0), "overlap_area": (DEFAULT_NORMAL_DAMPING_RATIO, DEFAULT_TANGENTIAL_DAMPING_RATIO)}
+DEFAULT_DAMPING = {"corner": (None, 1.0),
+                   "overlap_area": (DEFAULT_NORMAL_DAMPING_RATIO, DEFAULT_TANGENTIAL_DAMPING_RATIO)}
 
 
 @dataclass(frozen=True)
