@@ -141,18 +141,12 @@ def test_bundled_example_sweep_file_builds_every_point():
     assert spec.scene.friction("drum1", "drum2") == 0.7 and spec.simulation["duration"] == 10.0
 
 @pytest.mark.slow
-
 def test_sweep_killed_midway_resumes_without_losing_runs(tmp_path):
-    import os
-    import signal
-    import subprocess
-    import sys
-    import time
-
     spec = tmp_path / "spec.toml"
+    # Twelve runs of equal cost (none rocks), each long enough (explicit, 40 s) for the kill to land midway.
     spec.write_text(SPEC.replace("time_histories = true", "time_histories = false")
-                    .replace("duration = 1.0", "duration = 4.0")
-                    .replace("pga = [3.0, 6.0]", "pga = [1.0, 2.0, 3.0, 4.0, 5.0, 6.0]"))
+                    .replace("duration = 1.0", 'duration = 40.0\nintegrator = "explicit"')
+                    .replace("pga = [3.0, 6.0]", "pga = [0.5, 0.75, 1.0, 1.25, 1.5, 1.75]"))
     out = tmp_path / "out"
     command = [sys.executable, "-m", "dem_core", "sweep", str(spec), "--out", str(out), "--workers", "1",
                "--no-progress"]
