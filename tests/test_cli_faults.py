@@ -143,7 +143,7 @@ UNEXPECTED = textwrap.dedent("""
 def command_line(*args, cwd, prelude=None, timeout=180, env=None):
     """``python -m dem_core ARGS`` (after ``prelude``, a patch of the process, if given) in ``cwd``."""
     command = [sys.executable, *(["-c", prelude] if prelude else ["-m", "dem_core"]), *map(str, args)]
-    return subprocess.run(command, cwd=cwd, capture_output=True, text=True, timeout=timeout,
+    return subprocess.run(command, check=False, cwd=cwd, capture_output=True, text=True, timeout=timeout,
                           env={**os.environ, **(env or {})})
 
 
@@ -351,7 +351,7 @@ def test_a_saved_run_that_cannot_be_read_is_run_again_with_a_note(content, tmp_p
     (tmp_path / "sweep.toml").write_text(SWEEP)
     command = ["sweep", "sweep.toml", "--out", "out", "--workers", "1", "--no-progress"]
     assert command_line(*command, cwd=tmp_path).returncode == 0
-    damaged = sorted((tmp_path / "out" / "runs").glob("*.parquet"))[0]
+    damaged = min((tmp_path / "out" / "runs").glob("*.parquet"))
     damaged.write_bytes(content)
     done = command_line(*command, cwd=tmp_path)
     assert done.returncode == 0 and "Traceback" not in done.stderr, done.stderr
@@ -383,8 +383,9 @@ def _interrupt(command, cwd, started) -> subprocess.CompletedProcess:
 def test_ctrl_c_during_a_sweep_says_what_was_saved_and_the_rerun_resumes(tmp_path):
     """Ctrl-C during a sweep: exit status 130 and one line with the runs saved and how to resume; the same command
     again runs only the rest."""
-    (tmp_path / "sweep.toml").write_text(SWEEP.replace("duration = 0.5", "duration = 12.0").replace(
-        "pga = [1.0, 2.0]", "pga = [0.5, 0.6, 0.7, 0.8, 0.9, 1.0, 1.1, 1.2]"))
+    # Eight runs of equal cost (none rocks), each long enough (explicit, 30 s) for Ctrl-C to land midway.
+    (tmp_path / "sweep.toml").write_text(SWEEP.replace("duration = 0.5", 'duration = 30.0\nintegrator = "explicit"')
+                                         .replace("pga = [1.0, 2.0]", "pga = [0.5, 0.6, 0.7, 0.8, 0.9, 1.0, 1.1, 1.2]"))
     command = ["sweep", "sweep.toml", "--out", "out", "--workers", "1", "--no-progress"]
     runs = tmp_path / "out" / "runs"
     done = _interrupt(command, tmp_path, lambda: any(runs.glob("*.parquet")))
