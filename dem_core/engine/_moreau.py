@@ -53,7 +53,7 @@ from ._checks import ground_work
 from ._manifold import FACE_BITS, corner_manifold
 from ._points import (FRICTION, GAP, INC, KEY, NX, NY, PAIR, PN, POSITION_IMPULSE, PT, REF, RIX,
                       RIY, RRX, RRY, SLID, SLOT, TARGET, TRAVEL, U0, WNN, WNT, WTT, apply_impulse, delassus,
-                      point_travel, relative_velocity)
+                      block_turns, point_travel, relative_velocity)
 from ._tally import tally_slip
 from ._world import boxes_apart
 from .model_arrays import INV_INERTIA, INV_MASS, MASS
@@ -267,13 +267,14 @@ def integrate(pos, start_vel, vel, mid, h, theta):
 
 
 @nb.njit(cache=True, inline="always")
-def project_positions(pos, mid, inv_mass, inv_inertia, rows, ints, n, h, slop, sweeps, shift, blocks_ready,
+def project_positions(pos, mid, turn, inv_mass, inv_inertia, rows, ints, n, h, slop, sweeps, shift, blocks_ready,
                       matrix_ready, jac, resp, delassus, band, rhs, first, last):
     """Step 5: the points' gaps and tangential travels after the step (the rigid motion of ``h`` times the
     velocities of ``mid``, turns exact: :func:`~._points.point_travel`) brought back to the contact's geometry by
-    position impulses (``shift`` (nb, 3) scratch, the positions' change).  A point that carried an impulse ends on
-    its face (Signorini's complementarity: a point that pushes touches), and one that stuck where it started the
-    step (a sticking point does not move along its face); one left deeper than ``slop`` m inside is pushed out.
+    position impulses (``shift`` (nb, 3) scratch, the positions' change; ``turn`` (nb, 2) scratch, the bodies'
+    turns).  A point that carried an impulse ends on its face (Signorini's complementarity: a point that pushes
+    touches), and one that stuck where it started the step (a sticking point does not move along its face); one left
+    deeper than ``slop`` m inside is pushed out.
     Where the points' Delassus matrix fits the band (``matrix_ready``: whether the velocity solve made it, else it
     is made here) one band solve gives the impulses
     (:func:`~._active_set.solve_positions`); else ``sweeps`` Gauss-Seidel sweeps on the positions, a sticking
@@ -282,10 +283,11 @@ def project_positions(pos, mid, inv_mass, inv_inertia, rows, ints, n, h, slop, s
     resp, delassus, band, rhs, first, last: the direct solve's scratch (:mod:`._active_set`).  Returns whether any
     point needed it."""
     off = False
+    block_turns(mid, h, turn)
     for c in range(n):
         row = rows[c]
-        d_n, d_t = point_travel(mid, h, ints[c, INC], ints[c, REF], row[RIX], row[RIY], row[RRX], row[RRY], row[NX],
-                                row[NY])
+        d_n, d_t = point_travel(mid, h, turn, ints[c, INC], ints[c, REF], row[RIX], row[RIY], row[RRX], row[RRY],
+                                row[NX], row[NY])
         row[GAP] += d_n
         row[TRAVEL] = d_t
         row[POSITION_IMPULSE] = 0.0
@@ -438,9 +440,10 @@ def moreau_part(model, settings, state, scratch, part, remaining, load_x, load_y
     counters[SOLVER_SWEEPS] += sweeps
     mid = scratch.mid
     integrate(pos, start_vel, vel, mid, tau, real[THETA])
-    project_positions(pos, mid, inv_mass, inv_inertia, rows, ints, n, tau, real[SLOP], integer[PROJECTION_SWEEPS],
-                      scratch.shift, not held, integer[STATUS_PASSES] > 0, scratch.jacobian, scratch.response,
-                      scratch.delassus, scratch.band, scratch.rhs, scratch.band_first, scratch.band_last)
+    project_positions(pos, mid, scratch.turn, inv_mass, inv_inertia, rows, ints, n, tau, real[SLOP],
+                      integer[PROJECTION_SWEEPS], scratch.shift, not held, integer[STATUS_PASSES] > 0,
+                      scratch.jacobian, scratch.response, scratch.delassus, scratch.band, scratch.rhs,
+                      scratch.band_first, scratch.band_last)
     keep_impulses(rows, ints, n, state.normal_impulse, state.tangential_impulse, state.pair_slip, ids,
                   scratch.base_impulse, vel, tau)
     reaction = scratch.reaction

@@ -55,19 +55,27 @@ def apply_impulse(vel, inv_mass, inv_inertia, i, r, rix, riy, rrx, rry, px, py):
 
 
 @nb.njit(cache=True, inline="always")
-def point_travel(mid, h, i, r, rix, riy, rrx, rry, nx, ny):
+def block_turns(mid, h, turn):
+    """``turn`` (nb, 2): each body's turn over a step of ``h`` s at the angular velocities of ``mid`` (nb, 3),
+    ``phi = h omega``, as ``(cos phi - 1, sin phi)``, the first without cancellation (``-2 sin^2(phi / 2)``)."""
+    for b in range(mid.shape[0]):
+        phi = h * mid[b, 2]
+        turn[b, 0] = -2.0 * math.sin(0.5 * phi) ** 2
+        turn[b, 1] = math.sin(phi)
+
+
+@nb.njit(cache=True, inline="always")
+def point_travel(mid, h, turn, i, r, rix, riy, rrx, rry, nx, ny):
     """``(d_n, d_t)`` m: how far the incident body's material point moved over a step of ``h`` s at the velocities
-    ``mid`` (each body translated by ``h`` times its velocity and turned by ``h`` times its angular velocity, the
-    turn exact), relative to the reference body and in its turned frame, along the normal and along
+    ``mid`` (each body translated by ``h`` times its velocity and turned exactly by its ``turn``,
+    :func:`block_turns`), relative to the reference body and in its turned frame, along the normal and along
     ``t = (-n_y, n_x)`` at the step's start."""
-    turn_i = h * mid[i, 2]
-    turn_r = h * mid[r, 2]
-    ci = -2.0 * math.sin(0.5 * turn_i) ** 2  # cos - 1, without cancellation
-    si = math.sin(turn_i)
+    ci = turn[i, 0]
+    si = turn[i, 1]
     ex = h * (mid[i, 0] - mid[r, 0]) + ci * rix - si * riy
     ey = h * (mid[i, 1] - mid[r, 1]) + si * rix + ci * riy
-    cr = -2.0 * math.sin(0.5 * turn_r) ** 2
-    sr = math.sin(turn_r)
+    cr = turn[r, 0]
+    sr = turn[r, 1]
     dx = (1.0 + cr) * ex + sr * ey + cr * rrx + sr * rry
     dy = -sr * ex + (1.0 + cr) * ey - sr * rrx + cr * rry
     return dx * nx + dy * ny, -dx * ny + dy * nx

@@ -28,7 +28,8 @@ class Scratch(NamedTuple):
     points : (Cc, 2, 3), point_keys : (Cc, 2) int64: each pair's corner manifold.
     clip_x, clip_y : (Co, clip), clip_work : (Co, 2, 2, clip): each pair's overlap polygon.
     pair_order, pair_degree, pair_reached : (Cm,) int64: Moreau-Jean's order of the pairs and its scratch.
-    start_vel, mid, shift, reaction : (nb, 3).  base_impulse : (2,).
+    start_vel, mid, shift, reaction : (nb, 3).  turn : (nb, 2) (:func:`~._points.block_turns`).
+    base_impulse : (2,).
     point_rows : (2 Cm, N_COLUMNS), point_ints : (2 Cm, 6) int64: the index set's points (:mod:`._points`).
     point_status (2 Cm,) int64, point_velocity (4 Cm,), jacobian, response (4 Cm, 6), delassus, band
     (4 Cm, 2 HALF_BAND + 1), rhs (4 Cm,), band_first, band_last (nb,) int64: the direct solve's
@@ -60,6 +61,7 @@ class Scratch(NamedTuple):
     mid: np.ndarray
     shift: np.ndarray
     reaction: np.ndarray
+    turn: np.ndarray
     base_impulse: np.ndarray
     point_rows: np.ndarray
     point_ints: np.ndarray
@@ -95,7 +97,7 @@ def make_scratch(model, pairs: int, integrators, contact_laws) -> Scratch:
         clip_x=np.zeros((overlap, clip)), clip_y=np.zeros((overlap, clip)), clip_work=np.zeros((overlap, 2, 2, clip)),
         pair_order=np.zeros(moreau, np.int64), pair_degree=np.zeros(moreau, np.int64),
         pair_reached=np.zeros(moreau, np.int64), start_vel=np.zeros((nb, 3)), mid=np.zeros((nb, 3)),
-        shift=np.zeros((nb, 3)), reaction=np.zeros((nb, 3)), base_impulse=np.zeros(2),
+        shift=np.zeros((nb, 3)), reaction=np.zeros((nb, 3)), turn=np.zeros((nb, 2)), base_impulse=np.zeros(2),
         point_rows=np.zeros((2 * moreau, N_COLUMNS)), point_ints=np.zeros((2 * moreau, 6), np.int64),
         point_status=np.zeros(2 * moreau, np.int64), point_velocity=np.zeros(4 * moreau),
         jacobian=np.zeros((4 * moreau, 6)), response=np.zeros((4 * moreau, 6)), delassus=np.zeros((4 * moreau, band)),
