@@ -1,5 +1,5 @@
-"""``python -m comparisons report [--quick] [--out reports]``: run the harness, the ensembles, the overturning
-spectra and the stress tests, write the report, take a 1280-pixel screenshot of its first screen
+"""``python -m comparisons report [--quick] [--out reports]``: run the harness, the ensembles, the column
+ensemble, the overturning spectra and the stress tests, write the report, take a 1280-pixel screenshot of its first screen
 (``first_screen.png``, with headless Chromium where it is installed) and print how long it all took.  The other
 subcommands are the timings and calibrations of comparisons/benchmarks/ (``python -m comparisons SUBCOMMAND
 --help``)."""
@@ -25,6 +25,7 @@ from comparisons.benchmarks import (
     sweep_throughput,
 )
 from comparisons.harness.case_runs import run_harness
+from comparisons.harness.column_ensemble import run_column_ensemble
 from comparisons.harness.ensembles import run_ensembles
 from comparisons.harness.overturning_spectra import run_spectra
 from comparisons.harness.stress import run_stress
@@ -82,14 +83,14 @@ def make_report(quick: bool, out: Path, progress: bool = True, shot: bool = True
     start = time.perf_counter()
     made = provenance()  # the code the numbers come from: the checkout may move while the report runs
     parts = {}
-    for name, run in (("cases", run_harness), ("ensembles", run_ensembles), ("spectra", run_spectra),
-                      ("stress tests", run_stress)):
+    for name, run in (("cases", run_harness), ("ensembles", run_ensembles), ("column ensemble", run_column_ensemble),
+                      ("spectra", run_spectra), ("stress tests", run_stress)):
         began = time.perf_counter()
         parts[name] = run(quick=quick, progress=progress)
         print(f"{name}: {time.perf_counter() - began:.0f} s", flush=True)
     index = write_report(parts["cases"], parts["stress tests"], Path(out), quick=quick,
                          run_time_s=time.perf_counter() - start, ensemble_table=parts["ensembles"],
-                         spectra_table=parts["spectra"], made=made)
+                         spectra_table=parts["spectra"], column_table=parts["column ensemble"], made=made)
     if shot:
         screenshot(index)
     return index, parts

@@ -313,8 +313,8 @@ CHAOTIC = ("One run of a response that jumps with the amplitude (El Centro at 2.
 #: the note of the single column run: one member of a chaotic ensemble, which judges the default step
 COLUMN_RECORD = ("One run of a chaotic column: an engine's step may miss this record's consensus and still be "
                  "converged on what studies measure. Moreau-Jean's step of 1e-3 s is judged on the column ensemble "
-                 "(python -m comparisons column-ensemble: 52 record runs, each at 1e-3 and 2.5e-4 s; its figures "
-                 "in docs/performance.md).")
+                 "shown with this case (the bundled records at many amplitudes, each run at 1e-3, 5e-4 and "
+                 "2.5e-4 s, in the explicit core and in pymunk).")
 
 # measured |max slip error| 2e-4 or less (dem-overlap 4e-3 at a_p/(mu g) = 1.25; dem-moreau 2e-11 or less)
 NEWMARK_BANDS = {"max_slip": {**{e: 0.01 for e in ENGINES}, "dem-moreau": 1e-4}}

@@ -47,6 +47,16 @@ HEADERS = {
     "finest": "Finest answer",
     "next": "Next-finest answer",
     "converged": "Converged",
+    "run": "Engine and step",
+    "against": "Against",
+    "typical_difference": "Typical difference of the top drum's peak",
+    "interval_low": "90% interval from",
+    "interval_high": "to",
+    "p90_difference": "90th percentile",
+    "compared": "Runs compared",
+    "overturned": "Overturned in",
+    "ns_per_block_step": "ns per block-step",
+    "time_vs_pymunk": "Time against pymunk's",
 }
 
 #: metrics as the page names them

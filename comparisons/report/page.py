@@ -1,9 +1,10 @@
 """The comparison report: verdicts, ensembles, overturning spectra, cases and the stability map, as HTML.
 
 ``python -m comparisons report [--quick] [--out reports]`` runs the harness
-(:mod:`comparisons.harness.case_runs`), the ensembles (:mod:`comparisons.harness.ensembles`), the overturning spectra
+(:mod:`comparisons.harness.case_runs`), the ensembles (:mod:`comparisons.harness.ensembles`), the 8-drum column's
+ensemble (:mod:`comparisons.harness.column_ensemble`, shown with the column's case), the overturning spectra
 (:mod:`comparisons.harness.overturning_spectra`) and the stability stress tests (:mod:`comparisons.harness.stress`),
-then writes into the output folder the tidy tables (``results.csv``, ``ensembles.csv``,
+then writes into the output folder the tidy tables (``results.csv``, ``ensembles.csv``, ``column_ensemble.csv``,
 ``spectra.csv``, ``stability.csv``), one PNG per figure (:mod:`comparisons.report.figures`, each checked for
 cut text), ``digest.json`` (the digest of the sources the numbers come from,
 :func:`comparisons.report.provenance.source_digest`) and ``index.html``, which opens with a line of provenance (the
@@ -21,7 +22,7 @@ import pandas as pd
 
 from comparisons.cases.case import ENGINES, REFERENCE_KINDS, exact_floor
 from comparisons.cases.catalogue import all_cases
-from comparisons.harness import consensus, ensembles, overturning_spectra
+from comparisons.harness import column_ensemble, consensus, ensembles, overturning_spectra
 from comparisons.harness.stress import WRONG
 from comparisons.report import figures, verdicts
 from comparisons.report.glossary import HEADERS, METRICS, glossary
@@ -98,7 +99,39 @@ def _provenance_html(made) -> str:
 
 # --- cases ------------------------------------------------------------------------------------------
 
-def _case_section(table, case, out: Path) -> tuple[str, dict]:
+def _column_ensemble_html(column_table: pd.DataFrame) -> str:
+    """The 8-drum column's ensemble, shown with its single-record case: each configuration's time, and each pair's
+    typical member difference of the top drum's peak (Moreau-Jean's step against its quarter first)."""
+    members = len(column_table.drop_duplicates(["record", "scale"]))
+    scales = ", ".join(f"{s:g}" for s in sorted(set(column_table.scale)))
+    runs = column_ensemble.summarise_runs(column_table)
+    pairs = column_ensemble.summarise_pairs(column_table)
+    shown = pairs.assign(**{c: [_percent_text(v, ".2g") for v in pairs[c]]
+                            for c in ("typical_difference", "interval_low", "interval_high", "p90_difference")})
+    shown = shown.assign(overturn_agreement=[_percent_text(v, ".3g") for v in pairs.overturn_agreement])
+    text = (f"The same column under {members} record runs: the {len(set(column_table.record))} bundled records' "
+            f"strong motion at {scales} times its rocking threshold g tan(alpha), {column_ensemble.DURATION:g} s "
+            "each, every run in each configuration. A pair's typical difference is the median over the members "
+            "that stand in both and rock in the second of |log(peak_a / peak_b)| of the top drum's peak rotation, "
+            "with the 90% bootstrap interval of that median over members (the variability lives in the records "
+            "and amplitudes). There is no exact answer here: the first row shows whether Moreau-Jean's step of "
+            "1e-3 s has converged on what studies measure.")
+    return (f'<section id="column_ensemble"><h3>8-drum column under the bundled records: Moreau-Jean\'s step '
+            f'judged on {members} runs</h3><p>{html.escape(text)}</p>'
+            f'<p class="verdict">{html.escape(_column_ensemble_line(pairs))}</p>{_table(shown)}{_table(runs)}'
+            "</section>")
+
+
+def _column_ensemble_line(pairs: pd.DataFrame) -> str:
+    """One sentence: Moreau-Jean's 1e-3 s against its 2.5e-4 s on the column ensemble."""
+    first = pairs.iloc[0]
+    return (f"{first.run} against {first.against}: the top drum's peak differs by "
+            f"{_percent_text(first.typical_difference)} typically (90% interval {_percent_text(first.interval_low)} to {_percent_text(first.interval_high)}, "
+            f"{first.compared} runs compared); they agree on overturning in "
+            f"{_percent_text(first.overturn_agreement, '.3g')} of the runs.")
+
+
+def _case_section(table, case, out: Path, column_table: pd.DataFrame) -> tuple[str, dict]:
     metric = verdicts.primary_metric(case, table)
     rows = table[(table.case == case.name) & (table.metric == metric) & (table.status == "ok")]
     pareto, convergence = f"pareto_{case.name}.png", f"convergence_{case.name}.png"
@@ -116,6 +149,9 @@ def _case_section(table, case, out: Path) -> tuple[str, dict]:
               _img(convergence, f"convergence in dt for {case.name}"), _table(_metric_names(summary))]
     if case.by_consensus:
         parts.append(_consensus_details(table, case))
+    if case.name == "column_record" and len(column_table):
+        parts.append(f'<p>The <a href="#column_ensemble">column ensemble</a>: '
+                     f"{html.escape(_column_ensemble_line(column_ensemble.summarise_pairs(column_table)))}</p>")
     stopped = table[(table.case == case.name) & (table.status != "ok")][["engine", "step", "settings", "message"]]
     if len(stopped):
         parts.append(f"<h4>Runs the engine stopped</h4>{_table(stopped.drop_duplicates())}")
@@ -304,7 +340,7 @@ def _stress_table(stability: pd.DataFrame) -> pd.DataFrame:
     return _metric_names(stability.assign(value=values))
 
 
-def _sections(table, ensemble_table, spectra_table, out: Path) -> tuple:
+def _sections(table, ensemble_table, spectra_table, column_table, out: Path) -> tuple:
     """The page's sections of ensembles, spectra and cases, and one verdict record per section:
     ``(records, ensemble_parts, spectrum_parts, case_parts, ensemble kinds, spectrum labels)``."""
     records, case_parts, ensemble_parts, spectrum_parts = [], [], [], []
@@ -327,7 +363,7 @@ def _sections(table, ensemble_table, spectra_table, out: Path) -> tuple:
             records.append(_verdict_record("spectrum", spec.name, spec.title, "rocking equation", verdict, ran))
     for case in all_cases():
         if case.name in set(table.case):
-            section, verdict = _case_section(table, case, out)
+            section, verdict = _case_section(table, case, out, column_table)
             case_parts.append(section)
             ran = dict.fromkeys(table.engine[table.case == case.name])
             records.append(_verdict_record("case", case.name, case.title, verdict["short_reference"], verdict, ran,
@@ -350,23 +386,25 @@ def _overview_images(ensemble_table, spectra_table, spectrum_labels, out: Path) 
 
 def write_report(table: pd.DataFrame, stability: pd.DataFrame, out: Path, *, quick: bool, run_time_s: float,
                  ensemble_table: pd.DataFrame | None = None, spectra_table: pd.DataFrame | None = None,
-                 made: dict | None = None) -> Path:
+                 column_table: pd.DataFrame | None = None, made: dict | None = None) -> Path:
     """Write figures, CSV tables, ``digest.json`` and index.html into ``out``; returns the path of index.html.
 
     made : :func:`~comparisons.report.provenance.provenance` taken when the runs started (default: now)."""
     out.mkdir(parents=True, exist_ok=True)
     ensemble_table = pd.DataFrame() if ensemble_table is None else ensemble_table
     spectra_table = pd.DataFrame() if spectra_table is None else spectra_table
+    column_table = pd.DataFrame() if column_table is None else column_table
     made = provenance() if made is None else made
     if "digest" not in made:
         made = {**made, **dict(zip(("digest", "digest_files"), source_digest(), strict=True))}
     table.to_csv(out / "results.csv", index=False)
     stability.to_csv(out / "stability.csv", index=False)
     ensemble_table.to_csv(out / "ensembles.csv", index=False)
+    column_table.to_csv(out / "column_ensemble.csv", index=False)
     spectra_table.drop(columns=["transitions"], errors="ignore").to_csv(out / "spectra.csv", index=False)
     write_digest(out, made)
     records, ensemble_parts, spectrum_parts, case_parts, kinds, spectrum_labels = _sections(
-        table, ensemble_table, spectra_table, out)
+        table, ensemble_table, spectra_table, column_table, out)
     records = pd.DataFrame(records, columns=["kind", "name", "title", "reference", "has_reference", "engines",
                                              "right", "fastest", "fastest_run", "note"])
     engines = [e for e in ENGINES if e in set(table.engine)] + sorted(set(table.engine) - set(ENGINES))
@@ -375,7 +413,7 @@ def write_report(table: pd.DataFrame, stability: pd.DataFrame, out: Path, *, qui
                        usual=usual)
     overview_images = _overview_images(ensemble_table, spectra_table, spectrum_labels, out)
     simulations = (len(table.drop_duplicates(["case", "engine", "step", "settings"])) + len(ensemble_table)
-                   + len(spectra_table))
+                   + len(column_table) + len(spectra_table))
     terms = "".join(f"<dt>{html.escape(t)}</dt><dd>{html.escape(d)}</dd>" for t, d in glossary())
     stability_html = (_stability_sections(stability, out) + _table(_stress_table(stability))) if len(stability) else ""
     when = time.strftime("%Y-%m-%d %H:%M")
@@ -398,7 +436,8 @@ or {exact_floor("drift_m"):g} m or rad count as exact and are not ranked. Errors
 unless a unit is named. Wall times exclude compiling and building. The terms are explained in the
 <a href="#glossary">glossary</a>; the thesis' parametric studies are <a href="#studies">linked below</a>.
 Tables: <a href="results.csv">results.csv</a>, <a href="ensembles.csv">ensembles.csv</a>,
-<a href="spectra.csv">spectra.csv</a>, <a href="stability.csv">stability.csv</a>.</p>
+<a href="column_ensemble.csv">column_ensemble.csv</a>, <a href="spectra.csv">spectra.csv</a>,
+<a href="stability.csv">stability.csv</a>.</p>
 <p>Contents: <a href="#verdicts">Verdicts</a> | <a href="#ensembles">Ensembles under records</a> |
 <a href="#spectra">Overturning spectra</a> | <a href="#cases">Cases</a> | <a href="#stability">Stability map</a> |
 <a href="#studies">Studies</a> | <a href="#glossary">Glossary</a></p>
@@ -407,7 +446,8 @@ Tables: <a href="results.csv">results.csv</a>, <a href="ensembles.csv">ensembles
 larger), and the fastest of them; "-" where the case has no reference, blank where the engine did not run it.
 Single runs of rocking under records are luck; the ensembles judge accuracy.</p>
 {_verdict_matrix(records, engines)}{overview_images}</section>
-<section id="ensembles"><h2>Ensembles under records</h2>{"".join(ensemble_parts) or "<p>Not run.</p>"}</section>
+<section id="ensembles"><h2>Ensembles under records</h2>{"".join(ensemble_parts) or "<p>Not run.</p>"}
+{_column_ensemble_html(column_table) if len(column_table) else ""}</section>
 <section id="spectra"><h2>Overturning spectra</h2>{"".join(spectrum_parts) or "<p>Not run.</p>"}</section>
 <section id="cases"><h2>Cases</h2>{"".join(case_parts)}</section>
 <section id="stability"><h2>Stability map</h2>{stability_html}</section>
