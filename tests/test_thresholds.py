@@ -142,20 +142,25 @@ def test_ramp_onsets_of_a_sliding_block_and_a_rocking_block():
 
 
 def test_interface_slip_separates_rocking_from_sliding():
+    """The one slip measure (the engine's joint travel) and its offset: a block rocking on both corners neither
+    slips nor moves its offset; a block sliding one way under a pulse slips its displacement over the base."""
     scene = scenes.block(0.25, 1.0)
     rocking = dem_core.simulate(scene, excitation.sine_pulse(6.0, 0.25), duration=2.0, output_dt=1e-3,
                                 integrator="explicit")
     assert np.max(rocking.theta) > 0.05 and np.min(rocking.theta) < -0.05  # on both corners
-    (slip,) = thresholds.interface_slip_history(scene, rocking).values()
     # rocks about corners that stay put but for the compliant contact's give at each impact
-    assert np.max(np.abs(slip)) < 0.5 * thresholds.SLIP_THRESHOLD  # measured 3.2e-5 m
+    assert np.max(thresholds.interface_slips(rocking)) < 0.5 * thresholds.SLIP_THRESHOLD  # measured 2.2e-5 m
+    assert np.max(np.abs(thresholds.interface_offsets(scene, rocking))) < 0.5 * thresholds.SLIP_THRESHOLD  # 5.2e-6 m
+    assert thresholds.motion_mode(scene, rocking) == "rocking"
 
     scene = scenes.block(1.0, 0.5, friction=0.3, base_width=40.0)
     sliding = dem_core.simulate(scene, excitation.rectangular_pulse(6.0, 0.3), duration=0.8, output_dt=1e-3,
                                 integrator="explicit")
-    (slip,) = thresholds.interface_slip_history(scene, sliding).values()
-    np.testing.assert_allclose(slip, sliding.relative_x[:, 0] - sliding.relative_x[0, 0], atol=1e-6)
-
+    displacement = sliding.relative_x[:, 0] - sliding.relative_x[0, 0]
+    np.testing.assert_allclose(thresholds.interface_offsets(scene, sliding)[:, 0], displacement, atol=1e-6)
+    np.testing.assert_allclose(thresholds.interface_slips(sliding)[:, 0],
+                               np.concatenate([[0.0], np.cumsum(np.abs(np.diff(displacement)))]), atol=1e-6)
+    assert thresholds.motion_mode(scene, sliding) == "sliding"
 
 
 def test_first_only_scan_in_absolute_steps_finds_a_window_a_two_percent_scan_steps_over():

@@ -27,6 +27,7 @@ import numpy as np
 
 from ..batch import simulate_batch
 from ..simulation import SimulationUnstable, simulate
+from ..engine.model import compile_model, interface_history, result_states
 from ..inputs.excitation import ramp
 from ..inputs.scene import Scene
 
@@ -237,39 +238,22 @@ def batch_outcomes(scene: Scene, motion_at: Callable, scales, event: Callable, *
     return outcomes
 
 
-def interface_slip_history(scene: Scene, result) -> dict:
-    """{(name_a, name_b): (n,) slip (m)} of every interface touching at the start.
+def interface_offsets(scene: Scene, result) -> np.ndarray:
+    """(n, n_interfaces) m: each interface's offset from its start at each output of ``result``, the signed
+    displacement of one block over the other whose travel is the slip of :func:`interface_slips` (rocking about an
+    end of the interface leaves it unchanged), in the order of ``result.interfaces``."""
+    model = compile_model(scene)
+    return interface_history(model, result_states(model, result))[0]
 
-    The slip is the relative displacement, along the interface's initial tangent, of the
-    two bodies' material points at the ends of the initial interface, the smaller of the
-    two at each time: rocking about either end leaves that end in place, so the measure
-    separates sliding from rocking.  For a block that starts tilted on a corner the interface
-    is that corner alone, and the measure holds only until it rocks onto another one.
-    """
-    names = ["base", *result.names]
-    angles0 = np.concatenate([[0.0], result.theta[0]])
-    centres0 = np.column_stack([np.concatenate([[result.base_x[0]], result.x[0]]),
-                                np.concatenate([[result.base_y[0]], result.y[0]])])
 
-    def track(k, point):
-        c, s = np.cos(-angles0[k]), np.sin(-angles0[k])
-        d = point - centres0[k]
-        local = np.array([c * d[0] - s * d[1], s * d[0] + c * d[1]])
-        if k == 0:
-            return np.column_stack([result.base_x + local[0], result.base_y + local[1]])
-        th = result.theta[:, k - 1]
-        return np.column_stack([result.x[:, k - 1] + np.cos(th) * local[0] - np.sin(th) * local[1],
-                                result.y[:, k - 1] + np.sin(th) * local[0] + np.cos(th) * local[1]])
-
-    slips = {}
-    for i, j, contact in scene.touching_pairs():
-        ends = []
-        for side in (-0.5, 0.5):
-            point = contact.centroid + side * contact.length * contact.tangent
-            slip = (track(j, point) - track(i, point)) @ contact.tangent
-            ends.append(slip - slip[0])
-        slips[(names[i], names[j])] = np.where(np.abs(ends[0]) <= np.abs(ends[1]), ends[0], ends[1])
-    return slips
+def interface_slips(result) -> np.ndarray:
+    """(n, n_interfaces) m: the slip of each interface touching at the start up to each output, the one measure of
+    every engine (``result.slip_history``: the travel of one block over the other measured on their motion,
+    airborne phases included; docs/method.md section 3).  ValueError where the result carries none."""
+    if result.slip_history is None:
+        raise ValueError("this result carries no slip history (result.slip_history is None): sliding cannot be "
+                         "judged on it")
+    return np.asarray(result.slip_history, dtype=float).reshape(len(result.t), -1)
 
 
 def rocks(scene: Scene, result) -> bool:
@@ -278,8 +262,9 @@ def rocks(scene: Scene, result) -> bool:
 
 
 def slides(scene: Scene, result, slip: float = SLIP_THRESHOLD) -> bool:
-    """Whether any interface slipped more than ``slip`` m."""
-    return any(np.max(np.abs(s)) > slip for s in interface_slip_history(scene, result).values())
+    """Whether any interface slipped more than ``slip`` m (:func:`interface_slips`)."""
+    slips = interface_slips(result)
+    return bool(slips.size and np.max(slips) > slip)
 
 
 def motion_mode(scene: Scene, result, slip: float = SLIP_THRESHOLD) -> str:
@@ -378,8 +363,8 @@ def onset_under_ramp(scene: Scene, rate: float = 0.5, duration: float | None = N
     acceleration = np.minimum(rate * result.t, peak if peak is not None else np.inf)
     theta = np.max(np.abs(result.theta), axis=1)
     rocking = _first(acceleration, theta > ROCKING_FRACTION * scene.rocking_slenderness)
-    slips = interface_slip_history(scene, result).values()
-    slipping = np.max(np.abs(np.array(list(slips))), axis=0) > slip if slips else np.zeros(len(result.t), bool)
+    slips = interface_slips(result)
+    slipping = np.max(slips, axis=1) > slip if slips.size else np.zeros(len(result.t), bool)
     overturn = rate * result.time_of_overturn if result.overturned else float("nan")
     if peak is not None and np.isfinite(overturn):
         overturn = min(overturn, peak)

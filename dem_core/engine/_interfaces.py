@@ -1,7 +1,7 @@
 """Compiled: the interfaces' slip, the tangential travel of one block over the other, measured on their motion.
 
 Private module: :func:`follow_interfaces`, the driver's stage after the base is placed, which also measures any
-other engine's states (:class:`adapters._driver._Joints`) and any history (:func:`~.model.interface_travel`).
+other engine's states (:class:`adapters._driver._Joints`) and any history (:func:`~.model.interface_history`).
 An interface is a pair of bodies touching at the start, ``a`` (the first of the pair) and ``b``; its row of
 :data:`~.model_arrays.ModelArrays` ``interface_geometry`` holds the point where they touch in each body's own
 frame, the interface's tangent in ``a``'s frame (``t = (n_y, -n_x)``, ``n`` from ``a`` into ``b``), half the

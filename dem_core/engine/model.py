@@ -291,15 +291,29 @@ def interface_pairs(model: Model) -> list:
     return [(int(k // n), int(k % n)) for k in model.interface_keys]
 
 
-def interface_travel(model: Model, states: np.ndarray) -> np.ndarray:
-    """(n, n_if) m: the slip of each recorded interface up to each of the ``n`` states of a history, ``states`` (n,
-    nb, 3) every body's x, y, theta (the base first): the travel of its offset from the first state, taken by the
-    driver's own stage (:func:`~._interfaces.follow_interfaces`) at the history's interval."""
+def interface_history(model: Model, states: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """``(offset, travel)``, each (n, n_if) m, of each recorded interface at each of the ``n`` states of a history,
+    ``states`` (n, nb, 3) every body's x, y, theta (the base first, :func:`result_states`): its offset
+    (:mod:`._interfaces`) from the first state's, and its slip, the travel of that offset, taken by the driver's own
+    stage (:func:`~._interfaces.follow_interfaces`) at the history's interval."""
     states = np.ascontiguousarray(states, float)
-    history = np.zeros((len(states), len(model.interface_keys)))
+    offsets = np.zeros((len(states), len(model.interface_keys)))
+    travels = np.zeros_like(offsets)
     if len(states):
-        offset, travel = interface_offsets(model, states[0]), np.zeros(history.shape[1])
+        first = interface_offsets(model, states[0])
+        offset, travel = first.copy(), np.zeros(offsets.shape[1])
         for k, state in enumerate(states):
             follow_interfaces(state, model.interface_keys, model.interface_geometry, offset, travel)
-            history[k] = travel
-    return history
+            offsets[k] = offset - first
+            travels[k] = travel
+    return offsets, travels
+
+
+def result_states(model: Model, result) -> np.ndarray:
+    """(n, nb, 3) every body's x, y, theta at each output of ``result`` (a :class:`~.result.Result` of ``model``'s
+    scene), the base first (its centroid moved by the ground's displacement)."""
+    states = np.zeros((len(result.t), len(model.bodies.mass), 3))
+    states[:, 0, :2] = model.bodies.centroid0[0] + np.column_stack([result.base_x, result.base_y])
+    states[:, 0, 2] = model.bodies.angle0[0]
+    states[:, 1:] = np.stack([result.x, result.y, result.theta], axis=-1)
+    return states
