@@ -33,7 +33,7 @@ from .engine.result import Result
 from .engine.scratch import make_scratch
 from .engine.settings import (EXPLICIT, INTEGRATORS, LOAD_CELL_LEAD, MOREAU, MOREAU_ACTIVE_GAP, MOREAU_DT,
                               MOREAU_MAX_SUBSTEPS, MOREAU_MAX_SWEEPS, MOREAU_PROJECTION_SWEEPS, MOREAU_RESCUE_SWEEPS,
-                              MOREAU_SHORTEST_SUBSTEP, MOREAU_SLOP, MOREAU_SOLVER_FAILURE, MOREAU_SOLVER_TOLERANCE,
+                              MOREAU_RETRIES, MOREAU_SHORTEST_SUBSTEP, MOREAU_SLOP, MOREAU_SOLVER_FAILURE, MOREAU_SOLVER_TOLERANCE,
                               MOREAU_STATUS_PASSES, MOREAU_THETA, MOREAU_TIME_FRACTION, STATUS_ENERGY, STATUS_FELL_OFF,
                               STATUS_FULL, STATUS_NONFINITE, STATUS_OK, STATUS_OVERTURNED, STATUS_RUNAWAY,
                               STATUS_UNCONVERGED, Settings, interface_stride, make_settings)
@@ -45,6 +45,7 @@ from .engine.state import (
     PAIR_KEY,
     REBUILDS,
     RETIRED,
+    SHORTENED,
     SOLVER_SWEEPS,
     STATUS_FALLBACKS,
     STATUS_PASSES,
@@ -386,6 +387,7 @@ class Simulation:
             info["unconverged_steps"] = int(counters[UNCONVERGED])
             info["status_passes_per_step"] = int(counters[STATUS_PASSES]) / max(step, 1)
             info["status_fallbacks"] = int(counters[STATUS_FALLBACKS])
+            info["shortened_parts"] = int(counters[SHORTENED])
             info["restitution"] = self.model.law.restitution
         else:
             info["collapse_substeps"] = self.settings.substeps
@@ -452,7 +454,8 @@ class Simulation:
         elif status == STATUS_UNCONVERGED:
             what = (f"the contact solve did not converge at block '{bodies[i].name}': after "
                     f"{self.settings.max_sweeps + self.settings.rescue_sweeps} Gauss-Seidel sweeps a velocity "
-                    f"still changed by more than {self.settings.solver_failure:g} g dt a sweep")
+                    f"still changed by more than {self.settings.solver_failure:g} g dt a sweep, with the step's part "
+                    f"taken again at down to 1/{2 ** MOREAU_RETRIES} of its length")
         elif LAWS[self.model.law.law] == "corner":
             what = (f"blocks '{bodies[i].name}' and '{bodies[j].name}' interpenetrate by more than "
                     f"{self.model.law.max_penetration:.0%} of the smaller block's size")

@@ -17,7 +17,7 @@ Per step:
 3. outputs: the state written if the step is an output (:func:`~._outputs.write_due`);
 4. the step's division: central differences take it whole, or in SUBSTEPS parts while a block is overturned
    (:func:`~._explicit.explicit_parts`); Moreau-Jean splits it where a point meets its face, into MAX_SUBSTEPS
-   parts at most.
+   parts at most, and a part whose contact solve failed is taken again shorter (MOREAU_MAX_PARTS parts at most).
 
 Per part:
 
@@ -52,8 +52,8 @@ from ._moreau import moreau_part
 from ._outputs import write_due, write_output
 from ._world import bounding_boxes, world_geometry
 from .model_arrays import INV_MASS, LOCAL_X, LOCAL_Y, NORMAL_X, NORMAL_Y, RADIUS
-from .settings import (DT, HALF_SKIN, INERTIAL, INTEGRATOR, INTERFACE_STRIDE, LAST_STEP, MAX_SUBSTEPS, MOREAU, SCALE,
-                       START_X, START_Y, STATUS_FULL, STATUS_OK, STATUS_OVERTURNED)
+from .settings import (DT, HALF_SKIN, INERTIAL, INTEGRATOR, INTERFACE_STRIDE, LAST_STEP, MOREAU, MOREAU_MAX_PARTS,
+                       SCALE, START_X, START_Y, STATUS_FULL, STATUS_OK, STATUS_OVERTURNED)
 from .state import LISTED, STEP
 
 
@@ -95,7 +95,7 @@ def drive(model, settings, state, outputs, scratch, samples, n_steps):
             break
         ground_at(samples, k + 1, real[SCALE], real[START_X], real[START_Y], dt, inertial, window, 1)
         if moreau:
-            parts, h, kick = integer[MAX_SUBSTEPS], dt, 0.0
+            parts, h, kick = MOREAU_MAX_PARTS, dt, 0.0
         else:
             parts, h, kick = explicit_parts(model, settings, state)
         remaining = dt

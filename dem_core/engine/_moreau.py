@@ -34,7 +34,9 @@ A part of a step, in order (the pairs in the order of :func:`~._active_set.pair_
 2. the smooth impulse (:func:`free_velocities`);
 3. the contact impulses: warm start (:func:`warm_start`), the direct solve by statuses
    (:func:`~._active_set.solve_statuses`), and where its statuses did not hold Gauss-Seidel
-   (:func:`point_blocks`, :func:`solve_points`), which sweeps on or stops the run where it is far from a solution;
+   (:func:`point_blocks`, :func:`solve_points`), which sweeps on where it is far from a solution; where that
+   fails too, steps 2 and 3 again from the part's start, cold, at half its length, with more passes by statuses
+   and Gauss-Seidel relaxed (MOREAU_RETRIES times at most), and then the run stops;
 4. the positions (:func:`integrate`);
 5. the points left inside their faces pushed out, and the sticking points put back where they stuck
    (:func:`project_positions`);
@@ -57,11 +59,11 @@ from ._points import (FRICTION, GAP, INC, KEY, NX, NY, PAIR, PN, POSITION_IMPULS
 from ._tally import tally_slip
 from ._world import boxes_apart
 from .model_arrays import INV_INERTIA, INV_MASS, MASS
-from .settings import (ACTIVE_GAP, DT, GRAVITY, HALF_SKIN, MAX_SUBSTEPS, MAX_SWEEPS, PROJECTION_SWEEPS,
-                       RESCUE_SWEEPS, RESTITUTION, SHORTEST_SUBSTEP, SLOP, SOLVER_FAILURE, SOLVER_TOLERANCE,
-                       STATUS_OK, STATUS_PASSES, STATUS_UNCONVERGED, THETA)
-from .state import (LISTED, MU, NARROW, PAIR_I, PAIR_J, POINT_KEY, REFERENCE, SOLVER_SWEEPS, STATUS_FALLBACKS,
-                    UNCONVERGED)
+from .settings import (ACTIVE_GAP, DT, GRAVITY, HALF_SKIN, MAX_SUBSTEPS, MAX_SWEEPS, MOREAU_MAX_PARTS,
+                       MOREAU_RELAXATION, MOREAU_RETRIES, MOREAU_RETRY_PASSES, PROJECTION_SWEEPS, RESCUE_SWEEPS, RESTITUTION, SHORTEST_SUBSTEP, SLOP,
+                       SOLVER_FAILURE, SOLVER_TOLERANCE, STATUS_OK, STATUS_PASSES, STATUS_UNCONVERGED, THETA)
+from .state import (LISTED, MU, NARROW, PAIR_I, PAIR_J, POINT_KEY, REFERENCE, SHORTENED, SOLVER_SWEEPS,
+                    STATUS_FALLBACKS, UNCONVERGED)
 from .state import STATUS_PASSES as PASSES_DONE
 
 
@@ -209,10 +211,11 @@ def warm_start(vel, inv_mass, inv_inertia, rows, ints, n):
 
 
 @nb.njit(cache=True, inline="always")
-def solve_points(vel, inv_mass, inv_inertia, rows, ints, n, tolerance, max_sweeps):
+def solve_points(vel, inv_mass, inv_inertia, rows, ints, n, tolerance, max_sweeps, relaxation):
     """Step 3: projected Gauss-Seidel over the ``n`` points from their present impulses (already in ``vel``).  A
-    sweep, forward and backward in turn, solves each point exactly with the others fixed (:func:`point_impulse`);
-    the solve ends when no point's velocity moved by more than ``tolerance`` m/s in a sweep.  Returns ``(sweeps,
+    sweep, forward and backward in turn, solves each point exactly with the others fixed (:func:`point_impulse`)
+    and moves its impulses by ``relaxation`` (at most 1) of the way there, which keeps them in the cone; the solve
+    ends when no point's velocity moved by more than ``tolerance`` m/s in a sweep.  Returns ``(sweeps,
     largest change in the last sweep (m/s; infinite if ``max_sweeps`` is 0 and there are points), the incident
     block of the point that changed most)``."""
     change = math.inf if n > 0 else 0.0  # without a sweep, no measure of convergence
@@ -236,6 +239,9 @@ def solve_points(vel, inv_mass, inv_inertia, rows, ints, n, tolerance, max_sweep
             pt0 = row[PT]
             pn, pt, slid = point_impulse(wnn, wnt, wtt, row[FRICTION], u_n - wnn * pn0 - wnt * pt0,
                                          u_t - wnt * pn0 - wtt * pt0, row[TARGET])
+            if relaxation != 1.0:
+                pn = pn0 + relaxation * (pn - pn0)
+                pt = pt0 + relaxation * (pt - pt0)
             dn = pn - pn0
             dt_ = pt - pt0
             if dn != 0.0 or dt_ != 0.0:
@@ -410,34 +416,54 @@ def moreau_part(model, settings, state, scratch, part, remaining, load_x, load_y
     tau = remaining
     if part + 1 < integer[MAX_SUBSTEPS]:
         tau = first_meeting(rows, n, remaining, real[ACTIVE_GAP], real[SHORTEST_SUBSTEP] * h)
-    tolerance = real[SOLVER_TOLERANCE] * tau / h
     start_vel = scratch.start_vel
     for b in range(pos.shape[0]):
         for d in range(3):
             start_vel[b, d] = vel[b, d]
-    free_velocities(vel, inv_mass, load_x, load_y - real[GRAVITY], scratch.window[4, 1], scratch.window[5, 1], tau)
-    warm_start(vel, inv_mass, inv_inertia, rows, ints, n)
-    held, passes = solve_statuses(vel, inv_mass, inv_inertia, rows, ints, n, tolerance, integer[STATUS_PASSES],
-                                  scratch.point_status, scratch.point_velocity, scratch.jacobian, scratch.response,
-                                  scratch.delassus, scratch.band, scratch.rhs, scratch.band_first, scratch.band_last)
-    counters[PASSES_DONE] += passes
-    counters[STATUS_FALLBACKS] += n > 0 and integer[STATUS_PASSES] > 0 and not held
-    sweeps, change, worst = 0, 0.0, 0
-    if not held and n > 0:
-        point_blocks(rows, ints, inv_mass, inv_inertia, n)
-        sweeps, change, worst = solve_points(vel, inv_mass, inv_inertia, rows, ints, n, tolerance,
-                                             integer[MAX_SWEEPS])
-    if change > tolerance:
-        counters[UNCONVERGED] += 1
-        failure = real[SOLVER_FAILURE] * real[GRAVITY] * tau
-        if change > failure:  # far from a solution: sweep on, and stop the run if that does not get there
-            more, change, worst = solve_points(vel, inv_mass, inv_inertia, rows, ints, n, failure,
-                                               integer[RESCUE_SWEEPS])
-            sweeps += more
-            if change > failure:
-                counters[SOLVER_SWEEPS] += sweeps
-                return STATUS_UNCONVERGED, worst, worst, tau
-    counters[SOLVER_SWEEPS] += sweeps
+    tries = MOREAU_RETRIES + 1 if part + 1 < MOREAU_MAX_PARTS else 1
+    for attempt in range(tries):
+        relaxation = 1.0
+        passes_allowed = integer[STATUS_PASSES]
+        if attempt > 0:  # the last try failed: the part again from its start, cold, half as long, with more
+            tau *= 0.5  # passes by statuses and Gauss-Seidel relaxed
+            relaxation = MOREAU_RELAXATION
+            passes_allowed *= MOREAU_RETRY_PASSES
+            counters[SHORTENED] += 1
+            for b in range(pos.shape[0]):
+                for d in range(3):
+                    vel[b, d] = start_vel[b, d]
+            for c in range(n):
+                rows[c, PN] = 0.0
+                rows[c, PT] = 0.0
+        tolerance = real[SOLVER_TOLERANCE] * tau / h
+        free_velocities(vel, inv_mass, load_x, load_y - real[GRAVITY], scratch.window[4, 1], scratch.window[5, 1],
+                        tau)
+        warm_start(vel, inv_mass, inv_inertia, rows, ints, n)
+        held, passes = solve_statuses(vel, inv_mass, inv_inertia, rows, ints, n, tolerance, passes_allowed,
+                                      scratch.point_status, scratch.point_velocity, scratch.jacobian,
+                                      scratch.response, scratch.delassus, scratch.band, scratch.rhs,
+                                      scratch.band_first, scratch.band_last)
+        counters[PASSES_DONE] += passes
+        counters[STATUS_FALLBACKS] += n > 0 and integer[STATUS_PASSES] > 0 and not held
+        sweeps, change, worst = 0, 0.0, 0
+        if not held and n > 0:
+            point_blocks(rows, ints, inv_mass, inv_inertia, n)
+            sweeps, change, worst = solve_points(vel, inv_mass, inv_inertia, rows, ints, n, tolerance,
+                                                 integer[MAX_SWEEPS], relaxation)
+        failed = False
+        if change > tolerance:
+            counters[UNCONVERGED] += 1
+            failure = real[SOLVER_FAILURE] * real[GRAVITY] * tau
+            if change > failure:  # far from a solution: sweep on; a try that does not get there has failed
+                more, change, worst = solve_points(vel, inv_mass, inv_inertia, rows, ints, n, failure,
+                                                   integer[RESCUE_SWEEPS], relaxation)
+                sweeps += more
+                failed = change > failure
+        counters[SOLVER_SWEEPS] += sweeps
+        if not failed:
+            break
+        if attempt + 1 == tries:
+            return STATUS_UNCONVERGED, worst, worst, tau
     mid = scratch.mid
     integrate(pos, start_vel, vel, mid, tau, real[THETA])
     project_positions(pos, mid, scratch.turn, inv_mass, inv_inertia, rows, ints, n, tau, real[SLOP],

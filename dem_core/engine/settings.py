@@ -92,6 +92,16 @@ MOREAU_STATUS_PASSES = 8
 #: MOREAU_SHORTEST_SUBSTEP of the step
 MOREAU_MAX_SUBSTEPS = 4
 MOREAU_SHORTEST_SUBSTEP = 0.02
+#: a part whose contact solve failed (statuses that do not settle in their passes and Gauss-Seidel still far from
+#: a solution after its rescue sweeps, as where a high-friction column lands on a corner or an impact runs through
+#: a colonnade) is taken again from its start, cold, at half its length, with MOREAU_RETRY_PASSES times the passes
+#: by statuses and each point's Gauss-Seidel update taken MOREAU_RELAXATION of the way (under-relaxed: the cycle
+#: the full update can fall into is damped), up to MOREAU_RETRIES times; a step is taken in MOREAU_MAX_PARTS parts
+#: at most, the last of them taking what is left
+MOREAU_RETRIES = 4
+MOREAU_RETRY_PASSES = 4
+MOREAU_RELAXATION = 0.5
+MOREAU_MAX_PARTS = 32
 
 
 class Settings(NamedTuple):

@@ -24,8 +24,8 @@ K_N, C_N, K_T, C_T, C_R, MU = range(6)
 REFERENCE, POINT_KEY = 0, 1
 #: columns of State.counters
 (STEP, NARROW, REBUILDS, OUTPUTS, SOLVER_SWEEPS, UNCONVERGED, STATUS_PASSES, STATUS_FALLBACKS, LAST_SUBSTEPS,
- SUBSTEPPED, LISTED, RETIRED) = range(12)
-N_COUNTERS = 12
+ SUBSTEPPED, LISTED, RETIRED, SHORTENED) = range(13)
+N_COUNTERS = 13
 #: the fields of the pairs' store and of the retired slips' store
 PAIR_FIELDS = ("pair_ids", "pair_constants", "pair_memory", "spring_force", "normal_impulse", "tangential_impulse",
                "pair_slip")
@@ -66,7 +66,7 @@ class State(NamedTuple):
     counters : (N_COUNTERS,) int64: steps done, narrow-phase pairs (central differences) or contact points
         (Moreau-Jean), lists made, outputs written, Moreau-Jean's Gauss-Seidel sweeps, unconverged solves, direct
         passes and direct solves left to Gauss-Seidel, the parts the last step was taken in and the steps taken
-        in more than one, the listed pairs and the retired slips.
+        in more than one, the listed pairs, the retired slips and Moreau-Jean's parts taken again shorter.
     """
 
     pos: np.ndarray
