@@ -389,6 +389,41 @@ def keep_impulses(rows, ints, n, normal_impulse, tangential_impulse, pair_slip, 
 
 
 
+@nb.njit(cache=True, inline="always")
+def contact_impulses(settings, scratch, counters, vel, inv_mass, inv_inertia, n, tau, load_x, load_y, relaxation,
+                     passes):
+    """Steps 2 and 3 over a part of ``tau`` s: the smooth impulse, the warm start, the direct solve by statuses
+    (``passes`` at most) and, where its statuses did not hold, Gauss-Seidel (``relaxation`` of each update), which
+    sweeps on where it is far from a solution.  Returns ``(whether the statuses held, whether the solve failed, the
+    block where it changed most)``; the counters count passes, fallbacks, sweeps and unconverged solves."""
+    real, integer = settings.real, settings.integer
+    rows, ints = scratch.point_rows, scratch.point_ints
+    tolerance = real[SOLVER_TOLERANCE] * tau / real[DT]
+    free_velocities(vel, inv_mass, load_x, load_y - real[GRAVITY], scratch.window[4, 1], scratch.window[5, 1], tau)
+    warm_start(vel, inv_mass, inv_inertia, rows, ints, n)
+    held, done = solve_statuses(vel, inv_mass, inv_inertia, rows, ints, n, tolerance, passes, scratch.point_status,
+                                scratch.point_velocity, scratch.jacobian, scratch.response, scratch.delassus,
+                                scratch.band, scratch.rhs, scratch.band_first, scratch.band_last)
+    counters[PASSES_DONE] += done
+    counters[STATUS_FALLBACKS] += n > 0 and integer[STATUS_PASSES] > 0 and not held
+    sweeps, change, worst = 0, 0.0, 0
+    if not held and n > 0:
+        point_blocks(rows, ints, inv_mass, inv_inertia, n)
+        sweeps, change, worst = solve_points(vel, inv_mass, inv_inertia, rows, ints, n, tolerance,
+                                             integer[MAX_SWEEPS], relaxation)
+    failed = False
+    if change > tolerance:
+        counters[UNCONVERGED] += 1
+        failure = real[SOLVER_FAILURE] * real[GRAVITY] * tau
+        if change > failure:  # far from a solution: sweep on; a try that does not get there has failed
+            more, change, worst = solve_points(vel, inv_mass, inv_inertia, rows, ints, n, failure,
+                                               integer[RESCUE_SWEEPS], relaxation)
+            sweeps += more
+            failed = change > failure
+    counters[SOLVER_SWEEPS] += sweeps
+    return held, failed, worst
+
+
 @kernel(_nrt=False)
 def moreau_part(model, settings, state, scratch, part, remaining, load_x, load_y):
     """Moreau-Jean's stage: part ``part`` of a step, ``remaining`` (s) of it left, under the ground's inertial load
@@ -435,31 +470,8 @@ def moreau_part(model, settings, state, scratch, part, remaining, load_x, load_y
             for c in range(n):
                 rows[c, PN] = 0.0
                 rows[c, PT] = 0.0
-        tolerance = real[SOLVER_TOLERANCE] * tau / h
-        free_velocities(vel, inv_mass, load_x, load_y - real[GRAVITY], scratch.window[4, 1], scratch.window[5, 1],
-                        tau)
-        warm_start(vel, inv_mass, inv_inertia, rows, ints, n)
-        held, passes = solve_statuses(vel, inv_mass, inv_inertia, rows, ints, n, tolerance, passes_allowed,
-                                      scratch.point_status, scratch.point_velocity, scratch.jacobian,
-                                      scratch.response, scratch.delassus, scratch.band, scratch.rhs,
-                                      scratch.band_first, scratch.band_last)
-        counters[PASSES_DONE] += passes
-        counters[STATUS_FALLBACKS] += n > 0 and integer[STATUS_PASSES] > 0 and not held
-        sweeps, change, worst = 0, 0.0, 0
-        if not held and n > 0:
-            point_blocks(rows, ints, inv_mass, inv_inertia, n)
-            sweeps, change, worst = solve_points(vel, inv_mass, inv_inertia, rows, ints, n, tolerance,
-                                                 integer[MAX_SWEEPS], relaxation)
-        failed = False
-        if change > tolerance:
-            counters[UNCONVERGED] += 1
-            failure = real[SOLVER_FAILURE] * real[GRAVITY] * tau
-            if change > failure:  # far from a solution: sweep on; a try that does not get there has failed
-                more, change, worst = solve_points(vel, inv_mass, inv_inertia, rows, ints, n, failure,
-                                                   integer[RESCUE_SWEEPS], relaxation)
-                sweeps += more
-                failed = change > failure
-        counters[SOLVER_SWEEPS] += sweeps
+        held, failed, worst = contact_impulses(settings, scratch, counters, vel, inv_mass, inv_inertia, n, tau,
+                                               load_x, load_y, relaxation, passes_allowed)
         if not failed:
             break
         if attempt + 1 == tries:
