@@ -60,8 +60,9 @@ from ._tally import tally_slip
 from ._world import boxes_apart
 from .model_arrays import INV_INERTIA, INV_MASS, MASS
 from .settings import (ACTIVE_GAP, DT, GRAVITY, HALF_SKIN, MAX_SUBSTEPS, MAX_SWEEPS, MOREAU_MAX_PARTS,
-                       MOREAU_RELAXATION, MOREAU_RETRIES, MOREAU_RETRY_PASSES, PROJECTION_SWEEPS, RESCUE_SWEEPS, RESTITUTION, SHORTEST_SUBSTEP, SLOP,
-                       SOLVER_FAILURE, SOLVER_TOLERANCE, STATUS_OK, STATUS_PASSES, STATUS_UNCONVERGED, THETA)
+                       MOREAU_RELAXATION, MOREAU_RETRIES, MOREAU_RETRY_PASSES, PROJECTION_SWEEPS, RESCUE_SWEEPS,
+                       RESTITUTION, SHORTEST_SUBSTEP, SLOP, SOLVER_FAILURE, SOLVER_TOLERANCE, STATUS_OK, STATUS_PASSES,
+                       STATUS_UNCONVERGED, THETA)
 from .state import (LISTED, MU, NARROW, PAIR_I, PAIR_J, POINT_KEY, REFERENCE, SHORTENED, SOLVER_SWEEPS,
                     STATUS_FALLBACKS, UNCONVERGED)
 from .state import STATUS_PASSES as PASSES_DONE
@@ -385,8 +386,6 @@ def keep_impulses(rows, ints, n, normal_impulse, tangential_impulse, pair_slip, 
             slipped = max(slipped, abs(u_t) * h)
     if last >= 0:
         tally_slip(last, ids, pair_slip, slipped)
-
-
 
 
 @nb.njit(cache=True, inline="always")
