@@ -94,18 +94,19 @@ def _provenance_html(made) -> str:
             f"with {made['cores']} cores. The sources digest {made['digest'][:12]} covers the "
             f"{len(made['digest_files'])} files that decide the numbers (listed in {DIGEST_FILE}: the engine, its "
             "inputs, the adapters, the cases, the references and the harness); "
-            "<code>pytest tests/test_report.py</code> fails when the committed report's digest is no longer that of the checkout.")
+            "<code>pytest tests/test_report.py</code> fails when the committed report's digest is no longer that of "
+            "the checkout.")
 
 
 # --- cases ------------------------------------------------------------------------------------------
 
-def _column_ensemble_html(column_table: pd.DataFrame) -> str:
-    """The 8-drum column's ensemble, shown with its single-record case: each configuration's time, and each pair's
-    typical member difference of the top drum's peak (Moreau-Jean's step against its quarter first)."""
+def _column_ensemble_html(column_table: pd.DataFrame, pairs: pd.DataFrame) -> str:
+    """The 8-drum column's ensemble: each configuration's time, and each pair's typical member difference of the top
+    drum's peak (``pairs``, :func:`~comparisons.harness.column_ensemble.summarise_pairs`; Moreau-Jean's step against
+    its quarter first)."""
     members = len(column_table.drop_duplicates(["record", "scale"]))
     scales = ", ".join(f"{s:g}" for s in sorted(set(column_table.scale)))
     runs = column_ensemble.summarise_runs(column_table)
-    pairs = column_ensemble.summarise_pairs(column_table)
     shown = pairs.assign(**{c: [_percent_text(v, ".2g") for v in pairs[c]]
                             for c in ("typical_difference", "interval_low", "interval_high", "p90_difference")})
     shown = shown.assign(overturn_agreement=[_percent_text(v, ".3g") for v in pairs.overturn_agreement])
@@ -126,12 +127,12 @@ def _column_ensemble_line(pairs: pd.DataFrame) -> str:
     """One sentence: Moreau-Jean's 1e-3 s against its 2.5e-4 s on the column ensemble."""
     first = pairs.iloc[0]
     return (f"{first.run} against {first.against}: the top drum's peak differs by "
-            f"{_percent_text(first.typical_difference)} typically (90% interval {_percent_text(first.interval_low)} to {_percent_text(first.interval_high)}, "
-            f"{first.compared} runs compared); they agree on overturning in "
+            f"{_percent_text(first.typical_difference)} typically (90% interval {_percent_text(first.interval_low)} "
+            f"to {_percent_text(first.interval_high)}, {first.compared} runs compared); they agree on overturning in "
             f"{_percent_text(first.overturn_agreement, '.3g')} of the runs.")
 
 
-def _case_section(table, case, out: Path, column_table: pd.DataFrame) -> tuple[str, dict]:
+def _case_section(table, case, out: Path, column_line: str) -> tuple[str, dict]:
     metric = verdicts.primary_metric(case, table)
     rows = table[(table.case == case.name) & (table.metric == metric) & (table.status == "ok")]
     pareto, convergence = f"pareto_{case.name}.png", f"convergence_{case.name}.png"
@@ -149,9 +150,8 @@ def _case_section(table, case, out: Path, column_table: pd.DataFrame) -> tuple[s
               _img(convergence, f"convergence in dt for {case.name}"), _table(_metric_names(summary))]
     if case.by_consensus:
         parts.append(_consensus_details(table, case))
-    if case.name == "column_record" and len(column_table):
-        parts.append(f'<p>The <a href="#column_ensemble">column ensemble</a>: '
-                     f"{html.escape(_column_ensemble_line(column_ensemble.summarise_pairs(column_table)))}</p>")
+    if case.name == "column_record" and column_line:
+        parts.append(f'<p>The <a href="#column_ensemble">column ensemble</a>: {html.escape(column_line)}</p>')
     stopped = table[(table.case == case.name) & (table.status != "ok")][["engine", "step", "settings", "message"]]
     if len(stopped):
         parts.append(f"<h4>Runs the engine stopped</h4>{_table(stopped.drop_duplicates())}")
@@ -340,7 +340,7 @@ def _stress_table(stability: pd.DataFrame) -> pd.DataFrame:
     return _metric_names(stability.assign(value=values))
 
 
-def _sections(table, ensemble_table, spectra_table, column_table, out: Path) -> tuple:
+def _sections(table, ensemble_table, spectra_table, column_line: str, out: Path) -> tuple:
     """The page's sections of ensembles, spectra and cases, and one verdict record per section:
     ``(records, ensemble_parts, spectrum_parts, case_parts, ensemble kinds, spectrum labels)``."""
     records, case_parts, ensemble_parts, spectrum_parts = [], [], [], []
@@ -363,7 +363,7 @@ def _sections(table, ensemble_table, spectra_table, column_table, out: Path) -> 
             records.append(_verdict_record("spectrum", spec.name, spec.title, "rocking equation", verdict, ran))
     for case in all_cases():
         if case.name in set(table.case):
-            section, verdict = _case_section(table, case, out, column_table)
+            section, verdict = _case_section(table, case, out, column_line)
             case_parts.append(section)
             ran = dict.fromkeys(table.engine[table.case == case.name])
             records.append(_verdict_record("case", case.name, case.title, verdict["short_reference"], verdict, ran,
@@ -403,8 +403,10 @@ def write_report(table: pd.DataFrame, stability: pd.DataFrame, out: Path, *, qui
     column_table.to_csv(out / "column_ensemble.csv", index=False)
     spectra_table.drop(columns=["transitions"], errors="ignore").to_csv(out / "spectra.csv", index=False)
     write_digest(out, made)
+    column_pairs = column_ensemble.summarise_pairs(column_table) if len(column_table) else None
+    column_line = _column_ensemble_line(column_pairs) if column_pairs is not None else ""
     records, ensemble_parts, spectrum_parts, case_parts, kinds, spectrum_labels = _sections(
-        table, ensemble_table, spectra_table, column_table, out)
+        table, ensemble_table, spectra_table, column_line, out)
     records = pd.DataFrame(records, columns=["kind", "name", "title", "reference", "has_reference", "engines",
                                              "right", "fastest", "fastest_run", "note"])
     engines = [e for e in ENGINES if e in set(table.engine)] + sorted(set(table.engine) - set(ENGINES))
@@ -447,7 +449,7 @@ larger), and the fastest of them; "-" where the case has no reference, blank whe
 Single runs of rocking under records are luck; the ensembles judge accuracy.</p>
 {_verdict_matrix(records, engines)}{overview_images}</section>
 <section id="ensembles"><h2>Ensembles under records</h2>{"".join(ensemble_parts) or "<p>Not run.</p>"}
-{_column_ensemble_html(column_table) if len(column_table) else ""}</section>
+{_column_ensemble_html(column_table, column_pairs) if column_pairs is not None else ""}</section>
 <section id="spectra"><h2>Overturning spectra</h2>{"".join(spectrum_parts) or "<p>Not run.</p>"}</section>
 <section id="cases"><h2>Cases</h2>{"".join(case_parts)}</section>
 <section id="stability"><h2>Stability map</h2>{stability_html}</section>
