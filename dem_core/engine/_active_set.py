@@ -11,9 +11,12 @@ the last pass.
 
 Unknown ``2c`` is point ``c``'s normal impulse and ``2c + 1`` its tangential one.  Two points couple through a
 block they share, so with the pairs in the breadth-first order of :func:`pair_order` (Cuthill and McKee 1969) a
-chain of blocks (a column) or a tree of a few branches (a colonnade) gives a band matrix: stored as
-``band[u, v - u + HALF_BAND]`` and factorised without pivoting in O(unknowns x band^2).  A scene whose points
-span a wider band is left to Gauss-Seidel.
+chain of blocks (a column) or a tree of a few branches (a colonnade) gives a band matrix of 2 x 2 blocks, one per
+pair of points: stored as ``band[c, d - c + BLOCK_REACH]`` (the block's four entries row by row) within the
+envelope of each point's last coupled point, built straight from the points' Jacobians with the statuses applied
+(:func:`statuses_matrix`) and factorised by blocks without pivoting in O(points x reach^2), the open points' known
+impulses carried to the right-hand side, and over the upper triangle alone where no point slides (the matrix is
+then symmetric).  A scene whose points span a wider band is left to Gauss-Seidel.
 
 Two points of one flush interface have the same tangential velocity, so their tangential rows are dependent:
 every constrained row ``u`` gets a compliance, ``u_u + REGULARISATION W_uu P_u = target``, which makes the
@@ -24,13 +27,15 @@ velocity by that fraction of its own impulse's effect.
 import numba as nb
 import numpy as np
 
-from ._points import (FRICTION, GAP, INC, NX, NY, PN, PT, REF, RIX, RIY, RRX, RRY, SLID, TARGET, TRAVEL,
-                      apply_impulse, relative_velocity)
+from ._points import (FRICTION, GAP, INC, NX, NY, PN, PT, REF, RIX, RIY, RRX, RRY, SLID, TARGET, TRAVEL, WNN, WNT,
+                      WTT, apply_impulse, relative_velocity)
 
 #: widest half-band (unknowns) solved directly: a column's interfaces couple points up to 3 apart (7 unknowns), an
 #: epistyle on N columns up to 2N - 1 (4N - 1 unknowns: 11 on three columns, 27 on seven), so 63 takes an epistyle
 #: on sixteen columns; the work grows as the band's square only where a scene needs it
 HALF_BAND = 63
+#: the same in points: how far apart the points of two coupled 2 x 2 blocks may be
+BLOCK_REACH = (HALF_BAND - 1) // 2
 #: relative compliance on the diagonal of every constrained row
 REGULARISATION = 1e-9
 #: relative slack on the friction cone: an impulse this close to its edge counts as on it
@@ -83,10 +88,12 @@ def pair_order(ids, listed, inv_mass, start, entries, degree, reached, order):
 
 
 @nb.njit(cache=True, inline="always")
-def half_band(ints, inv_mass, n, first, last):
+def half_band(ints, inv_mass, n, first, last, end):
     """The half-bandwidth (unknowns) of the ``n`` points' Delassus matrix: how far apart, in unknowns, two points
     sharing a movable block are at most.  ``first``, ``last`` (nb,) receive each movable block's first and last
-    point (``last`` -1 for a block no point touches, and for fixed blocks)."""
+    point (``last`` -1 for a block no point touches, and for fixed blocks); ``end`` (2n,) the matrix's envelope,
+    per unknown the last unknown that it or an earlier one couples to (a running maximum, so that elimination
+    fills nothing beyond it)."""
     first[:] = n
     last[:] = -1
     for c in range(n):
@@ -98,6 +105,14 @@ def half_band(ints, inv_mass, n, first, last):
     for b in range(first.shape[0]):
         if last[b] >= 0:
             width = max(width, 2 * (last[b] - first[b]) + 1)
+    reach = 0
+    for c in range(n):
+        for b in (ints[c, INC], ints[c, REF]):
+            if inv_mass[b] > 0.0:
+                reach = max(reach, 2 * last[b] + 1)
+        reach = max(reach, 2 * c + 1)
+        end[2 * c] = reach
+        end[2 * c + 1] = reach
     return width
 
 
@@ -129,97 +144,183 @@ def responses(rows, ints, inv_mass, inv_inertia, n, jac, resp):
 
 
 @nb.njit(cache=True, inline="always")
-def delassus_band(ints, n, width, first, last, jac, resp, delassus):
-    """The ``n`` points' Delassus matrix ``W`` (1/kg) in band storage, ``delassus[u, v - u + HALF_BAND]`` the
-    velocity change of unknown ``u``'s row per unit impulse of unknown ``v``: per movable block ``b`` and pair of
-    points on it (among points ``first[b]`` to ``last[b]``, :func:`half_band`) the 2 x 2 block ``jac M_b^-1
-    jac^T``, and its transpose below the diagonal."""
-    for u in range(2 * n):
-        for k in range(HALF_BAND - width, HALF_BAND + width + 1):
-            delassus[u, k] = 0.0
-    for b in range(first.shape[0]):
-        for c in range(first[b], last[b] + 1):
-            sc = 0 if ints[c, INC] == b else (3 if ints[c, REF] == b else -1)
-            if sc < 0:
-                continue
-            for d in range(c, last[b] + 1):
-                sd = 0 if ints[d, INC] == b else (3 if ints[d, REF] == b else -1)
-                if sd < 0:
-                    continue
-                for a in range(2):
-                    u = 2 * c + a
-                    for e in range(2):
-                        v = 2 * d + e
-                        w = (jac[u, sc] * resp[v, sd] + jac[u, sc + 1] * resp[v, sd + 1]
-                             + jac[u, sc + 2] * resp[v, sd + 2])
-                        delassus[u, v - u + HALF_BAND] += w
-                        if d != c:
-                            delassus[v, u - v + HALF_BAND] += w
+def block(band, c, d):
+    """Block ``(c, d)`` of a band matrix of 2 x 2 blocks, point ``c``'s rows and point ``d``'s columns:
+    ``(a00, a01, a10, a11)``."""
+    k = BLOCK_REACH + d - c
+    return band[c, k, 0], band[c, k, 1], band[c, k, 2], band[c, k, 3]
 
 
 @nb.njit(cache=True, inline="always")
-def assemble(status, rows, velocity, delassus, n, width, band, rhs):
-    """The band matrix and right-hand side of the statuses' linear system in the impulses' increments from the
-    present impulses ``P0`` (the rows' ``PN``, ``PT``).
+def set_block(band, c, d, a00, a01, a10, a11):
+    """Block ``(c, d)`` of a band matrix of 2 x 2 blocks set to ``(a00, a01, a10, a11)``."""
+    k = BLOCK_REACH + d - c
+    band[c, k, 0] = a00
+    band[c, k, 1] = a01
+    band[c, k, 2] = a10
+    band[c, k, 3] = a11
 
-    status (n,) per point; velocity (2n,) the present ``(u_n, u_t)`` per point (m/s); delassus the points'
-    Delassus matrix (:func:`delassus_band`)."""
-    lo = HALF_BAND - width
-    hi = HALF_BAND + width + 1
+
+@nb.njit(cache=True, inline="always")
+def first_coupled(c, end):
+    """The first point whose envelope (:func:`half_band`) reaches point ``c``."""
+    low = c
+    while low > 0 and end[2 * (low - 1)] >= 2 * c:
+        low -= 1
+    return low
+
+
+@nb.njit(cache=True, inline="always")
+def put_block(band, c, d, a00, a01, a10, a11, sticks, slope):
+    """Block ``(c, d)`` of ``W`` into point ``c``'s rows of a statuses' matrix: as it is if the point ``sticks``,
+    else its tangential row replaced by the sliding law's ``P_t - slope P_n`` (``slope`` on the diagonal block,
+    nothing elsewhere)."""
+    if sticks:
+        set_block(band, c, d, a00, a01, a10, a11)
+    elif c == d:
+        set_block(band, c, d, a00, a01, slope, 1.0)
+    else:
+        set_block(band, c, d, a00, a01, 0.0, 0.0)
+
+
+@nb.njit(cache=True, inline="always")
+def statuses_matrix(status, rows, ints, inv_mass, n, end, friction, jac, resp, band):
+    """The band matrix of the statuses' linear system in the impulses (:func:`solve_blocks`), built straight from
+    the points' Delassus matrix ``W = H M^-1 H^T`` (1/kg) within the envelope ``end`` (:func:`half_band`): block
+    ``(c, d)``, the velocity changes of point ``c``'s (normal, tangential) per unit impulse of point ``d``'s, is
+    ``sum_b jac_c M_b^-1 jac_d^T`` over the movable blocks ``b`` the two points share (jac, resp:
+    :func:`responses`).  A closed point's normal row is ``W``'s, its tangential row ``W``'s if it sticks, else the
+    sliding law's (:func:`put_block`, slope ``-sign friction mu``); every diagonal kept is made compliant by
+    ``REGULARISATION``; an open point has no rows.  Each point's own block, uncompliant, into its row's WNN, WNT,
+    WTT."""
+    for c in range(n):
+        u = 2 * c
+        closed_c = status[c] != OPEN
+        for d in range(c, end[u] // 2 + 1):
+            closed_d = status[d] != OPEN
+            if not (closed_c or closed_d):
+                continue
+            v = 2 * d
+            w00 = w01 = w10 = w11 = 0.0
+            for sc in (0, 3):
+                b = ints[c, INC] if sc == 0 else ints[c, REF]
+                sd = 0 if ints[d, INC] == b else (3 if ints[d, REF] == b else -1)
+                if sd < 0 or not inv_mass[b] > 0.0:
+                    continue
+                a0, a1, a2 = jac[u, sc], jac[u, sc + 1], jac[u, sc + 2]
+                t0, t1, t2 = jac[u + 1, sc], jac[u + 1, sc + 1], jac[u + 1, sc + 2]
+                p0, p1, p2 = resp[v, sd], resp[v, sd + 1], resp[v, sd + 2]
+                q0, q1, q2 = resp[v + 1, sd], resp[v + 1, sd + 1], resp[v + 1, sd + 2]
+                w00 += a0 * p0 + a1 * p1 + a2 * p2
+                w01 += a0 * q0 + a1 * q1 + a2 * q2
+                w10 += t0 * p0 + t1 * p1 + t2 * p2
+                w11 += t0 * q0 + t1 * q1 + t2 * q2
+            if d == c:
+                rows[c, WNN] = w00
+                rows[c, WNT] = w01
+                rows[c, WTT] = w11
+                slope = -friction * rows[c, FRICTION] * (1.0 if status[c] == SLIDE_UP else -1.0)
+                put_block(band, c, c, w00 * (1.0 + REGULARISATION), w01, w10, w11 * (1.0 + REGULARISATION),
+                          status[c] == STICK, slope)
+                continue
+            if closed_c:
+                put_block(band, c, d, w00, w01, w10, w11, status[c] == STICK, 0.0)
+            if closed_d:
+                put_block(band, d, c, w00, w10, w01, w11, status[d] == STICK, 0.0)
+
+
+@nb.njit(cache=True, inline="always")
+def statuses_rhs(status, rows, velocity, n, rhs):
+    """The right-hand side of the statuses' linear system in the impulses' increments from the present impulses
+    ``P0`` (the rows' ``PN``, ``PT``), with the matrix of :func:`statuses_matrix` (friction 1, which fills the
+    rows' WNN, WTT): an open point's rows are its known increments ``-P0``.  status (n,) per point; velocity (2n,)
+    the present ``(u_n, u_t)`` per point (m/s)."""
     for c in range(n):
         row = rows[c]
         s = status[c]
         un = 2 * c
         ut = un + 1
-        for k in range(lo, hi):
-            band[un, k] = 0.0 if s == OPEN else delassus[un, k]
-            band[ut, k] = delassus[ut, k] if s == STICK else 0.0
         if s == OPEN:
-            band[un, HALF_BAND] = 1.0
             rhs[un] = -row[PN]
-        else:
-            band[un, HALF_BAND] *= 1.0 + REGULARISATION
-            rhs[un] = row[TARGET] - velocity[un] - REGULARISATION * delassus[un, HALF_BAND] * row[PN]
-        if s == STICK:
-            band[ut, HALF_BAND] *= 1.0 + REGULARISATION
-            rhs[ut] = -velocity[ut] - REGULARISATION * delassus[ut, HALF_BAND] * row[PT]
-        elif s == OPEN:
-            band[ut, HALF_BAND] = 1.0
             rhs[ut] = -row[PT]
+            continue
+        rhs[un] = row[TARGET] - velocity[un] - REGULARISATION * row[WNN] * row[PN]
+        if s == STICK:
+            rhs[ut] = -velocity[ut] - REGULARISATION * row[WTT] * row[PT]
         else:
             sign = 1.0 if s == SLIDE_UP else -1.0
-            band[ut, HALF_BAND] = 1.0
-            band[ut, HALF_BAND - 1] = -sign * row[FRICTION]
             rhs[ut] = sign * row[FRICTION] * row[PN] - row[PT]
 
 
 @nb.njit(cache=True, inline="always")
-def solve_band(band, rhs, size, width):
-    """Solve ``A x = rhs`` in place (x into ``rhs``) for the band matrix ``A`` (``size`` unknowns, half-band
-    ``width``) by Gaussian elimination without pivoting.  Returns False if a pivot is not clearly non-zero: below
-    1e-12 of the largest entry of its row within the band at its turn."""
-    for k in range(size):
-        pivot = band[k, HALF_BAND]
-        reach = min(size, k + width + 1) - k  # the row's entries from the diagonal on
-        scale = 0.0
-        for j in range(HALF_BAND - min(k, width), HALF_BAND + reach):
-            scale = max(scale, abs(band[k, j]))
-        if not abs(pivot) > 1e-12 * scale:
-            return False
-        inverse = 1.0 / pivot
-        for i in range(k + 1, k + reach):
-            at = k - i + HALF_BAND  # column k in row i
-            factor = band[i, at] * inverse
-            if factor == 0.0:
+def solve_blocks(status, band, rhs, n, end, symmetric):
+    """Solve the statuses' system (:func:`assemble`) in place, the solution into ``rhs`` (2n,): the open points'
+    known increments carried to the others' right-hand sides, then block Gaussian
+    elimination over the other points' 2 x 2 blocks without pivoting, within the envelope ``end``; in a
+    ``symmetric`` matrix over its upper triangle alone (``LDL^T``: half the work).  Returns False if a pivot
+    block is not clearly regular: its determinant below 1e-12 of its terms."""
+    for c in range(n):
+        if status[c] != OPEN:
+            continue
+        xn = rhs[2 * c]
+        xt = rhs[2 * c + 1]
+        for d in range(first_coupled(c, end), end[2 * c] // 2 + 1):
+            if d == c or status[d] == OPEN:
                 continue
-            for j in range(1, reach):
-                band[i, at + j] -= factor * band[k, HALF_BAND + j]
-            rhs[i] -= factor * rhs[k]
-    for k in range(size - 1, -1, -1):
-        total = rhs[k]
-        for j in range(1, min(size, k + width + 1) - k):
-            total -= band[k, HALF_BAND + j] * rhs[k + j]
-        rhs[k] = total / band[k, HALF_BAND]
+            w00, w01, w10, w11 = block(band, d, c)
+            rhs[2 * d] -= w00 * xn + w01 * xt
+            rhs[2 * d + 1] -= w10 * xn + w11 * xt
+    for c in range(n):
+        if status[c] == OPEN:
+            continue
+        last = end[2 * c] // 2
+        p00, p01, p10, p11 = block(band, c, c)
+        det = p00 * p11 - p01 * p10
+        if not abs(det) > 1e-12 * max(abs(p00 * p11), abs(p01 * p10)):
+            return False
+        i00 = p11 / det
+        i01 = -p01 / det
+        i10 = -p10 / det
+        i11 = p00 / det
+        r0 = rhs[2 * c]
+        r1 = rhs[2 * c + 1]
+        for d in range(c + 1, last + 1):
+            if status[d] == OPEN:
+                continue
+            if symmetric:
+                a00, a10, a01, a11 = block(band, c, d)
+            else:
+                a00, a01, a10, a11 = block(band, d, c)
+            if a00 == 0.0 and a01 == 0.0 and a10 == 0.0 and a11 == 0.0:
+                continue
+            l00 = a00 * i00 + a01 * i10
+            l01 = a00 * i01 + a01 * i11
+            l10 = a10 * i00 + a11 * i10
+            l11 = a10 * i01 + a11 * i11
+            for e in range(d if symmetric else c + 1, last + 1):
+                if status[e] == OPEN:
+                    continue
+                b00, b01, b10, b11 = block(band, c, e)
+                f00, f01, f10, f11 = block(band, d, e)
+                set_block(band, d, e, f00 - (l00 * b00 + l01 * b10), f01 - (l00 * b01 + l01 * b11),
+                          f10 - (l10 * b00 + l11 * b10), f11 - (l10 * b01 + l11 * b11))
+            rhs[2 * d] -= l00 * r0 + l01 * r1
+            rhs[2 * d + 1] -= l10 * r0 + l11 * r1
+    for c in range(n - 1, -1, -1):
+        if status[c] == OPEN:
+            continue
+        r0 = rhs[2 * c]
+        r1 = rhs[2 * c + 1]
+        for e in range(c + 1, end[2 * c] // 2 + 1):
+            if status[e] == OPEN:
+                continue
+            b00, b01, b10, b11 = block(band, c, e)
+            r0 -= b00 * rhs[2 * e] + b01 * rhs[2 * e + 1]
+            r1 -= b10 * rhs[2 * e] + b11 * rhs[2 * e + 1]
+        p00, p01, p10, p11 = block(band, c, c)
+        det = p00 * p11 - p01 * p10
+        rhs[2 * c] = (p11 * r0 - p01 * r1) / det
+        rhs[2 * c + 1] = (p00 * r1 - p10 * r0) / det
     return True
 
 
@@ -276,8 +377,8 @@ def point_velocities(vel, rows, ints, n, velocity):
 
 
 @nb.njit(cache=True, inline="always")
-def solve_statuses(vel, inv_mass, inv_inertia, rows, ints, n, tolerance, passes, status, velocity, jac, resp, delassus,
-                   band, rhs, first, last):
+def solve_statuses(vel, inv_mass, inv_inertia, rows, ints, n, tolerance, passes, status, velocity, jac, resp, band,
+                   rhs, first, last, end):
     """Stage 4 of :mod:`._moreau` (Gauss-Seidel follows only where the statuses do not hold): the ``n`` points'
     impulses (their rows' ``PN``, ``PT``, already applied to ``vel``) replaced by the solution of their statuses'
     linear system, the statuses revised (:func:`revise`, ``tolerance`` m/s) and the system solved again, up to
@@ -290,7 +391,7 @@ def solve_statuses(vel, inv_mass, inv_inertia, rows, ints, n, tolerance, passes,
     (``ints[:, SLID]``)."""
     if n == 0 or passes == 0:
         return False, 0
-    width = half_band(ints, inv_mass, n, first, last)
+    width = half_band(ints, inv_mass, n, first, last, end)
     if width > HALF_BAND:
         return False, 0
     point_velocities(vel, rows, ints, n, velocity)
@@ -308,10 +409,13 @@ def solve_statuses(vel, inv_mass, inv_inertia, rows, ints, n, tolerance, passes,
         else:
             status[c] = OPEN
     responses(rows, ints, inv_mass, inv_inertia, n, jac, resp)
-    delassus_band(ints, n, width, first, last, jac, resp, delassus)
     for done in range(1, passes + 1):
-        assemble(status, rows, velocity, delassus, n, width, band, rhs)
-        if not solve_band(band, rhs, 2 * n, width):
+        symmetric = True
+        for c in range(n):
+            symmetric = symmetric and status[c] < SLIDE_UP
+        statuses_matrix(status, rows, ints, inv_mass, n, end, 1.0, jac, resp, band)
+        statuses_rhs(status, rows, velocity, n, rhs)
+        if not solve_blocks(status, band, rhs, n, end, symmetric):
             return False, done
         for c in range(n):
             row = rows[c]
@@ -332,35 +436,22 @@ def solve_statuses(vel, inv_mass, inv_inertia, rows, ints, n, tolerance, passes,
 
 
 @nb.njit(cache=True, inline="always")
-def solve_positions(rows, ints, n, slop, width, delassus, band, rhs):
+def solve_positions(rows, ints, inv_mass, n, slop, end, status, jac, resp, band, rhs):
     """Step 5 of :mod:`._moreau` directly: the position impulses (kg m, per point ``(normal, tangential)`` into
     ``rhs``) that bring each pushing point to its face (``GAP`` to 0), each sticking point back along its face
     (``TRAVEL`` to 0) and each other point deeper than ``slop`` m to ``-slop``, the others free, with the Delassus
-    matrix of the velocity solve (:func:`delassus_band`, half-band ``width``): the linearised geometry is the
-    velocity problem's, so one band solve gives what Gauss-Seidel sweeps approach.  Returns False where a pivot
-    vanished."""
-    lo = HALF_BAND - width
-    hi = HALF_BAND + width + 1
+    matrix of the velocity solve (its Jacobians ``jac``, ``resp``: :func:`responses`; envelope ``end``): the
+    linearised geometry is the velocity problem's, so one solve (:func:`solve_blocks`) gives what Gauss-Seidel
+    sweeps approach.  ``status`` (n,) scratch: each point's part in it, a free point open, a pushing point that
+    slid free along its face.  Returns False where a pivot vanished."""
+    symmetric = True
     for c in range(n):
         row = rows[c]
-        un = 2 * c
-        ut = un + 1
         pushed = row[PN] > 0.0
-        normal = pushed or row[GAP] < -slop
         sticks = pushed and ints[c, SLID] == 0
-        for k in range(lo, hi):
-            band[un, k] = delassus[un, k] if normal else 0.0
-            band[ut, k] = delassus[ut, k] if sticks else 0.0
-        if normal:
-            band[un, HALF_BAND] *= 1.0 + REGULARISATION
-            rhs[un] = -row[GAP] if pushed else -slop - row[GAP]
-        else:
-            band[un, HALF_BAND] = 1.0
-            rhs[un] = 0.0
-        if sticks:
-            band[ut, HALF_BAND] *= 1.0 + REGULARISATION
-            rhs[ut] = -row[TRAVEL]
-        else:
-            band[ut, HALF_BAND] = 1.0
-            rhs[ut] = 0.0
-    return solve_band(band, rhs, 2 * n, width)
+        status[c] = STICK if sticks else (SLIDE_UP if pushed or row[GAP] < -slop else OPEN)
+        symmetric = symmetric and status[c] != SLIDE_UP
+        rhs[2 * c] = 0.0 if status[c] == OPEN else (-row[GAP] if pushed else -slop - row[GAP])
+        rhs[2 * c + 1] = -row[TRAVEL] if sticks else 0.0
+    statuses_matrix(status, rows, ints, inv_mass, n, end, 0.0, jac, resp, band)
+    return solve_blocks(status, band, rhs, n, end, symmetric)

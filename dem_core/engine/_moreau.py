@@ -48,7 +48,7 @@ import math
 
 import numba as nb
 
-from ._active_set import HALF_BAND, delassus_band, half_band, responses, solve_positions, solve_statuses
+from ._active_set import HALF_BAND, half_band, responses, solve_positions, solve_statuses
 from ._broadphase import forget_pair
 from ._build import kernel
 from ._checks import ground_work
@@ -275,20 +275,20 @@ def integrate(pos, start_vel, vel, mid, h, theta):
 
 @nb.njit(cache=True, inline="always")
 def project_positions(pos, mid, turn, inv_mass, inv_inertia, rows, ints, n, h, slop, sweeps, shift, blocks_ready,
-                      matrix_ready, jac, resp, delassus, band, rhs, first, last):
+                      responses_ready, status, jac, resp, band, rhs, first, last, end):
     """Step 5: the points' gaps and tangential travels after the step (the rigid motion of ``h`` times the
     velocities of ``mid``, turns exact: :func:`~._points.point_travel`) brought back to the contact's geometry by
     position impulses (``shift`` (nb, 3) scratch, the positions' change; ``turn`` (nb, 2) scratch, the bodies'
     turns).  A point that carried an impulse ends on its face (Signorini's complementarity: a point that pushes
     touches), and one that stuck where it started the step (a sticking point does not move along its face); one left
     deeper than ``slop`` m inside is pushed out.
-    Where the points' Delassus matrix fits the band (``matrix_ready``: whether the velocity solve made it, else it
-    is made here) one band solve gives the impulses
+    Where the points' Delassus matrix fits the band (``responses_ready``: whether the velocity solve made the
+    points' Jacobians, else they are made here) one direct solve gives the impulses
     (:func:`~._active_set.solve_positions`); else ``sweeps`` Gauss-Seidel sweeps on the positions, a sticking
     point's 2 x 2 problem solved exactly, the others' along the normal.  Velocities do not change, so no kinetic
-    energy is added.  ``blocks_ready``: whether the rows hold their Delassus blocks (:func:`point_blocks`).  jac,
-    resp, delassus, band, rhs, first, last: the direct solve's scratch (:mod:`._active_set`).  Returns whether any
-    point needed it."""
+    energy is added.  ``blocks_ready``: whether the rows hold their Delassus blocks (:func:`point_blocks`).
+    status, jac, resp, band, rhs, first, last, end: the direct solve's scratch (:mod:`._active_set`).
+    Returns whether any point needed it."""
     off = False
     block_turns(mid, h, turn)
     for c in range(n):
@@ -306,12 +306,11 @@ def project_positions(pos, mid, turn, inv_mass, inv_inertia, rows, ints, n, h, s
     for b in range(shift.shape[0]):
         for d in range(3):
             shift[b, d] = 0.0
-    width = half_band(ints, inv_mass, n, first, last)
+    width = half_band(ints, inv_mass, n, first, last, end)
     width = width if width <= HALF_BAND else -1
-    if width >= 0 and not matrix_ready:
+    if width >= 0 and not responses_ready:
         responses(rows, ints, inv_mass, inv_inertia, n, jac, resp)
-        delassus_band(ints, n, width, first, last, jac, resp, delassus)
-    if width >= 0 and solve_positions(rows, ints, n, slop, width, delassus, band, rhs):
+    if width >= 0 and solve_positions(rows, ints, inv_mass, n, slop, end, status, jac, resp, band, rhs):
         for c in range(n):
             row = rows[c]
             dn = rhs[2 * c]
@@ -401,8 +400,8 @@ def contact_impulses(settings, scratch, counters, vel, inv_mass, inv_inertia, n,
     free_velocities(vel, inv_mass, load_x, load_y - real[GRAVITY], scratch.window[4, 1], scratch.window[5, 1], tau)
     warm_start(vel, inv_mass, inv_inertia, rows, ints, n)
     held, done = solve_statuses(vel, inv_mass, inv_inertia, rows, ints, n, tolerance, passes, scratch.point_status,
-                                scratch.point_velocity, scratch.jacobian, scratch.response, scratch.delassus,
-                                scratch.band, scratch.rhs, scratch.band_first, scratch.band_last)
+                                scratch.point_velocity, scratch.jacobian, scratch.response, scratch.band,
+                                scratch.rhs, scratch.band_first, scratch.band_last, scratch.band_end)
     counters[PASSES_DONE] += done
     counters[STATUS_FALLBACKS] += n > 0 and integer[STATUS_PASSES] > 0 and not held
     sweeps, change, worst = 0, 0.0, 0
@@ -479,8 +478,8 @@ def moreau_part(model, settings, state, scratch, part, remaining, load_x, load_y
     integrate(pos, start_vel, vel, mid, tau, real[THETA])
     project_positions(pos, mid, scratch.turn, inv_mass, inv_inertia, rows, ints, n, tau, real[SLOP],
                       integer[PROJECTION_SWEEPS], scratch.shift, not held, integer[STATUS_PASSES] > 0,
-                      scratch.jacobian, scratch.response, scratch.delassus, scratch.band, scratch.rhs,
-                      scratch.band_first, scratch.band_last)
+                      scratch.point_status, scratch.jacobian, scratch.response, scratch.band, scratch.rhs,
+                      scratch.band_first, scratch.band_last, scratch.band_end)
     keep_impulses(rows, ints, n, state.normal_impulse, state.tangential_impulse, state.pair_slip, ids,
                   scratch.base_impulse, vel, tau)
     reaction = scratch.reaction

@@ -9,7 +9,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from ._active_set import HALF_BAND
+from ._active_set import BLOCK_REACH
 from ._contact_law import CORNER
 from ._points import N_COLUMNS
 from .settings import MOREAU
@@ -31,8 +31,8 @@ class Scratch(NamedTuple):
     start_vel, mid, shift, reaction : (nb, 3).  turn : (nb, 2) (:func:`~._points.block_turns`).
     base_impulse : (2,).
     point_rows : (2 Cm, N_COLUMNS), point_ints : (2 Cm, 6) int64: the index set's points (:mod:`._points`).
-    point_status (2 Cm,) int64, point_velocity (4 Cm,), jacobian, response (4 Cm, 6), delassus, band
-    (4 Cm, 2 HALF_BAND + 1), rhs (4 Cm,), band_first, band_last (nb,) int64: the direct solve's
+    point_status (2 Cm,) int64, point_velocity (4 Cm,), jacobian, response (4 Cm, 6), band
+    (2 Cm, 2 BLOCK_REACH + 1, 4), rhs (4 Cm,), band_first, band_last (nb,) int64, band_end (4 Cm,) int64: the direct solve's
     (:func:`~._active_set.solve_statuses`).
     """
 
@@ -69,11 +69,11 @@ class Scratch(NamedTuple):
     point_velocity: np.ndarray
     jacobian: np.ndarray
     response: np.ndarray
-    delassus: np.ndarray
     band: np.ndarray
     rhs: np.ndarray
     band_first: np.ndarray
     band_last: np.ndarray
+    band_end: np.ndarray
 
 
 def make_scratch(model, pairs: int, integrators, contact_laws) -> Scratch:
@@ -87,7 +87,6 @@ def make_scratch(model, pairs: int, integrators, contact_laws) -> Scratch:
     corner = pairs if CORNER in contact_laws else 1
     overlap = pairs if any(law != CORNER for law in contact_laws) else 1
     moreau = pairs if MOREAU in integrators else 1
-    band = 2 * HALF_BAND + 1
     return Scratch(
         world=np.zeros((4, nv)), boxes=np.zeros((4, nb)), window=np.zeros((6, 2)), force=np.zeros((nb, 3)),
         stack_moment=np.zeros(ns), sweep_order=np.arange(nb, dtype=np.int64), candidates=np.zeros(pairs, np.int64),
@@ -100,6 +99,6 @@ def make_scratch(model, pairs: int, integrators, contact_laws) -> Scratch:
         shift=np.zeros((nb, 3)), reaction=np.zeros((nb, 3)), turn=np.zeros((nb, 2)), base_impulse=np.zeros(2),
         point_rows=np.zeros((2 * moreau, N_COLUMNS)), point_ints=np.zeros((2 * moreau, 6), np.int64),
         point_status=np.zeros(2 * moreau, np.int64), point_velocity=np.zeros(4 * moreau),
-        jacobian=np.zeros((4 * moreau, 6)), response=np.zeros((4 * moreau, 6)), delassus=np.zeros((4 * moreau, band)),
-        band=np.zeros((4 * moreau, band)), rhs=np.zeros(4 * moreau), band_first=np.zeros(nb, np.int64),
-        band_last=np.zeros(nb, np.int64))
+        jacobian=np.zeros((4 * moreau, 6)), response=np.zeros((4 * moreau, 6)),
+        band=np.zeros((2 * moreau, 2 * BLOCK_REACH + 1, 4)), rhs=np.zeros(4 * moreau), band_first=np.zeros(nb, np.int64),
+        band_last=np.zeros(nb, np.int64), band_end=np.zeros(4 * moreau, np.int64))
