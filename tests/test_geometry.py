@@ -142,3 +142,15 @@ def _vertex_count(p, q):
     out = [np.empty(cap), np.empty(cap)]
     return _polygon.clip_convex(p[:, 0].copy(), p[:, 1].copy(), 0, len(p), q[:, 0].copy(), q[:, 1].copy(), 0,
                                  len(q), out[0], out[1], np.empty((2, 2, cap)))
+
+
+def test_the_quick_sine_and_cosine_are_the_librarys_to_a_unit_in_the_last_place():
+    """dem_core/engine/_angles.py: across the series' range (and just beyond it, where the library answers) the
+    series give math.sin and math.cos within one unit in the last place."""
+    import math
+
+    from dem_core.engine._angles import SMALL, cosine, sine
+    angles = np.concatenate([np.linspace(-1.5 * SMALL, 1.5 * SMALL, 30001), np.geomspace(1e-300, SMALL, 2000)])
+    for x in np.concatenate([angles, -angles]):
+        assert abs(sine(x) - math.sin(x)) <= np.spacing(abs(math.sin(x))), x
+        assert abs(cosine(x) - math.cos(x)) <= np.spacing(math.cos(x)), x

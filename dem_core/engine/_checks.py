@@ -13,6 +13,7 @@ import math
 import numba as nb
 import numpy as np
 
+from ._angles import cosine, sine
 from ._build import kernel
 from .model_arrays import CRITICAL_ANGLE, DROP_LIMIT, INV_INERTIA, MASS, RADIUS, Y_START
 from .settings import (ENERGY_CHECK_INTERVAL, ENERGY_SCALE, ENERGY_TOLERANCE, FLOOR, GRAVITY, SPEED_LIMIT,
@@ -66,8 +67,8 @@ def mark_overturns(pos, critical_angle, y_start, drop_limit, mass, stack_id, bot
             continue
         com = moment[k] / stack_mass[k]
         f = bottom[k]
-        c = math.cos(pos[f, 2])
-        s = math.sin(pos[f, 2])
+        c = cosine(pos[f, 2])
+        s = sine(pos[f, 2])
         xa = pos[f, 0] + c * foot[k, 0, 0] - s * foot[k, 0, 1]
         xb = pos[f, 0] + c * foot[k, 1, 0] - s * foot[k, 1, 1]
         if com < min(xa, xb) or com > max(xa, xb):

@@ -17,9 +17,9 @@ without slip gives it: turned by ``phi`` relative to ``a`` about an end of the i
 variation of ``s``: its travel, back and forth, airborne phases included.
 """
 
-import math
-
 import numba as nb
+
+from ._angles import cosine, sine
 
 #: columns of an interface's geometry row: the touching point in the first body's frame and in the second's (m),
 #: the tangent in the first body's frame, half the interface's width (m) and the second body's turn relative to the
@@ -32,15 +32,15 @@ N_GEOMETRY = 8
 def interface_offset(pos_a, pos_b, row):
     """The offset ``s`` (m) of the module docstring of an interface with geometry ``row``, its first body at
     ``pos_a`` and its second at ``pos_b`` (x, y, theta: m, m, rad)."""
-    ca = math.cos(pos_a[2])
-    sa = math.sin(pos_a[2])
-    cb = math.cos(pos_b[2])
-    sb = math.sin(pos_b[2])
+    ca = cosine(pos_a[2])
+    sa = sine(pos_a[2])
+    cb = cosine(pos_b[2])
+    sb = sine(pos_b[2])
     wx = pos_b[0] + cb * row[B_X] - sb * row[B_Y] - pos_a[0]
     wy = pos_b[1] + sb * row[B_X] + cb * row[B_Y] - pos_a[1]
     along = (ca * wx + sa * wy - row[A_X]) * row[T_X] + (-sa * wx + ca * wy - row[A_Y]) * row[T_Y]
     phi = pos_b[2] - pos_a[2] - row[TURN0]
-    rocking = 2.0 * row[HALF_WIDTH] * math.sin(0.5 * phi) ** 2  # w (1 - cos phi), without cancellation
+    rocking = 2.0 * row[HALF_WIDTH] * sine(0.5 * phi) ** 2  # w (1 - cos phi), without cancellation
     return along + (rocking if phi > 0.0 else -rocking)
 
 

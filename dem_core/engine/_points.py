@@ -6,9 +6,9 @@ the point is, the reference body the one whose face it meets, and the normal is 
 incident body.  Impulses act positively on the incident body and negatively on the reference.
 """
 
-import math
-
 import numba as nb
+
+from ._angles import sine
 
 #: columns of the per-point rows: the normal (reference face's, into the incident body), the lever arms from the
 #: incident and reference bodies' centres of mass, the point's own Delassus block (1/kg; filled only where
@@ -55,23 +55,13 @@ def apply_impulse(vel, inv_mass, inv_inertia, i, r, rix, riy, rrx, rry, px, py):
 
 
 @nb.njit(cache=True, inline="always")
-def small_sine(x):
-    """``sin x``: below 0.1 in size by its Taylor series to ``x^9`` (the next term under 3e-18 of ``x``, below the
-    rounding of a double), else by the library's."""
-    if abs(x) >= 0.1:
-        return math.sin(x)
-    x2 = x * x
-    return x * (1.0 - x2 / 6.0 * (1.0 - x2 / 20.0 * (1.0 - x2 / 42.0 * (1.0 - x2 / 72.0))))
-
-
-@nb.njit(cache=True, inline="always")
 def block_turns(mid, h, turn):
     """``turn`` (nb, 2): each body's turn over a step of ``h`` s at the angular velocities of ``mid`` (nb, 3),
     ``phi = h omega``, as ``(cos phi - 1, sin phi)``, the first without cancellation (``-2 sin^2(phi / 2)``)."""
     for b in range(mid.shape[0]):
         phi = h * mid[b, 2]
-        turn[b, 0] = -2.0 * small_sine(0.5 * phi) ** 2
-        turn[b, 1] = small_sine(phi)
+        turn[b, 0] = -2.0 * sine(0.5 * phi) ** 2
+        turn[b, 1] = sine(phi)
 
 
 @nb.njit(cache=True, inline="always")

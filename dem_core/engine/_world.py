@@ -8,13 +8,15 @@ import math
 
 import numba as nb
 
+from ._angles import cosine, sine
+
 
 @nb.njit(cache=True, inline="always")
 def world_geometry(pos, local_x, local_y, normal_x, normal_y, vstart, wx, wy, wnx, wny):
     """World vertices (m) and edge normals of every body at ``pos`` (nb, 3), from its own frame's (nv,)."""
     for b in range(pos.shape[0]):
-        c = math.cos(pos[b, 2])
-        s = math.sin(pos[b, 2])
+        c = cosine(pos[b, 2])
+        s = sine(pos[b, 2])
         for k in range(vstart[b], vstart[b + 1]):
             wx[k] = pos[b, 0] + c * local_x[k] - s * local_y[k]
             wy[k] = pos[b, 1] + s * local_x[k] + c * local_y[k]
