@@ -254,8 +254,8 @@ def statuses_rhs(status, rows, velocity, n, rhs):
 
 @nb.njit(cache=True, inline="always")
 def solve_blocks(status, band, rhs, n, end, symmetric):
-    """Solve the statuses' system (:func:`assemble`) in place, the solution into ``rhs`` (2n,): the open points'
-    known increments carried to the others' right-hand sides, then block Gaussian
+    """Solve the statuses' system (:func:`statuses_matrix`, :func:`statuses_rhs`) in place, the solution into ``rhs``
+    (2n,): the open points' known increments carried to the others' right-hand sides, then block Gaussian
     elimination over the other points' 2 x 2 blocks without pivoting, within the envelope ``end``; in a
     ``symmetric`` matrix over its upper triangle alone (``LDL^T``: half the work).  Returns False if a pivot
     block is not clearly regular: its determinant below 1e-12 of its terms."""
