@@ -5,46 +5,28 @@ subcommands are the timings and calibrations of comparisons/benchmarks/ (``pytho
 --help``)."""
 
 import argparse
+import importlib
 import shutil
 import subprocess
 import sys
 import time
 from pathlib import Path
 
-from comparisons.benchmarks import (
-    against_pymunk,
-    batch_throughput,
-    calibrate_damping,
-    column_ensemble,
-    moreau_stages,
-    overturn_rule,
-    restitution,
-    scaling,
-    stability_probe,
-    stiffness_ensembles,
-    sweep_throughput,
-)
-from comparisons.harness.case_runs import run_harness
-from comparisons.harness.column_ensemble import run_column_ensemble
-from comparisons.harness.ensembles import run_ensembles
-from comparisons.harness.overturning_spectra import run_spectra
-from comparisons.harness.stress import run_stress
-from comparisons.report.page import write_report
-from comparisons.report.provenance import provenance
-
-#: subcommand: the module of :mod:`comparisons.benchmarks` that declares its options and runs it
+#: subcommand: the module of :mod:`comparisons.benchmarks` that declares its options and runs it, imported when its
+#: subcommand is named or listed (``gpu-check`` runs where the other engines are not installed)
 BENCHMARKS = {
-    "against-pymunk": against_pymunk,
-    "batch-throughput": batch_throughput,
-    "column-ensemble": column_ensemble,
-    "scaling": scaling,
-    "sweep-throughput": sweep_throughput,
-    "stability-probe": stability_probe,
-    "calibrate-damping": calibrate_damping,
-    "stiffness-ensembles": stiffness_ensembles,
-    "overturn-rule": overturn_rule,
-    "moreau-stages": moreau_stages,
-    "restitution": restitution,
+    "against-pymunk": "against_pymunk",
+    "batch-throughput": "batch_throughput",
+    "column-ensemble": "column_ensemble",
+    "scaling": "scaling",
+    "sweep-throughput": "sweep_throughput",
+    "stability-probe": "stability_probe",
+    "calibrate-damping": "calibrate_damping",
+    "stiffness-ensembles": "stiffness_ensembles",
+    "overturn-rule": "overturn_rule",
+    "moreau-stages": "moreau_stages",
+    "restitution": "restitution",
+    "gpu-check": "gpu_check",
 }
 
 
@@ -80,6 +62,14 @@ def screenshot(index: Path, png: Path | None = None, size=SCREEN, timeout_s: flo
 def make_report(quick: bool, out: Path, progress: bool = True, shot: bool = True) -> tuple[Path, dict]:
     """Run every part and write the report into ``out``: ``(index.html, {part: tidy table})``, with a screenshot
     of its first screen (unless ``shot`` is False); prints the time each part took."""
+    from comparisons.harness.case_runs import run_harness
+    from comparisons.harness.column_ensemble import run_column_ensemble
+    from comparisons.harness.ensembles import run_ensembles
+    from comparisons.harness.overturning_spectra import run_spectra
+    from comparisons.harness.stress import run_stress
+    from comparisons.report.page import write_report
+    from comparisons.report.provenance import provenance
+
     start = time.perf_counter()
     made = provenance()  # the code the numbers come from: the checkout may move while the report runs
     parts = {}
@@ -102,8 +92,9 @@ def _report(args) -> None:
     print(f"report written to {index} ({time.perf_counter() - start:.0f} s)")
 
 
-def parser() -> argparse.ArgumentParser:
-    """The command line: ``report`` and one subcommand per benchmark."""
+def parser(command: str | None = None) -> argparse.ArgumentParser:
+    """The command line: ``report`` and one subcommand per benchmark (only ``command``'s module imported where it
+    names one)."""
     top = argparse.ArgumentParser(prog="python -m comparisons", description=__doc__)
     sub = top.add_subparsers(dest="command", required=True)
     report = sub.add_parser("report", help="run every case in every engine and write reports/index.html",
@@ -115,16 +106,20 @@ def parser() -> argparse.ArgumentParser:
     report.add_argument("--no-screenshot", action="store_true",
                         help="skip first_screen.png (a 1280 x 900 screenshot taken with headless Chromium)")
     report.set_defaults(run=_report)
-    for name, module in BENCHMARKS.items():
-        command = sub.add_parser(name, help=module.__doc__.splitlines()[0], description=module.__doc__,
-                                 formatter_class=argparse.RawDescriptionHelpFormatter)
-        module.arguments(command)
-        command.set_defaults(run=module.run)
+    for name, module_name in BENCHMARKS.items():
+        if command in BENCHMARKS and name != command:
+            continue
+        module = importlib.import_module(f"comparisons.benchmarks.{module_name}")
+        benchmark = sub.add_parser(name, help=module.__doc__.splitlines()[0], description=module.__doc__,
+                                   formatter_class=argparse.RawDescriptionHelpFormatter)
+        module.arguments(benchmark)
+        benchmark.set_defaults(run=module.run)
     return top
 
 
 def main(argv=None) -> int:
-    args = parser().parse_args(argv)
+    argv = sys.argv[1:] if argv is None else list(argv)
+    args = parser(argv[0] if argv else None).parse_args(argv)
     args.run(args)
     return 0
 

@@ -27,14 +27,15 @@ from . import batch_gpu
 from .batch_gpu import gpu_available
 from .engine.result import Result
 from .inputs.excitation import GroundMotion
-from .simulation import Simulation, SimulationUnstable, check_run_arguments, integrator_for, set_up_scene, warn_caller
+from .simulation import Simulation, SimulationUnstable, check_run_arguments, set_up_scene, warn_caller
 
-#: where a batch can run: ``"auto"`` takes the GPU where numba-cuda finds one, the integrator is the explicit one
-#: and the batch has at least GPU_MEMBERS_PER_THREAD members per CPU thread, else the CPU's threads
+#: where a batch can run: ``"auto"`` takes the GPU where numba-cuda finds one and the batch has at least
+#: GPU_MEMBERS_PER_THREAD members per CPU thread, else the CPU's threads
 DEVICES = ("auto", "cpu", "gpu")
 #: a GPU thread steps a member about 16 times slower than a CPU core (the H100 prototype of the issue that asked for
 #: the GPU path: 6.0e10 member-steps per second over 65,536 members, 9.2e5 each, against 1.5e7 on one core), so
-#: the GPU is the faster where a batch has more members than this many per CPU thread
+#: the GPU is the faster where a batch has more members than this many per CPU thread.  It is the explicit
+#: prototype's ratio, taken for both integrators until ``python -m comparisons gpu-check`` measures each one's
 GPU_MEMBERS_PER_THREAD = 16
 #: members queued per thread at a time (so that waiting for the next to finish does not grow with the batch)
 IN_FLIGHT_PER_THREAD = 4
@@ -82,9 +83,9 @@ def simulate_batch(scene, motions, duration: float | None = None, *, device: str
         every member of a sequence of scenes.
     duration : s, as :func:`~dem_core.simulate` takes it (None: each motion's natural end).
     device : ``"cpu"`` (Python threads, each running the compiled kernel, which releases the GIL), ``"gpu"``
-        (every member at once on an NVIDIA GPU, :mod:`dem_core.batch_gpu`; central differences only, refused
-        naming why where numba-cuda finds no GPU), or ``"auto"``: the GPU where there is one, the integrator is
-        the explicit one and there are at least GPU_MEMBERS_PER_THREAD members per thread, else the CPU.
+        (every member at once on an NVIDIA GPU, :mod:`dem_core.batch_gpu`, a kernel per integrator; refused
+        naming why where numba-cuda finds no GPU), or ``"auto"``: the GPU where there is one and there are at
+        least GPU_MEMBERS_PER_THREAD members per thread, else the CPU.
         :attr:`Batch.device` says which ran.
     threads : how many members run at once on the CPU (default ``numba.get_num_threads()``, all cores).
     histories : indices of the members whose :class:`Result` is kept (in :attr:`Batch.histories`).
@@ -104,7 +105,7 @@ def simulate_batch(scene, motions, duration: float | None = None, *, device: str
     WAKE_SECONDS), each distinct one once, at the caller's line.
     """
     threads, scenes, motions, keep = _checked(scene, motions, device, threads, histories, simulate_options)
-    gpu = _gpu_for(device, integrator_for(scenes[0], simulate_options.get("integrator")), len(motions), threads)
+    gpu = _gpu_for(device, len(motions), threads)
     started = time.perf_counter()
     rows, given, shared = {}, set(), {}
     first, built, said = _first_member(scenes, motions, duration, simulate_options, rows, shared)
@@ -268,14 +269,9 @@ def check_device(device: str) -> None:
                          "members on the CPU's threads")
 
 
-def _gpu_for(device: str, integrator: str, members: int, threads: int) -> str:
-    """The GPU's name if the batch of ``members`` under ``integrator`` runs there, else ''; ``ValueError`` for
-    ``device="gpu"`` with Moreau-Jean."""
-    explicit = integrator == "explicit"
-    if device == "gpu" and not explicit:
-        raise ValueError("device='gpu' steps by central differences (integrator='explicit'); Moreau-Jean's members "
-                         "run on the CPU (device='cpu' or 'auto')")
-    if device == "gpu" or (device == "auto" and explicit and members >= GPU_MEMBERS_PER_THREAD * threads):
+def _gpu_for(device: str, members: int, threads: int) -> str:
+    """The GPU's name if the batch of ``members`` runs there, else ''."""
+    if device == "gpu" or (device == "auto" and members >= GPU_MEMBERS_PER_THREAD * threads):
         return gpu_available()
     return ""
 

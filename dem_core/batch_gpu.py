@@ -17,7 +17,7 @@ import numpy as np
 
 from .engine.model_arrays import NO_KEY, ModelArrays
 from .engine.scratch import make_scratch
-from .engine.settings import MOREAU, STATUS_FULL, STATUS_OK
+from .engine.settings import INTEGRATOR, INTEGRATORS, STATUS_FULL, STATUS_OK
 from .engine.state import Outputs, State, empty_outputs, with_capacities
 from .engine._ground import ground_samples
 from .inputs.excitation import GroundMotion, Scaled
@@ -41,18 +41,18 @@ def gpu_available() -> str:
         return ""
 
 
-def check_members(runs: list, on_gpu: bool = True) -> None:
+def check_members(runs: list) -> None:
     """``ValueError`` naming the member a batch's kernel cannot take: members whose scenes differ in their numbers of
-    bodies, vertices, stacks or recorded interfaces from member 0's, and on a GPU (``on_gpu``) Moreau-Jean's runs,
-    whose GPU kernel is not yet measured (its CPU build runs them)."""
-    shape0 = _shape(runs[0])
+    bodies, vertices, stacks or recorded interfaces from member 0's, or whose integrator differs from member 0's
+    (each integrator has a kernel of its own)."""
+    shape0, integrator0 = _shape(runs[0]), runs[0].settings.integrator
     for m, run in enumerate(runs):
-        if on_gpu and run.settings.integrator == MOREAU:
-            raise ValueError(f"member {m}: the GPU kernel steps by central differences (integrator='explicit'); "
-                             f"Moreau-Jean's runs go on the CPU (device='cpu')")
         if _shape(run) != shape0:
             raise ValueError(f"member {m}'s scene has {_shape(run)} (bodies, vertices, stacks, interfaces), member "
                              f"0's {shape0}: the members of a batch share their shape")
+        if run.settings.integrator != integrator0:
+            raise ValueError(f"member {m} runs integrator {INTEGRATORS[run.settings.integrator]!r}, member 0 "
+                             f"{INTEGRATORS[integrator0]!r}: the members of a batch share their integrator")
 
 
 def _shape(run: Simulation) -> tuple:
@@ -110,6 +110,11 @@ class Members:
     motion: np.ndarray
     status: np.ndarray
 
+    @property
+    def integrator(self) -> int:
+        """The integrator the members share (settings EXPLICIT or MOREAU), which picks their kernel."""
+        return int(self.settings.integer[0, INTEGRATOR])
+
 
 def _stacked(tuples: list):
     """One named tuple of the members' named tuples, each field stacked on a new first axis."""
@@ -157,12 +162,13 @@ def _on_device(members: Members, cuda) -> Members:
 
 
 def cuda_launcher():
-    """``(launch, fetch)``: ``launch(members, samples, n_steps)`` runs the CUDA kernel over the members for a chunk
-    and returns their status (M, 3), the arrays moved to the GPU at its first call and kept there;
+    """``(launch, fetch)``: ``launch(members, samples, n_steps)`` runs the CUDA kernel of the members' integrator
+    over them for a chunk and returns their status (M, 3), the arrays moved to the GPU at its first call and kept
+    there;
     ``fetch(members)`` copies what the kernel writes (the state, the outputs, the status) back into ``members``."""
     from numba import cuda
 
-    from .engine._members import THREADS_PER_BLOCK, advance_members
+    from .engine._members import KERNELS, THREADS_PER_BLOCK
 
     held = []
 
@@ -171,8 +177,8 @@ def cuda_launcher():
             held.append(_on_device(members, cuda))
         d = held[0]
         blocks = (len(members.status) + THREADS_PER_BLOCK - 1) // THREADS_PER_BLOCK
-        advance_members[blocks, THREADS_PER_BLOCK](d.model, d.settings, d.state, d.outputs, d.scratch,
-                                                   cuda.to_device(samples), d.motion, n_steps, d.status)
+        KERNELS[members.integrator][blocks, THREADS_PER_BLOCK](d.model, d.settings, d.state, d.outputs, d.scratch,
+                                                               cuda.to_device(samples), d.motion, n_steps, d.status)
         cuda.synchronize()
         return d.status.copy_to_host()
 
@@ -192,11 +198,10 @@ def run_members(runs: list, progress=None, launcher=None) -> float:
 
     progress : optional ``function(done, total)`` after each chunk, ``done`` the members that ended; what it raises
     (Ctrl-C too) stops the batch, each run keeping the state of the last chunk.  launcher : ``(launch, fetch)``
-    (default :func:`cuda_launcher`; :func:`serial_launcher` runs the kernel's code on the CPU, Moreau-Jean's
-    members too)."""
+    (default :func:`cuda_launcher`; :func:`serial_launcher` runs the kernel's code on the CPU)."""
     from .engine._members import RUNNING
 
-    check_members(runs, on_gpu=launcher is None)
+    check_members(runs)
     motions = _motions(runs)
     members = pack(runs, motions)
     launch, fetch = launcher if launcher is not None else cuda_launcher()
@@ -242,11 +247,11 @@ def _hand_back(runs: list, members: Members, took: float) -> None:
 
 def serial_launcher():
     """``(launch, fetch)`` of the GPU kernel's code compiled for one CPU thread
-    (:func:`~dem_core.engine._members.advance_members_serial`): the GPU path checked without a GPU."""
-    from .engine._members import advance_members_serial
+    (:data:`~dem_core.engine._members.SERIAL`): the GPU path checked without a GPU."""
+    from .engine._members import SERIAL
 
     def launch(members: Members, samples: np.ndarray, n_steps: int) -> np.ndarray:
-        advance_members_serial(members.model, members.settings, members.state, members.outputs, members.scratch,
+        SERIAL[members.integrator](members.model, members.settings, members.state, members.outputs, members.scratch,
                                samples, members.motion, n_steps, members.status)
         return members.status
 

@@ -1,6 +1,6 @@
-"""The GPU kernel builds for the H100 (compute capability 9.0) on a machine without a GPU: numba-cuda compiles
-``engine/_members.advance_members`` (the one step driver, both integrators) to PTX, and the CUDA wheels' ``ptxas``
-assembles it for sm_90; the test prints each kernel's registers, stack and spills.  It runs where the ``gpu`` extra
+"""The GPU kernels build for the H100 (compute capability 9.0) on a machine without a GPU: numba-cuda compiles
+``engine/_members.KERNELS`` (the one step driver, built for each integrator) to PTX, and the CUDA wheels' ``ptxas``
+assembles them for sm_90; the test prints each kernel's registers, stack and spills.  It runs where the ``gpu`` extra
 is installed (``bash .ci/run`` installs it); the kernel's behaviour is tested under numba's CUDA simulator and on
 one CPU thread in tests/test_batch_gpu.py."""
 
@@ -26,33 +26,36 @@ import numpy as np
 from numba import cuda, typeof
 from dem_core import scenes
 from dem_core.batch_gpu import _motions, pack
-from dem_core.engine._members import advance_members
+from dem_core.engine._members import KERNELS
+from dem_core.engine.settings import INTEGRATORS
 from dem_core.inputs.excitation import sine_pulse
 from dem_core.simulation import Simulation
-runs = [Simulation(scenes.column(), sine_pulse(2.0, 0.5), 0.1, integrator=integrator)
-        for integrator in ("explicit", "moreau")]
-m = pack(runs, _motions(runs))
-arguments = (m.model, m.settings, m.state, m.outputs, m.scratch, np.zeros((1, 4, 12)), m.motion, 10, m.status)
-ptx, _ = cuda.compile_ptx(advance_members.py_func, tuple(typeof(a) for a in arguments), cc=(9, 0))
-open(sys.argv[1], "w").write(ptx)
+for name, kernel in zip(INTEGRATORS, KERNELS):
+    runs = [Simulation(scenes.column(), sine_pulse(2.0, 0.5), 0.1, integrator=name)]
+    m = pack(runs, _motions(runs))
+    arguments = (m.model, m.settings, m.state, m.outputs, m.scratch, np.zeros((1, 4, 12)), m.motion, 10, m.status)
+    ptx, _ = cuda.compile_ptx(kernel.py_func, tuple(typeof(a) for a in arguments), cc=(9, 0))
+    open(f"{sys.argv[1]}/{name}.ptx", "w").write(ptx)
 """
 
 
-def test_the_gpu_kernel_builds_for_sm_90_without_a_gpu(tmp_path, capsys):
-    ptx = tmp_path / "members.ptx"
-    done = subprocess.run([sys.executable, "-c", COMPILE, str(ptx)], capture_output=True, text=True, timeout=900,
+def test_the_gpu_kernels_build_for_sm_90_without_a_gpu(tmp_path, capsys):
+    done = subprocess.run([sys.executable, "-c", COMPILE, str(tmp_path)], capture_output=True, text=True, timeout=900,
                           cwd=REPOSITORY)
     assert done.returncode == 0, done.stderr[-3000:]
-    assert ".target sm_90" in ptx.read_text()
     ptxas = Path(nvcc.__path__[0]) / "bin" / "ptxas"
-    built = subprocess.run([str(ptxas), "-arch=sm_90", "-v", str(ptx), "-o", str(tmp_path / "members.cubin")],
-                           capture_output=True, text=True, timeout=300)
-    assert built.returncode == 0, built.stderr[-3000:]
-    assert (tmp_path / "members.cubin").stat().st_size > 0
-    kernels = re.findall(r"Function properties for (\S+)\n\s*(\d+) bytes stack frame, (\d+) bytes spill stores, "
-                         r"(\d+) bytes spill loads\n.*?Used (\d+) registers", built.stderr)
-    assert any("advance_members" in name for name, *_ in kernels), built.stderr[-3000:]
-    with capsys.disabled():
-        for name, stack, stores, loads, registers in kernels:
-            print(f"\nsm_90 {'advance_members' if 'advance_members' in name else name}: {registers} registers, "
-                  f"{stack}-byte stack frame, {stores} bytes of spill stores, {loads} of spill loads")
+    for name in ("explicit", "moreau"):
+        ptx, cubin = tmp_path / f"{name}.ptx", tmp_path / f"{name}.cubin"
+        assert ".target sm_90" in ptx.read_text()
+        built = subprocess.run([str(ptxas), "-arch=sm_90", "-v", str(ptx), "-o", str(cubin)], capture_output=True,
+                               text=True, timeout=300)
+        assert built.returncode == 0, built.stderr[-3000:]
+        assert cubin.stat().st_size > 0
+        kernels = re.findall(r"Function properties for (\S+)\n\s*(\d+) bytes stack frame, (\d+) bytes spill stores, "
+                             r"(\d+) bytes spill loads\n.*?Used (\d+) registers", built.stderr)
+        entry = f"advance_members_{name}"
+        assert any(entry in found for found, *_ in kernels), built.stderr[-3000:]
+        with capsys.disabled():
+            for found, stack, stores, loads, registers in kernels:
+                print(f"\nsm_90 {entry if entry in found else found}: {registers} registers, {stack}-byte stack "
+                      f"frame, {stores} bytes of spill stores, {loads} of spill loads")

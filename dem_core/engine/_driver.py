@@ -56,6 +56,12 @@ from .settings import (DT, HALF_SKIN, INERTIAL, INTEGRATOR, INTERFACE_STRIDE, LA
                        SCALE, START_X, START_Y, STATUS_FULL, STATUS_OK, STATUS_OVERTURNED)
 from .state import LISTED, STEP
 
+#: a build of the driver reads the integrator from each run's settings (ANY_INTEGRATOR), or is made for one
+#: integrator (``variant(drive, name, BUILT_FOR=EXPLICIT)``), whose code then holds only that integrator's stage: the
+#: GPU's kernels (:mod:`._members`), where the other stage's code would take registers
+ANY_INTEGRATOR = -1
+BUILT_FOR = ANY_INTEGRATOR
+
 
 @nb.njit(cache=True, inline="always")
 def pairs_listed(model, state, scratch, moreau):
@@ -76,11 +82,11 @@ def drive(model, settings, state, outputs, scratch, samples, n_steps):
     (:func:`~._ground.ground_samples`), which settings SCALE scales.  Returns ``(status, i, j)``: STATUS_OK and 0, 0
     while the run can go on (or at its last step), else why it stopped (:mod:`.settings`) and the bodies concerned
     (STATUS_FULL: the store that filled, and the state is to be taken back to the chunk's start).  The step it
-    stopped at is ``state.counters[STEP]``.
+    stopped at is ``state.counters[STEP]``.  A build for one integrator (BUILT_FOR) takes only runs of that one.
     """
     real, integer = settings.real, settings.integer
     pos, vel, window, world, boxes = state.pos, state.vel, scratch.window, scratch.world, scratch.boxes
-    moreau = integer[INTEGRATOR] == MOREAU
+    moreau = integer[INTEGRATOR] == MOREAU if BUILT_FOR == ANY_INTEGRATOR else BUILT_FOR == MOREAU
     dt, inertial = real[DT], integer[INERTIAL] == 1
     pairs_listed(model, state, scratch, moreau)
     for k in range(n_steps + 1):

@@ -2,25 +2,29 @@
 
 Private module.  A batch's arrays are the driver's named tuples (:mod:`._driver`) with the members on their first
 axis; :func:`member` takes one member's rows of them, and :func:`advance_member` drives that member through the
-chunk with the loop of a single run.  :data:`advance_members` is the CUDA kernel (numba-cuda, float64) that runs it
-for every member of a batch, a thread each, and :func:`advance_members_serial` the same on one CPU thread, which
-checks the GPU path where there is no GPU.  A member's motion is a row of the chunk's samples at unit scale, shared
-by every member that scales it (:func:`~._ground.ground_at`).  The kernel is defined at module level: numba's
-CUDA simulator replaces this module's ``cuda``, which a kernel made in a closure would not see.
+chunk with the loop of a single run.  :data:`KERNELS` holds, per integrator, the CUDA kernel (numba-cuda, float64)
+that runs it for every member of a batch, a thread each, and :data:`SERIAL` the same on one CPU thread, which checks
+the GPU path where there is no GPU.  Each integrator has its own build of the driver (``BUILT_FOR``), so that a
+kernel holds one integrator's stage: the members of a batch share their integrator.  A member's motion is a row of
+the chunk's samples at unit scale, shared by every member that scales it (:func:`~._ground.ground_at`).  The
+kernels are made at import: numba's CUDA simulator replaces this module's ``cuda``, which they then see.
 """
 
 import numba as nb
 from numba import cuda
 from numba.extending import overload
 
-from ._driver import drive_serial
-from .settings import LAST_STEP, STATUS_OK
+from ._build import ENGINE_DIGEST, variant
+from ._driver import drive
+from .settings import INTEGRATORS, LAST_STEP, STATUS_OK
 from .state import STEP
 
 #: a member's status while it can take more steps (its run's STATUS_* once it ended)
 RUNNING = -1
 #: threads per CUDA block
 THREADS_PER_BLOCK = 64
+#: the build of the driver that :func:`advance_member` calls, set in each integrator's builds (:func:`_builds`)
+drive_member = None
 
 
 def member(arrays, m):
@@ -37,15 +41,15 @@ def _member(arrays, m):
     return scope["rows"]
 
 
-@nb.njit
 def advance_member(m, model, settings, state, outputs, scratch, samples, motion, n_steps, status):
-    """Member ``m`` through up to ``n_steps`` steps by :func:`~._driver.drive` if it is running (``status[m, 0] ==
-    RUNNING``), under the motion of row ``motion[m]`` of ``samples`` (G, 4, n_steps + 2).  A member that ends gets
-    its run's ``(status, i, j)`` in ``status[m]``, or STATUS_OK and 0, 0 at its last step."""
+    """Member ``m`` through up to ``n_steps`` steps by its integrator's build of the driver (``drive_member``) if it
+    is running (``status[m, 0] == RUNNING``), under the motion of row ``motion[m]`` of ``samples`` (G, 4,
+    n_steps + 2).  A member that ends gets its run's ``(status, i, j)`` in ``status[m]``, or STATUS_OK and 0, 0 at
+    its last step."""
     if status[m, 0] != RUNNING:
         return
     own = member(settings, m)
-    code, i, j = drive_serial(member(model, m), own, member(state, m), member(outputs, m), member(scratch, m),
+    code, i, j = drive_member(member(model, m), own, member(state, m), member(outputs, m), member(scratch, m),
                               samples[motion[m]], n_steps)
     if code != STATUS_OK or state.counters[m, STEP] >= own.integer[LAST_STEP]:
         status[m, 0] = code
@@ -53,7 +57,6 @@ def advance_member(m, model, settings, state, outputs, scratch, samples, motion,
         status[m, 2] = j
 
 
-@cuda.jit
 def advance_members(model, settings, state, outputs, scratch, samples, motion, n_steps, status):
     """The GPU kernel: thread m takes member m through the chunk (:func:`advance_member`)."""
     m = cuda.grid(1)
@@ -61,8 +64,21 @@ def advance_members(model, settings, state, outputs, scratch, samples, motion, n
         advance_member(m, model, settings, state, outputs, scratch, samples, motion, n_steps, status)
 
 
-@nb.njit
 def advance_members_serial(model, settings, state, outputs, scratch, samples, motion, n_steps, status):
     """The same chunk for every member in turn on one CPU thread: the GPU kernel's code at the CPU's speed."""
     for m in range(status.shape[0]):
         advance_member(m, model, settings, state, outputs, scratch, samples, motion, n_steps, status)
+
+
+def _builds(integrator: int) -> tuple:
+    """``(kernel, serial)`` for the members of one integrator (settings EXPLICIT or MOREAU)."""
+    name = INTEGRATORS[integrator]
+    driver = nb.njit(cache=True, nogil=True, _nrt=False)(
+        variant(drive, f"drive_{name}_{ENGINE_DIGEST}", BUILT_FOR=integrator))
+    one = nb.njit(variant(advance_member, f"advance_member_{name}", drive_member=driver))
+    return (cuda.jit(variant(advance_members, f"advance_members_{name}", advance_member=one)),
+            nb.njit(variant(advance_members_serial, f"advance_members_serial_{name}", advance_member=one)))
+
+
+#: per integrator (settings EXPLICIT, MOREAU): the CUDA kernel, and the same code for one CPU thread
+KERNELS, SERIAL = (tuple(built) for built in zip(*(_builds(k) for k in range(len(INTEGRATORS)))))

@@ -1,0 +1,309 @@
+"""The GPU path measured on the machine it runs on: the device check, one table, within a time budget.
+
+    python -m comparisons gpu-check [--budget 450] [--out DIR]
+
+Run it first on a machine with an NVIDIA GPU (``.ci/gpu-check`` installs the carried wheels and runs it).  Its
+sections, each printing its lines as it ends, and each stopped where the budget's end comes first (the table says
+which were cut):
+
+1. device: the GPU, its compute capability, the driver, the versions of numpy, numba and numba-cuda, and each
+   integrator's kernel as compiled for this GPU (registers and local memory per thread).
+2. agreement: ``--sample`` members of the 1 x 6 m block and of the 8-drum column under El Centro, scaled evenly from
+   1.2 to 3 times g tan(alpha), for each integrator, on the GPU and on the CPU's threads.  A member whose CPU run
+   moves by less than 1e-10 when its scale moves by 1e-12 is not chaotic, and its GPU peak must be within 1e-9 of
+   the CPU's; the medians of the peak theta/alpha over the members must lie within each other's 90% bootstrap
+   intervals (members drawn again).
+3. throughput: the block (``--block-members``, 65,536) and the column (``--column-members``, 4,096) under
+   ``--duration`` s of El Centro, each integrator at its automatic step: the kernels' member-steps per second, the
+   members' set-up and the whole batch's time, beside the CPU's threads on ``--cpu-members`` of the same members
+   (GPU / CPU: their member-steps per second, the break-even that ``simulate_batch(device="auto")`` rests on).
+4. fragility: the committed study (examples/studies/fragility.py: the bundled default column, the four bundled
+   records x 256 stripes, Moreau-Jean) on the GPU: its time and its overturning median.
+5. fine scan: the first overturn of each of record_overturning's 28 systems (examples/studies/record_overturning.py:
+   columns of 1 to 3 drums and colonnades of 1, 2, 3 and 5 drums under the four records), every 0.02 m/s^2 from
+   its lowest PGA to its cap, one GPU batch a system: the time, and ``fine_scan.csv`` in ``--out``.
+
+The issue's marks (H100 or H200): the block by central differences at least 1e10 member-steps/s; the column's 4,096
+members by Moreau-Jean in at most 10 s; the fragility study in at most 60 s; the fine scan in at most 10 minutes.
+"""
+
+import argparse
+import importlib
+import sys
+import time
+import traceback
+from importlib import metadata
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+
+import dem_core
+from dem_core import excitation, scenes
+from dem_core.batch import BatchInterrupted, simulate_batch
+from dem_core.batch_gpu import gpu_available, run_members
+from dem_core.engine.settings import INTEGRATORS
+from dem_core.inputs.records import G_STANDARD
+from dem_core.engine.state import STEP
+from dem_core.simulation import Simulation, set_up_scene
+
+STUDIES = Path(__file__).resolve().parents[2] / "examples" / "studies"
+RECORD = "el_centro_1940"
+#: scene name -> (builder, tan(alpha), the alpha its theta is divided by)
+SCENES = {"block": (lambda: scenes.block(1.0, 6.0), 1.0 / 6.0), "column": (lambda: scenes.column(), 1.0 / 6.0)}
+LOWEST, HIGHEST = 1.2, 3.0
+#: a member is not chaotic when its CPU peak moves less than this (relative) as its scale moves by NUDGE
+STEADY, NUDGE, AGREEMENT = 1e-10, 1e-12, 1e-9
+#: s of every run under --smoke (the record's whole length otherwise, where a study runs it)
+SMOKE_DURATION = 0.05
+#: the issue's marks
+MARKS = {"block explicit member-steps/s": 1e10, "column moreau batch s": 10.0, "fragility s": 60.0,
+         "fine scan s": 600.0}
+
+
+def arguments(parser: argparse.ArgumentParser) -> None:
+    """The options of its subcommand of ``python -m comparisons``."""
+    parser.add_argument("--budget", type=float, default=450.0, help="s for every section together (default 450)")
+    parser.add_argument("--out", default=".", help="folder for fine_scan.csv and gpu_check.csv (default: here)")
+    parser.add_argument("--sample", type=int, default=64, help="members of each agreement check (default 64)")
+    parser.add_argument("--block-members", type=int, default=65536)
+    parser.add_argument("--column-members", type=int, default=4096)
+    parser.add_argument("--cpu-members", type=int, default=64, help="members of the CPU's throughput (default 64)")
+    parser.add_argument("--duration", type=float, default=20.0, help="s of El Centro (default 20)")
+    parser.add_argument("--stripes", type=int, default=None, help="the fragility study's stripes (default its own)")
+    parser.add_argument("--systems", type=int, default=None, help="the fine scan's first N systems (default all)")
+    parser.add_argument("--fine-step", type=float, default=None, help="m/s^2 (default the study's 0.02)")
+    parser.add_argument("--smoke", action="store_true",
+                        help="two members a case, 0.05 s each: the check itself tested under numba's CUDA simulator")
+    parser.add_argument("--sections", nargs="+", default=["device", "agreement", "throughput", "fragility", "fine"],
+                        choices=["device", "agreement", "throughput", "fragility", "fine"])
+
+
+class OverBudget(KeyboardInterrupt):
+    """Raised from a batch's progress when the check's budget is spent: the batch stops as Ctrl-C stops it."""
+
+
+class Clock:
+    """The check's budget: ``left()`` s, and ``progress`` for a batch, which stops it at the budget's end."""
+
+    def __init__(self, budget: float):
+        self.end = time.perf_counter() + budget
+
+    def left(self) -> float:
+        return self.end - time.perf_counter()
+
+    def progress(self, done: int, total: int) -> None:
+        if self.left() <= 0:
+            raise OverBudget
+
+
+def motions(tan_alpha: float, members: int, nudge: float = 0.0) -> list:
+    """El Centro at ``members`` amplitudes from LOWEST to HIGHEST g tan(alpha), each scale times (1 + nudge)."""
+    record = excitation.record(RECORD)
+    amplitudes = np.linspace(LOWEST, HIGHEST, members) if members > 1 else np.array([LOWEST])
+    factor = G_STANDARD * tan_alpha / record.horizontal.peak_acceleration * (1.0 + nudge)
+    return [excitation.scaled(record, a * factor) for a in amplitudes]
+
+
+def _line(section: str, item: str, value: str, mark: str = "") -> None:
+    print(f"| {section:10s} | {item:50s} | {value:44s} | {mark:16s} |", flush=True)
+
+
+def _marked(name: str, value: float, higher_is_better: bool = False) -> str:
+    target = MARKS[name]
+    met = value >= target if higher_is_better else value <= target
+    return f"{'met' if met else 'NOT met'} ({target:g})"
+
+
+def device_section(args, clock: Clock) -> None:
+    from numba import cuda
+
+    from dem_core.engine._members import KERNELS
+
+    _line("device", "GPU", gpu_available() or "none found by numba-cuda")
+    for name in ("numpy", "numba", "numba-cuda"):
+        _line("device", name, _version(name))
+    if not cuda.is_available():
+        return
+    device = cuda.get_current_device()
+    _line("device", "compute capability", ".".join(str(c) for c in device.compute_capability))
+    try:
+        driver = cuda.cudadrv.driver.driver.get_version()
+        _line("device", "CUDA driver", ".".join(str(v) for v in driver))
+    except Exception as error:  # noqa: BLE001 (the simulator has no driver)
+        _line("device", "CUDA driver", type(error).__name__)
+    for name, kernel in zip(INTEGRATORS, KERNELS):
+        simulate_batch(scenes.block(1.0, 6.0), motions(1.0 / 6.0, 1), 0.01, device="gpu", integrator=name)
+        try:
+            registers, local = kernel.get_regs_per_thread(), kernel.get_local_mem_per_thread()
+            _line("device", f"{name} kernel, per thread", f"{registers} registers, {local} B local memory")
+        except Exception as error:  # noqa: BLE001 (the simulator compiles nothing)
+            _line("device", f"{name} kernel, per thread", type(error).__name__)
+
+
+def _version(name: str) -> str:
+    try:
+        return metadata.version(name)
+    except metadata.PackageNotFoundError:
+        return "-"
+
+
+def _peaks(batch, alpha: float) -> np.ndarray:
+    return batch.table["max_peak_abs_theta_rad"].to_numpy(float) / alpha
+
+
+def _median_interval(values: np.ndarray, rng, samples: int = 2000) -> tuple:
+    drawn = rng.choice(values, size=(samples, len(values)), replace=True)
+    medians = np.median(drawn, axis=1)
+    return float(np.median(values)), float(np.quantile(medians, 0.05)), float(np.quantile(medians, 0.95))
+
+
+def agreement_section(args, clock: Clock) -> None:
+    rng = np.random.default_rng(0)
+    for name, (build, tan_alpha) in SCENES.items():
+        alpha = float(np.arctan(tan_alpha))
+        for integrator in INTEGRATORS:
+            options = {"integrator": integrator, "stop_at_overturn": True}
+            members = motions(tan_alpha, args.sample)
+            gpu = simulate_batch(build(), members, args.duration, device="gpu", progress=clock.progress, **options)
+            cpu = simulate_batch(build(), members, args.duration, device="cpu", progress=clock.progress, **options)
+            nudged = simulate_batch(build(), motions(tan_alpha, args.sample, NUDGE), args.duration, device="cpu",
+                                    progress=clock.progress, **options)
+            on_gpu, on_cpu, moved = _peaks(gpu, alpha), _peaks(cpu, alpha), _peaks(nudged, alpha)
+            steady = np.abs(moved - on_cpu) <= STEADY * np.abs(on_cpu)
+            within = int(np.sum(np.abs(on_gpu - on_cpu)[steady] <= AGREEMENT * np.abs(on_cpu)[steady]))
+            g, c = _median_interval(on_gpu, rng), _median_interval(on_cpu, rng)
+            overlap = g[1] <= c[0] <= g[2] and c[1] <= g[0] <= c[2]
+            _line("agreement", f"{name}, {integrator}: steady members within 1e-9",
+                  f"{within} of {int(steady.sum())} (of {len(on_cpu)})",
+                  "met" if within == int(steady.sum()) else "NOT met")
+            _line("agreement", f"{name}, {integrator}: median theta/alpha GPU, CPU",
+                  f"{g[0]:.4f} ({g[1]:.4f}-{g[2]:.4f}), {c[0]:.4f}", "met" if overlap else "NOT met")
+
+
+def throughput_section(args, clock: Clock) -> list:
+    rows = []
+    for name, (build, tan_alpha) in SCENES.items():
+        members = args.block_members if name == "block" else args.column_members
+        for integrator in INTEGRATORS:
+            if clock.left() <= 0:
+                _line("throughput", f"{name}, {integrator}", "not run: the budget is spent")
+                continue
+            scene = build()
+            began = time.perf_counter()
+            shared = set_up_scene(scene, integrator=integrator)
+            runs = [Simulation(scene, motion, args.duration, scene_set_up=shared, integrator=integrator)
+                    for motion in motions(tan_alpha, members)]
+            set_up = time.perf_counter() - began
+            cut = ""
+            try:
+                kernel = run_members(runs, progress=clock.progress)
+            except OverBudget:
+                kernel, cut = time.perf_counter() - began - set_up, " (cut at the budget)"
+            steps = sum(int(run.state.counters[STEP]) for run in runs)
+            rate = steps / kernel
+            cpu = simulate_batch(scene, motions(tan_alpha, args.cpu_members), args.duration, device="cpu",
+                                 integrator=integrator)
+            cpu_rate = cpu.table["steps"].sum() / cpu.wall_time_s
+            mark = ""
+            if name == "block" and integrator == "explicit":
+                mark = _marked("block explicit member-steps/s", rate, higher_is_better=True)
+            if name == "column" and integrator == "moreau":
+                mark = _marked("column moreau batch s", set_up + kernel)
+            _line("throughput", f"{name}, {integrator}, M={members}: member-steps/s",
+                  f"{rate:.3g}{cut}", mark)
+            _line("throughput", f"{name}, {integrator}: set-up s, kernel s; GPU/CPU",
+                  f"{set_up:.1f}, {kernel:.1f}; {rate / cpu_rate:.2f} of {cpu.device}")
+            rows.append({"scene": name, "integrator": integrator, "members": members, "member_steps": steps,
+                         "set_up_s": set_up, "kernel_s": kernel, "cut": bool(cut), "cpu_member_steps_per_s": cpu_rate})
+    return rows
+
+
+def _study(name: str):
+    if str(STUDIES) not in sys.path:
+        sys.path.insert(0, str(STUDIES))
+    return importlib.import_module(name)
+
+
+def fragility_section(args, clock: Clock) -> None:
+    from dem_core.analyses.fragility_study import fragility_study, stripes
+    from dem_core.cli import default_scene_path
+    from dem_core.inputs.records import BUNDLED
+    from dem_core.inputs.scene_file import load
+
+    study = _study("fragility")
+    records = {name: excitation.record(name) for name in BUNDLED}
+    levels = stripes(args.stripes or study.LEVELS, G_STANDARD)
+    began = time.perf_counter()
+    try:
+        done = fragility_study(load(default_scene_path()).scene, records, levels, study.STATES, device="gpu",
+                               duration=SMOKE_DURATION if args.smoke else None, progress=clock.progress,
+                               **study.OPTIONS)
+    except BatchInterrupted:
+        _line("fragility", f"{len(records) * len(levels)} runs", "cut at the budget's end", "NOT met")
+        return
+    took = time.perf_counter() - began
+    _line("fragility", f"{len(done.runs)} runs ({done.device[:30]})", f"{took:.1f} s", _marked("fragility s", took))
+    _line("fragility", "overturning median, m/s^2 (90% band)", study.median_text(done.fits[1.0]))
+
+
+def fine_section(args, clock: Clock) -> None:
+    study = _study("record_overturning")
+    step = args.fine_step or study.FINE_STEP
+    systems = [(record, kind, n, scene) for record in dem_core.records.BUNDLED
+               for kind, n, scene in study.study_scenes()][:args.systems]
+    rows, began = [], time.perf_counter()
+    for record, kind, n, scene in systems:
+        pgas = np.arange(study.LOW, study.CAP[record] + step / 2, step)
+        motion_at = study.motion(record, study.COMPONENT.get(record))
+        try:
+            batch = simulate_batch(scene, [motion_at(p) for p in pgas], SMOKE_DURATION if args.smoke else None,
+                                   device="gpu", output_dt=0.05,
+                                   progress=clock.progress)
+        except BatchInterrupted:
+            break
+        table = batch.table
+        overturned = table["overturned"].to_numpy(bool) & (table["status"] == "ok").to_numpy()
+        rows.append({"kind": kind, "n_drums": n, "record": record, "runs": len(pgas),
+                     "unstable": int((table["status"] != "ok").sum()),
+                     "first_overturn_pga": float(pgas[overturned][0]) if overturned.any() else np.nan,
+                     "wall_time_s": batch.wall_time_s})
+    took = time.perf_counter() - began
+    out = Path(args.out) / "fine_scan.csv"
+    pd.DataFrame(rows).to_csv(out, index=False)
+    finished = f"{len(rows)} of {len(systems)} systems"
+    _line("fine scan", f"{finished}, {sum(r['runs'] for r in rows)} runs, {step:g} m/s^2",
+          f"{took:.1f} s", _marked("fine scan s", took) if len(rows) == len(systems) else "NOT met (cut)")
+    _line("fine scan", "first overturns", f"in {out}")
+
+
+SECTIONS = {"device": device_section, "agreement": agreement_section, "throughput": throughput_section,
+            "fragility": fragility_section, "fine": fine_section}
+
+
+def run(args: argparse.Namespace) -> None:
+    """Run with the options of :func:`arguments` and print the table."""
+    if not gpu_available():
+        raise SystemExit("gpu-check: numba-cuda finds no GPU here (nothing to check; tests/test_cuda_build.py builds "
+                         "the kernels for sm_90 without one)")
+    if args.smoke:
+        args.sample = args.block_members = args.column_members = args.cpu_members = args.stripes = 2
+        args.duration, args.systems, args.fine_step = SMOKE_DURATION, 1, 1.0
+    Path(args.out).mkdir(parents=True, exist_ok=True)
+    clock = Clock(args.budget)
+    print(f"gpu-check, budget {args.budget:g} s, {args.duration:g} s of {RECORD}", flush=True)
+    _line("section", "item", "value", "issue's mark")
+    for name in args.sections:
+        began = time.perf_counter()
+        try:
+            rows = SECTIONS[name](args, clock)
+        except (OverBudget, BatchInterrupted):
+            _line(name, "cut at the budget's end", "")
+            continue
+        except Exception as error:  # noqa: BLE001 (one section's failure leaves the others' lines)
+            traceback.print_exc()
+            _line(name, "FAILED (its traceback above)", f"{type(error).__name__}: {error}"[:44])
+            continue
+        if rows:
+            pd.DataFrame(rows).to_csv(Path(args.out) / f"gpu_check_{name}.csv", index=False)
+        _line(name, "section's wall time", f"{time.perf_counter() - began:.1f} s")
