@@ -340,7 +340,8 @@ RUNNING_COMMANDS = {
     "threshold": ["threshold", "{scene}", "--parameter", "amplitude", "--low", "1", "--high", "2"],
     "ramp": ["ramp", "{scene}"],
     "sweep": ["sweep", "{sweep}", "--out", "{out}"],
-    "fragility": ["fragility", "{scene}", "--out", "{out}", "--levels", "2", "--records", "el_centro_1940"],
+    "fragility": ["fragility", "{scene}", "--out", "{out}", "--levels", "2", "--records", "el_centro_1940",
+                  "--duration", "27"],  # the scene file's 4 s would cut the record's strong motion: refused
 }
 
 

@@ -31,7 +31,7 @@ def _scene(tmp_path):
 def test_fragility_writes_fits_counts_runs_figure_and_settings(tmp_path, capsys):
     out = tmp_path / "fragility"
     status = main(["fragility", _scene(tmp_path), "--records", "el_centro_1940", "kalamata_1986", "--levels", "3",
-                   "--max", "9", "--states", "0.2", "1.0", "--duration", "3", "--out", str(out)])
+                   "--max", "9", "--states", "0.2", "1.0", "--duration", "27", "--out", str(out)])
     printed = capsys.readouterr().out
     assert status == 0
     assert "2 record(s) x 3 PGA levels from 3 to 9 m/s^2 (6 runs), integrator moreau" in printed
@@ -48,7 +48,7 @@ def test_fragility_writes_fits_counts_runs_figure_and_settings(tmp_path, capsys)
         hit = overturned if state >= 1 else overturned | (runs["damage_ratio"] >= state)
         assert fits.loc[fits["state"] == state, "exceeded"].item() == hit.sum()
     facts = json.loads((out / "study.json").read_text())
-    assert facts["runs"] == 6 and facts["simulation"]["integrator"] == "moreau" and facts["duration_s"] == 3.0
+    assert facts["runs"] == 6 and facts["simulation"]["integrator"] == "moreau" and facts["duration_s"] == 27.0
     assert (out / "fragility.png").stat().st_size > 0
 
 
@@ -83,3 +83,15 @@ def test_the_gpu_is_refused_before_anything_runs(tmp_path, capsys):
     assert main(["fragility", _scene(tmp_path), "--device", "gpu", "--out", str(tmp_path / "out")]) == 2
     captured = capsys.readouterr()
     assert captured.out == "" and captured.err.startswith("error: --device:") and "CUDA" in captured.err
+
+
+def test_a_duration_that_cuts_a_records_strong_motion_is_refused_naming_it(tmp_path, capsys):
+    """Mexico City's strong motion (5-95% of its Arias intensity) lasts from 40 to 77 s: 25 s of it would count
+    every stripe as standing."""
+    out = tmp_path / "out"
+    assert main(["fragility", _scene(tmp_path), "--records", "kalamata_1986", "mexico_city_1985", "--duration", "25",
+                 "--out", str(out)]) == 2
+    captured = capsys.readouterr()
+    assert captured.out == "" and not out.exists()
+    assert captured.err.startswith("error: --duration: 25 s of mexico_city_1985 stop before the end of its strong "
+                                   "motion (39.7 to 76.5 s")

@@ -56,6 +56,13 @@ def test_the_study_counts_each_stripes_runs_as_the_runs_themselves_say():
     study = fragility_study(scenes.block(0.6, 3.0), records, stripes(5, 10.0), (0.5, 1.0), duration=2.0,
                             integrator="moreau", samples=50)
     assert len(study.runs) == 10 and (study.runs["status"] == "ok").all()
+    assert study.described() == "2 records (pulse, long pulse) x 5 stripes; 2 s of each record; moreau, dt 0.001 s"
+    measures = study.intensity_measures().set_index("measure")
+    assert list(measures.index) == ["PGA (m/s^2)", "PGV (m/s)", "Sa(0.5 s) (m/s^2)", "Sa(1 s) (m/s^2)",
+                                    "Sa(2 s) (m/s^2)"]
+    # every run's PGA is its stripe's level: the fit to the runs is the fit to the stripes
+    assert measures.loc["PGA (m/s^2)", "beta"] == pytest.approx(study.fits[1.0].beta, rel=1e-5)
+    assert measures.loc["PGA (m/s^2)", "median_1"] == pytest.approx(study.fits[1.0].median, rel=1e-5)
     overturned = {(row.record, row.level): bool(row.overturned) for row in study.runs.itertuples()}
     expected = [sum(overturned[(name, level)] for name in records) for level in (2.0, 4.0, 6.0, 8.0, 10.0)]
     assert study.fits[1.0].exceed.tolist() == expected and study.fits[1.0].runs.tolist() == [2] * 5

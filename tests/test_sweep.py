@@ -372,3 +372,16 @@ def test_killing_the_sweep_ends_its_workers(tmp_path):
                 os.kill(pid, signal.SIGKILL)
             except ProcessLookupError:
                 pass
+
+
+def block_under_el_centro(params):
+    """A point that runs the first ``duration`` s of El Centro, whose strong motion ends at 26.3 s."""
+    return RunSpec(scenes.block(0.5, 2.0), excitation.record("el_centro_1940", pga=params["pga"]),
+                   {"duration": params["duration"], "output_dt": 0.05})
+
+
+def test_a_sweep_that_cuts_a_records_strong_motion_says_so_once_naming_it(tmp_path):
+    cut = Sweep(block_under_el_centro, {"pga": [0.5, 1.0], "duration": [0.2]})
+    with pytest.warns(RuntimeWarning, match="the strong motion is cut: 0.2 s of el_centro_1940 stop") as said:
+        run_sweep(cut, tmp_path / "out", workers=1, progress=False)
+    assert sum("strong motion" in str(w.message) for w in said) == 1

@@ -43,7 +43,8 @@ class Fragility:
     (no run or every run exceeds); beta : lognormal dispersion; levels, runs, exceed : (L,) the stripes'
     intensities, runs and exceedances; samples : (S, 2) the bootstrap's fits (median, beta), whose BAND_LEVEL
     central intervals are ``median_band`` and ``beta_band``; note : why a fit is missing or degenerate, else
-    empty."""
+    empty; resampled : what the bootstrap drew again, each stripe's ``"runs"`` or the suite's ``"records"``
+    (:mod:`.nested_fragility`)."""
 
     median: float
     beta: float
@@ -52,6 +53,7 @@ class Fragility:
     exceed: np.ndarray
     samples: np.ndarray
     note: str = ""
+    resampled: str = "runs"
 
     @property
     def median_band(self) -> tuple[float, float]:
@@ -174,17 +176,25 @@ def fit_fragility(levels, runs, exceed, samples: int = BOOTSTRAP_SAMPLES, seed: 
     return Fragility(median, beta, levels, runs, exceed, np.array(found).reshape(-1, 2), note)
 
 
-def fragility_figure(fits: dict, intensity: str = "PGA (m/s$^2$)", title: str = "Fragility"):
+#: what the bootstrap drew again, in a figure's words
+RESAMPLED_WORDS = {"runs": "each stripe's runs drawn again", "records": "the suite's records drawn again"}
+
+
+def fragility_figure(fits: dict, intensity: str = "PGA (m/s$^2$)", title: str = "Fragility",
+                     median_text=lambda median: f"{median:.3g}"):
     """Figure of the probability of exceedance against the intensity measure: per damage state (``fits``:
     {label: :class:`Fragility`}) the fitted lognormal as a line, its bootstrap band shaded, and the stripes'
-    observed fractions as points; a state without a fit shows its points and its note in the legend."""
+    observed fractions as points; a state without a fit shows its points and its note in the legend, and the
+    legend says what the bands and the points are.  median_text : a median in words (its units)."""
     import matplotlib
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
+    from matplotlib.patches import Patch
 
-    fig, ax = plt.subplots(figsize=(6.5, 4.2))
+    fig, ax = plt.subplots(figsize=(7.5, 4.8))
     colours = plt.get_cmap("viridis")(np.linspace(0.0, 0.85, max(len(fits), 1)))
+    resampled = {fit.resampled for fit in fits.values() if fit.samples.size}
     for colour, (label, fit) in zip(colours, fits.items()):
         used = fit.runs > 0
         ax.plot(fit.levels[used], fit.exceed[used] / fit.runs[used], "o", color=colour, markersize=3.5, alpha=0.7)
@@ -192,12 +202,18 @@ def fragility_figure(fits: dict, intensity: str = "PGA (m/s$^2$)", title: str = 
             ax.plot([], [], "o", color=colour, label=f"{label}: {fit.note}")
             continue
         x = np.geomspace(fit.levels[used].min(), fit.levels[used].max(), 200)
-        low, high = fit.probability_band(x)
-        ax.fill_between(x, low, high, color=colour, alpha=0.2, linewidth=0)
+        if fit.samples.size:
+            low, high = fit.probability_band(x)
+            ax.fill_between(x, low, high, color=colour, alpha=0.2, linewidth=0)
         ax.plot(x, fit.probability(x), color=colour,
-                label=f"{label}: median {fit.median:.3g}, beta {fit.beta:.2f}")
-    ax.set(xlabel=intensity, ylabel="probability of exceedance", ylim=(-0.02, 1.02), title=title)
+                label=f"{label}: median {median_text(fit.median)}, beta {fit.beta:.2f}")
+    ax.plot([], [], "o", color="grey", markersize=3.5, label="points: the fraction of a stripe's runs exceeding")
+    handles, _ = ax.get_legend_handles_labels()
+    handles += [Patch(color="grey", alpha=0.2, label=f"shaded: {BAND_LEVEL:.0%} bootstrap band, {RESAMPLED_WORDS[kind]}")
+                for kind in sorted(resampled)]
+    ax.set(xlabel=intensity, ylabel="probability of exceedance", ylim=(-0.02, 1.02))
+    ax.set_title(title, fontsize=9)
     ax.grid(True, alpha=0.3)
-    ax.legend(fontsize=7, loc="best")
+    ax.legend(handles=handles, fontsize=7, loc="lower right")
     fig.tight_layout()
     return fig

@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import json
 import math
+import textwrap
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -22,14 +23,20 @@ from ..batch import simulate_batch
 from ..inputs.excitation import GroundMotion, scaled
 from ..inputs.records import G_STANDARD
 from ..output_files import replacing
+from ..simulation import integrator_for, warn_caller
 from .damage import critical_angles
-from .fragility import fit_fragility, fragility_figure
+from .fragility import fragility_figure
+from .nested_fragility import ADVISED_RECORDS, fit_nested, fit_states, ida_estimate
+from .spectra import response_spectrum
 
 #: the intensity measures: name -> (label, unit)
 INTENSITY_MEASURES = {"pga": ("PGA", "m/s^2"), "pgv": ("PGV", "m/s")}
 #: the highest stripe when none is given: 1 g of PGA, 1 m/s of PGV
 DEFAULT_TOP = {"pga": G_STANDARD, "pgv": 1.0}
 DEFAULT_STATES = (0.1, 0.3, 0.5, 1.0)
+#: s: the periods of the spectral accelerations a study compares with PGA and PGV (a rocking column has no natural
+#: period of its own, so the measure is compared at a few)
+DEFAULT_PERIODS = (0.5, 1.0, 2.0)
 #: s: the ground velocity is sampled this finely (or finer, for a motion that changes faster) to find its peak
 VELOCITY_SAMPLING = 1e-3
 
@@ -43,8 +50,11 @@ class FragilityStudy:
     fits : {state: :class:`~dem_core.analyses.fragility.Fragility`}.
     im : the intensity measure's name (a key of :data:`INTENSITY_MEASURES`).
     device, wall_time_s : where the batch ran and how long the study took, s.
-    settings : the records' names, the number of levels, the states, the measure, the duration and the
-        options of :func:`~dem_core.simulate` the study ran with (written into ``study.json``).
+    settings : the records' names, the number of levels, the states, the measure, the duration, the integrator
+        and the options of :func:`~dem_core.simulate` the study ran with (written into ``study.json``).
+    ida : {state: (median, beta, records that reached it)}, the IDA-style estimate
+        (:func:`~dem_core.analyses.nested_fragility.ida_estimate`).
+    intensities : {record: {measure: value at unit scale}} (:func:`record_intensities`).
     """
 
     runs: pd.DataFrame
@@ -53,16 +63,23 @@ class FragilityStudy:
     device: str = ""
     wall_time_s: float = float("nan")
     settings: dict = field(default_factory=dict)
+    ida: dict = field(default_factory=dict)
+    intensities: dict = field(default_factory=dict)
 
     def table(self) -> pd.DataFrame:
-        """One row per damage state: ``state``, ``median`` and ``beta`` with their bootstrap bands
-        (``median_low`` .. ``beta_high``), ``runs``, ``exceeded`` and ``note``."""
+        """One row per damage state: ``state``, ``median`` and ``beta`` (the states fitted together, one common
+        beta) with their bootstrap bands (``median_low`` .. ``beta_high``) and what the bootstrap drew again
+        (``resampled``), ``records``, ``runs``, ``exceeded``, the IDA-style ``ida_median``, ``ida_beta`` and
+        ``ida_records`` (the records that reached the state), and ``note``."""
         rows = []
         for state, fit in self.fits.items():
             (m_low, m_high), (b_low, b_high) = fit.median_band, fit.beta_band
+            ida_median, ida_beta, ida_records = self.ida.get(state, (np.nan, np.nan, 0))
             rows.append({"state": state, "median": fit.median, "median_low": m_low, "median_high": m_high,
-                         "beta": fit.beta, "beta_low": b_low, "beta_high": b_high, "runs": int(fit.runs.sum()),
-                         "exceeded": int(fit.exceed.sum()), "note": fit.note})
+                         "beta": fit.beta, "beta_low": b_low, "beta_high": b_high, "resampled": fit.resampled,
+                         "records": self.runs["record"].nunique(), "runs": int(fit.runs.sum()),
+                         "exceeded": int(fit.exceed.sum()), "ida_median": ida_median, "ida_beta": ida_beta,
+                         "ida_records": ida_records, "note": fit.note})
         return pd.DataFrame(rows)
 
     def counts(self) -> pd.DataFrame:
@@ -74,11 +91,57 @@ class FragilityStudy:
                              for state, fit in self.fits.items()
                              for level, n, z in zip(fit.levels, fit.runs, fit.exceed)])
 
+    def intensity_measures(self) -> pd.DataFrame:
+        """Which intensity measure predicts the damage best: one row per measure of :attr:`intensities`, the
+        states fitted together (:func:`~.nested_fragility.fit_nested`) to every finished run at its own value of
+        the measure (its record's value times its scale), with ``beta``, the common dispersion (the smaller, the
+        more efficient the measure, Luco and Cornell 2007), and ``median_<state>``; ``runs`` and ``note``."""
+        if not self.intensities:
+            return pd.DataFrame()
+        runs = self.runs[self.runs["status"] == "ok"]
+        states = list(self.fits)
+        outcomes = np.column_stack([exceeds(runs["damage_ratio"].to_numpy(), runs["overturned"], state)
+                                    for state in states]).astype(np.int64)
+        placed = [k for k in range(len(states)) if 0 < outcomes[:, k].sum() < len(runs)]
+        rows = []
+        for measure in next(iter(self.intensities.values())):
+            value = runs["scale"].to_numpy() * runs["record"].map(
+                {name: found[measure] for name, found in self.intensities.items()}).to_numpy(float)
+            row = {"measure": measure, "runs": len(runs)}
+            medians, beta, note = (fit_nested(value, np.ones((len(runs), len(placed)), np.int64),
+                                              outcomes[:, placed]) if placed else ([], np.nan, "no state placed"))
+            row["beta"] = beta
+            for k, state in enumerate(states):
+                row[f"median_{state:g}"] = medians[placed.index(k)] if k in placed else np.nan
+            rows.append({**row, "note": note})
+        return pd.DataFrame(rows)
+
     def figure(self, title: str = ""):
+        """The fits' figure (:func:`~.fragility.fragility_figure`), titled ``title`` over a line that names the
+        suite, the duration, the integrator and the step."""
         label, unit = INTENSITY_MEASURES[self.im]
         fits = {state_label(state): fit for state, fit in self.fits.items()}
         return fragility_figure(fits, intensity=f"{label} ({unit.replace('^2', '$^2$')})",
-                                title=title or "Fragility")
+                                title="\n".join([title or "Fragility", *textwrap.wrap(self.described(), 100)]),
+                                median_text=self.median_text)
+
+    def median_text(self, median: float) -> str:
+        """A median in its measure's unit, and for PGA in g."""
+        unit = INTENSITY_MEASURES[self.im][1]
+        in_g = f" ({median / G_STANDARD:.3g} g)" if self.im == "pga" else ""
+        return f"{median:.3g} {unit.replace('^2', '$^2$')}{in_g}"
+
+    def described(self) -> str:
+        """The suite, the duration, the integrator and the step in a line."""
+        names = list(dict.fromkeys(self.runs["record"]))
+        suite = ", ".join(names) if len(names) <= 4 else f"{', '.join(names[:3])} and {len(names) - 3} more"
+        duration = self.settings.get("duration")
+        steps = sorted(set(np.round(self.runs["dt_s"].dropna(), 12))) if "dt_s" in self.runs else []
+        step = (f"dt {steps[0]:.3g} s" if len(steps) == 1 else
+                f"dt {steps[0]:.3g} to {steps[-1]:.3g} s" if steps else "dt unknown")
+        return (f"{len(names)} records ({suite}) x {self.settings.get('levels', '?')} stripes; "
+                f"{'each record whole' if duration is None else f'{duration:g} s of each record'}; "
+                f"{self.settings.get('integrator', '?')}, {step}")
 
 
 def state_label(state: float) -> str:
@@ -134,18 +197,25 @@ def stripes(count: int, top: float) -> np.ndarray:
 
 def fragility_study(scene, records: dict, levels, states=DEFAULT_STATES, *, im: str = "pga",
                     duration: float | None = None, device: str = "auto", threads: int | None = None,
-                    progress=None, samples: int | None = None, **simulate_options) -> FragilityStudy:
+                    progress=None, samples: int | None = None, periods=DEFAULT_PERIODS,
+                    **simulate_options) -> FragilityStudy:
     """Run ``scene`` under every record of ``records`` ({name: :class:`GroundMotion`}) scaled to each intensity of
     ``levels`` (the measure ``im``), all as one :func:`~dem_core.batch.simulate_batch`, and fit one lognormal
     fragility per damage state of ``states`` (multiple-stripe analysis: each level's runs, one per record).
 
     A run that does not finish (unstable, refused) counts in no stripe and keeps its row, with its error.
+    ``periods`` (s): the periods of the spectral accelerations :meth:`FragilityStudy.intensity_measures` compares
+    with PGA and PGV.
     ``samples`` : the bootstrap's refits (default that of :func:`fit_fragility`).  ``simulate_options`` go to
     every run, as :func:`~dem_core.simulate` takes them.
     """
     _check_measure(im)
     if not records:
         raise ValueError("records is empty: a fragility needs at least one record")
+    if len(records) < ADVISED_RECORDS:
+        warn_caller(f"{len(records)} record(s): the fragility's record-to-record uncertainty is wide (with a "
+                    f"dispersion of 0.4, a median's standard error is 0.4/sqrt(n), {0.4 / math.sqrt(len(records)):.0%}"
+                    f" here); multiple-stripe analyses take {ADVISED_RECORDS} to 40 records")
     levels = np.asarray(levels, float)
     if levels.ndim != 1 or len(levels) < 2 or not np.all(np.isfinite(levels) & (levels > 0)):
         raise ValueError(f"levels must be at least 2 positive, finite intensities, got {levels}")
@@ -162,27 +232,49 @@ def fragility_study(scene, records: dict, levels, states=DEFAULT_STATES, *, im: 
     batch = simulate_batch(scene, motions, duration, device=device, threads=threads, progress=progress,
                            measures=lambda result: {"damage_ratio": damage_ratio(result)}, **simulate_options)
     runs = pd.concat([pd.DataFrame(plan, columns=["record", "level", "scale"]), batch.table], axis=1)
-    finished = runs["status"] == "ok"
-    fits = {}
-    for state in states:
-        hit = exceeds(runs["damage_ratio"].to_numpy(), runs["overturned"], state)
-        per_level = pd.DataFrame({"level": runs["level"], "run": finished, "hit": hit & finished})
-        grouped = per_level.groupby("level", sort=True).sum()
-        options = {} if samples is None else {"samples": samples}
-        fits[state] = fit_fragility(grouped.index.to_numpy(), grouped["run"].to_numpy(), grouped["hit"].to_numpy(),
-                                    **options)
+    outcomes = study_outcomes(runs, list(records), len(levels), states)
+    options = {} if samples is None else {"samples": samples}
+    fits = dict(zip(states, fit_states(levels, outcomes, **options)))
+    ida = {state: ida_estimate(levels, outcomes[:, :, k]) for k, state in enumerate(states)}
     return FragilityStudy(runs, fits, im, batch.device, batch.wall_time_s,
                           {"records": list(records), "levels": len(levels), "states": states, "im": im,
-                           "duration": duration, **simulate_options})
+                           "duration": duration, **simulate_options,
+                           "integrator": integrator_for(scene if not isinstance(scene, (list, tuple)) else scene[0],
+                                                        simulate_options.get("integrator"))},
+                          ida, {name: record_intensities(motion, periods) for name, motion in records.items()})
+
+
+def record_intensities(motion: GroundMotion, periods=DEFAULT_PERIODS) -> dict:
+    """{measure: value} of ``motion`` at unit scale: PGA (m/s^2), PGV (m/s) and the 5%-damped pseudo-spectral
+    acceleration Sa(T) (m/s^2) at each of ``periods`` (s) (:func:`~.spectra.response_spectrum`); every one of them
+    scales with the motion."""
+    found = {"PGA (m/s^2)": intensity(motion, "pga"), "PGV (m/s)": intensity(motion, "pgv")}
+    if len(periods):
+        spectrum = response_spectrum(motion, np.asarray(periods, float))
+        found.update({f"Sa({period:g} s) (m/s^2)": float(sa) for period, sa in zip(spectrum.periods, spectrum.psa)})
+    return found
+
+
+def study_outcomes(runs: pd.DataFrame, records: list, levels: int, states) -> np.ndarray:
+    """(R, L, K) per record, level and state of a study's ``runs`` (ordered level by level, the records in
+    ``records``' order within each): 1 exceeded, 0 not, nan where the run did not finish."""
+    finished = (runs["status"] == "ok").to_numpy()
+    outcomes = np.empty((len(records), levels, len(states)))
+    for k, state in enumerate(states):
+        hit = exceeds(runs["damage_ratio"].to_numpy(), runs["overturned"], state).astype(float)
+        hit[~finished] = np.nan
+        outcomes[:, :, k] = hit.reshape(levels, len(records)).T
+    return outcomes
 
 
 #: the files :func:`write_study` writes
-STUDY_FILES = ("fragility.csv", "counts.csv", "runs.csv", "study.json", "fragility.png")
+STUDY_FILES = ("fragility.csv", "counts.csv", "runs.csv", "intensity_measures.csv", "study.json", "fragility.png")
 
 
 def write_study(study: FragilityStudy, out, title: str, facts: dict | None = None) -> list:
     """Write ``study`` into the folder ``out``, each file whole or not at all: ``fragility.csv``
     (:meth:`FragilityStudy.table`), ``counts.csv`` (:meth:`FragilityStudy.counts`), ``runs.csv`` (the runs),
+    ``intensity_measures.csv`` (:meth:`FragilityStudy.intensity_measures`),
     ``study.json`` (``facts``, the study's settings, the machine, the wall time, the package's version and code
     digest) and ``fragility.png`` (the figure, titled ``title``); returns the files' names."""
     from .run_identity import code_digest, machine, package_version
@@ -194,6 +286,7 @@ def write_study(study: FragilityStudy, out, title: str, facts: dict | None = Non
     writers = {"fragility.csv": lambda tmp: study.table().to_csv(tmp, index=False),
                "counts.csv": lambda tmp: study.counts().to_csv(tmp, index=False),
                "runs.csv": lambda tmp: study.runs.to_csv(tmp, index=False),
+               "intensity_measures.csv": lambda tmp: study.intensity_measures().to_csv(tmp, index=False),
                "study.json": lambda tmp: tmp.write_text(json.dumps(described, indent=2, default=str)),
                "fragility.png": lambda tmp: _save_png(study.figure(title), tmp)}
     for name in STUDY_FILES:

@@ -10,7 +10,8 @@ from ..analyses.fragility_study import (DEFAULT_STATES, DEFAULT_TOP, INTENSITY_M
                                         state_label, stripes, write_study)
 from ..batch import DEVICES, check_device
 from ..inputs import records
-from ..inputs.excitation import record
+from ..inputs.records import G_STANDARD
+from ..inputs.excitation import cuts_strong_motion, record
 from ..output_files import output_folder
 from ..simulation import integrator_for
 from .arguments import DEFAULT_SCENE, LEVELS, POSITIVE, SECONDS, STATE, WORKERS, add_integrator, scene_and_settings
@@ -65,9 +66,14 @@ def run(args) -> int:
     suite = _record_suite(args)
     if suite is None:
         return 2
-    out = output_folder(args.out, "--out")
     duration = settings.pop("duration", None)
     settings.pop("output_dt", None)
+    cut = next((said for said in (cuts_strong_motion(motion, duration) for motion in suite.values()) if said), "")
+    if cut:
+        print(f"error: {'--duration' if args.duration is not None else 'the scene file duration'}: {cut}; a "
+              f"fragility of cut records would understate the damage", file=sys.stderr)
+        return 2
+    out = output_folder(args.out, "--out")
     label, unit = INTENSITY_MEASURES[args.im]
     levels = stripes(args.levels, args.max or DEFAULT_TOP[args.im])
     total = len(levels) * len(suite)
@@ -98,14 +104,23 @@ def run(args) -> int:
         print(f"  {row['record']} at {label} {row['level']:.4g} {unit}: {row['status']}: "
               f"{str(row['error']).splitlines()[0]}")
     table = study.table()
+    print(f"  the states fitted together (one beta, ordered medians); 90% bands drawn by record from "
+          f"{len(suite)} records")
     for _, row in table.iterrows():
         what = state_label(row["state"])
         if np.isfinite(row["median"]):
-            print(f"  {what}: median {row['median']:.3g} {unit} (90% {row['median_low']:.3g} to "
+            in_g = f" = {row['median'] / G_STANDARD:.3g} g" if args.im == "pga" else ""
+            ida = (f"; IDA-style {row['ida_median']:.3g} {unit} ({row['ida_records']} of {row['records']} records)"
+                   if np.isfinite(row["ida_median"]) else "")
+            print(f"  {what}: median {row['median']:.3g} {unit}{in_g} (90% {row['median_low']:.3g} to "
                   f"{row['median_high']:.3g}), beta {row['beta']:.2f} ({row['beta_low']:.2f} to {row['beta_high']:.2f})"
-                  f", {row['exceeded']} of {row['runs']} runs" + (f"; {row['note']}" if row["note"] else ""))
+                  f", {row['exceeded']} of {row['runs']} runs{ida}" + (f"; {row['note']}" if row["note"] else ""))
         else:
             print(f"  {what}: no fit: {row['note']}")
+    measures = study.intensity_measures()
+    if len(measures):
+        print("  dispersion by intensity measure (the smaller, the better it predicts the damage): " + ", ".join(
+            f"{row['measure'].split(' (')[0]} {row['beta']:.2f}" for _, row in measures.iterrows()))
     written = _write_fragility(out, study, path, settings, duration)
     print(f"wrote {', '.join(written)} in {out}")
     return 0

@@ -10,6 +10,7 @@ at ``A omega`` (the blocks then start at rest relative to the ground).
 """
 
 import math
+import re
 import numbers
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -317,6 +318,47 @@ class GroundMotion:
 
     def displacement(self, t):
         return self.horizontal.displacement(t), self.vertical.displacement(t)
+
+
+#: the strong motion of a record: the time between these fractions of its Arias intensity, the integral of the
+#: squared acceleration (the significant duration of Trifunac and Brady 1975, "A study on the duration of strong
+#: earthquake ground motion", BSSA 65(3))
+STRONG_MOTION = (0.05, 0.95)
+
+
+def strong_motion(component: Component) -> tuple[float, float] | None:
+    """``(start, end)`` s of a recorded component's strong motion (:data:`STRONG_MOTION` of its Arias intensity,
+    the same for any scale of it), or None for a motion that is not a record or has no shaking."""
+    while isinstance(component, Scaled):
+        component = component.component
+    if not isinstance(component, Sampled) or len(component.samples) < 2:
+        return None
+    squared = component.samples ** 2
+    arias = np.concatenate(([0.0], np.cumsum(0.5 * (squared[1:] + squared[:-1]))))
+    if arias[-1] <= 0.0:
+        return None
+    t = component.dt * np.arange(len(squared))
+    start, end = np.interp(STRONG_MOTION, arias / arias[-1], t)
+    return float(start), float(end)
+
+
+def record_name(motion: GroundMotion) -> str:
+    """The name of the record ``motion`` scales: its name without the scale factors (" x1.5") :func:`scaled` adds."""
+    return re.sub(r"( x[-+.0-9eE]+)+$", "", motion.name)
+
+
+def cuts_strong_motion(motion: GroundMotion, duration: float | None) -> str:
+    """Why ``duration`` s of ``motion`` leave out part of its strong motion, naming its record; '' where they do
+    not (no duration: the motion runs whole)."""
+    if duration is None:
+        return ""
+    found = strong_motion(motion.horizontal)
+    if found is None or duration >= found[1]:
+        return ""
+    start, end = found
+    return (f"{duration:g} s of {record_name(motion)} stop before the end of its strong motion ({start:.1f} to {end:.1f} s "
+            f"hold {STRONG_MOTION[0]:.0%} to {STRONG_MOTION[1]:.0%} of its Arias intensity): run at least "
+            f"{math.ceil(end):g} s, or the whole record")
 
 
 #: a ground acceleration above this many g (9.80665 m/s^2) is beyond what a stone block can meet and more likely a
