@@ -38,3 +38,21 @@ def load_study():
             sys.path.remove(str(STUDIES))
 
     return load
+
+
+#: where tests/test_cuda_build.py leaves each kernel's registers and spills, which the run's summary prints (a line
+#: a worker of pytest-xdist prints would not reach the terminal)
+KERNEL_RESOURCES = "dem/sm_90_kernels"
+
+
+def pytest_sessionstart(session):
+    if not hasattr(session.config, "workerinput"):
+        session.config.cache.set(KERNEL_RESOURCES, [])
+
+
+def pytest_terminal_summary(terminalreporter, config):
+    lines = config.cache.get(KERNEL_RESOURCES, [])
+    if lines:
+        terminalreporter.section("GPU kernels built for sm_90 (tests/test_cuda_build.py)")
+        for line in lines:
+            terminalreporter.write_line(line)

@@ -1,6 +1,6 @@
 """The GPU kernels build for the H100 (compute capability 9.0) on a machine without a GPU: numba-cuda compiles
 ``engine/_members.KERNELS`` (the one step driver, built for each integrator) to PTX, and the CUDA wheels' ``ptxas``
-assembles them for sm_90; the test prints each kernel's registers, stack and spills.  It runs where the ``gpu`` extra
+assembles them for sm_90; the run's summary prints each kernel's registers, stack and spills.  It runs where the ``gpu`` extra
 is installed (``bash .ci/run`` installs it); the kernel's behaviour is tested under numba's CUDA simulator and on
 one CPU thread in tests/test_batch_gpu.py."""
 
@@ -10,6 +10,7 @@ import sys
 from pathlib import Path
 
 import pytest
+from conftest import KERNEL_RESOURCES
 
 pytestmark = pytest.mark.slow
 nvcc = pytest.importorskip("nvidia.cuda_nvcc", reason="the gpu extra (pip install -e '.[gpu]') is not installed")
@@ -39,11 +40,12 @@ for name, kernel in zip(INTEGRATORS, KERNELS):
 """
 
 
-def test_the_gpu_kernels_build_for_sm_90_without_a_gpu(tmp_path, capsys):
+def test_the_gpu_kernels_build_for_sm_90_without_a_gpu(tmp_path, request):
     done = subprocess.run([sys.executable, "-c", COMPILE, str(tmp_path)], capture_output=True, text=True, timeout=900,
                           cwd=REPOSITORY)
     assert done.returncode == 0, done.stderr[-3000:]
     ptxas = Path(nvcc.__path__[0]) / "bin" / "ptxas"
+    said = []
     for name in ("explicit", "moreau"):
         ptx, cubin = tmp_path / f"{name}.ptx", tmp_path / f"{name}.cubin"
         assert ".target sm_90" in ptx.read_text()
@@ -55,7 +57,7 @@ def test_the_gpu_kernels_build_for_sm_90_without_a_gpu(tmp_path, capsys):
                              r"(\d+) bytes spill loads\n.*?Used (\d+) registers", built.stderr)
         entry = f"advance_members_{name}"
         assert any(entry in found for found, *_ in kernels), built.stderr[-3000:]
-        with capsys.disabled():
-            for found, stack, stores, loads, registers in kernels:
-                print(f"\nsm_90 {entry if entry in found else found}: {registers} registers, {stack}-byte stack "
-                      f"frame, {stores} bytes of spill stores, {loads} of spill loads")
+        said += [f"sm_90 {entry if entry in found else found}: {registers} registers, {stack}-byte stack frame, "
+                  f"{stores} bytes of spill stores, {loads} of spill loads"
+                  for found, stack, stores, loads, registers in kernels]
+    request.config.cache.set(KERNEL_RESOURCES, said)  # the run's summary prints them (tests/conftest.py)
