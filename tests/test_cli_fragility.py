@@ -95,3 +95,14 @@ def test_a_duration_that_cuts_a_records_strong_motion_is_refused_naming_it(tmp_p
     assert captured.out == "" and not out.exists()
     assert captured.err.startswith("error: --duration: 25 s of mexico_city_1985 stop before the end of its strong "
                                    "motion (39.7 to 76.5 s")
+
+
+def test_stripes_of_spectral_acceleration_need_a_usable_period(tmp_path, capsys):
+    common = ["fragility", _scene(tmp_path), "--records", "el_centro_1940", "--out", str(tmp_path / "out")]
+    assert main([*common, "--im", "sa"]) == 2
+    assert "--im sa: give the period with --period" in capsys.readouterr().err
+    assert main([*common, "--im", "sa", "--period", "0.02"]) == 2
+    assert capsys.readouterr().err.startswith("error: --period: el_centro_1940: a period of 0.02 s is under 4")
+    assert main([*common, "--period", "1"]) == 2
+    assert "--period is the period of --im sa" in capsys.readouterr().err
+    assert not (tmp_path / "out").exists()

@@ -24,6 +24,18 @@ def test_scaling_a_record_scales_its_intensities():
         assert intensity(excitation.scaled(record, 2.5), im) == pytest.approx(2.5 * intensity(record, im), rel=1e-12)
 
 
+def test_a_record_scaled_to_a_spectral_acceleration_has_it_and_unusable_periods_are_refused():
+    """Sa(T) scales with the record (a linear oscillator), so the factor level / Sa(T) gives the level; a period
+    under four of El Centro's 0.01 s samples or beyond its 53.7 s is refused, naming the record."""
+    el_centro = excitation.record("el_centro_1940")
+    sa = intensity(el_centro, "sa", 1.0)
+    assert intensity(excitation.scaled(el_centro, 4.0 / sa), "sa", 1.0) == pytest.approx(4.0, rel=1e-9)
+    for period, said in ((0.03, "under 4 of its 0.01 s samples"), (60.0, "longer than the record"),
+                         (None, "needs a period")):
+        with pytest.raises(ValueError, match=said):
+            intensity(el_centro, "sa", period)
+
+
 def test_a_drums_damage_is_measured_against_its_columns_critical_angle():
     column = scenes.column(n_drums=3, width=1.0, height=4.0)
     result = simulate(column, excitation.sine_pulse(3.0, 0.6), 1.5, integrator="moreau")
@@ -94,7 +106,7 @@ def test_a_colonnades_drums_answer_to_their_columns_and_its_epistyle_to_itself()
 def test_bad_studies_are_refused_naming_the_fault():
     block, records = scenes.block(0.6, 3.0), {"pulse": excitation.sine_pulse(1.0, 0.5)}
     with pytest.raises(ValueError, match="intensity measure"):
-        fragility_study(block, records, [1.0, 2.0], im="sa")
+        fragility_study(block, records, [1.0, 2.0], im="sd")
     with pytest.raises(ValueError, match="records is empty"):
         fragility_study(block, {}, [1.0, 2.0])
     for states in ((0.5, -1.0), (0.5, 1.5)):

@@ -209,7 +209,8 @@ def fragility_figure(fits: dict, intensity: str = "PGA (m/s$^2$)", title: str = 
                 label=f"{label}: median {median_text(fit.median)}, beta {fit.beta:.2f}")
     ax.plot([], [], "o", color="grey", markersize=3.5, label="points: the fraction of a stripe's runs exceeding")
     handles, _ = ax.get_legend_handles_labels()
-    handles += [Patch(color="grey", alpha=0.2, label=f"shaded: {BAND_LEVEL:.0%} bootstrap band, {RESAMPLED_WORDS[kind]}")
+    handles += [Patch(color="grey", alpha=0.2,
+                      label=f"shaded: {BAND_LEVEL:.0%} bootstrap band, {RESAMPLED_WORDS[kind]}")
                 for kind in sorted(resampled)]
     ax.set(xlabel=intensity, ylabel="probability of exceedance", ylim=(-0.02, 1.02))
     ax.set_title(title, fontsize=9)

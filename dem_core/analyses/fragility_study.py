@@ -20,7 +20,7 @@ import numpy as np
 import pandas as pd
 
 from ..batch import simulate_batch
-from ..inputs.excitation import GroundMotion, scaled
+from ..inputs.excitation import GroundMotion, record_name, scaled
 from ..inputs.records import G_STANDARD
 from ..output_files import replacing
 from ..simulation import integrator_for, warn_caller
@@ -30,9 +30,12 @@ from .nested_fragility import ADVISED_RECORDS, fit_nested, fit_states, ida_estim
 from .spectra import response_spectrum
 
 #: the intensity measures: name -> (label, unit)
-INTENSITY_MEASURES = {"pga": ("PGA", "m/s^2"), "pgv": ("PGV", "m/s")}
+INTENSITY_MEASURES = {"pga": ("PGA", "m/s^2"), "pgv": ("PGV", "m/s"), "sa": ("Sa(T)", "m/s^2")}
 #: the highest stripe when none is given: 1 g of PGA, 1 m/s of PGV
-DEFAULT_TOP = {"pga": G_STANDARD, "pgv": 1.0}
+DEFAULT_TOP = {"pga": G_STANDARD, "pgv": 1.0, "sa": G_STANDARD}
+#: a record's spectrum is read at periods of at least this many of its sampling intervals (twice the shortest period
+#: its samples hold) and at most its length
+SHORTEST_PERIOD_SAMPLES = 4
 DEFAULT_STATES = (0.1, 0.3, 0.5, 1.0)
 #: s: the periods of the spectral accelerations a study compares with PGA and PGV (a rocking column has no natural
 #: period of its own, so the measure is compared at a few)
@@ -119,16 +122,22 @@ class FragilityStudy:
     def figure(self, title: str = ""):
         """The fits' figure (:func:`~.fragility.fragility_figure`), titled ``title`` over a line that names the
         suite, the duration, the integrator and the step."""
-        label, unit = INTENSITY_MEASURES[self.im]
+        label, unit = self.measure_label(), INTENSITY_MEASURES[self.im][1]
         fits = {state_label(state): fit for state, fit in self.fits.items()}
         return fragility_figure(fits, intensity=f"{label} ({unit.replace('^2', '$^2$')})",
                                 title="\n".join([title or "Fragility", *textwrap.wrap(self.described(), 100)]),
                                 median_text=self.median_text)
 
+    def measure_label(self) -> str:
+        """The intensity measure's name: PGA, PGV, or Sa(T) with its period."""
+        if self.im == "sa":
+            return f"Sa({self.settings.get('period', float('nan')):g} s)"
+        return INTENSITY_MEASURES[self.im][0]
+
     def median_text(self, median: float) -> str:
-        """A median in its measure's unit, and for PGA in g."""
+        """A median in its measure's unit, and for an acceleration in g."""
         unit = INTENSITY_MEASURES[self.im][1]
-        in_g = f" ({median / G_STANDARD:.3g} g)" if self.im == "pga" else ""
+        in_g = f" ({median / G_STANDARD:.3g} g)" if unit == "m/s^2" else ""
         return f"{median:.3g} {unit.replace('^2', '$^2$')}{in_g}"
 
     def described(self) -> str:
@@ -154,18 +163,40 @@ def _check_measure(im: str) -> None:
         raise ValueError(f"intensity measure must be one of {tuple(INTENSITY_MEASURES)}, got {im!r}")
 
 
-def intensity(motion: GroundMotion, im: str) -> float:
-    """The intensity measure ``im`` of ``motion``'s horizontal component: PGA (m/s^2), or PGV (m/s), the peak
-    |velocity| sampled every :data:`VELOCITY_SAMPLING` s or 1/50 of the motion's shortest time."""
+def intensity(motion: GroundMotion, im: str, period: float | None = None) -> float:
+    """The intensity measure ``im`` of ``motion``'s horizontal component: PGA (m/s^2); PGV (m/s), the peak
+    |velocity| sampled every :data:`VELOCITY_SAMPLING` s or 1/50 of the motion's shortest time; or Sa(T) (m/s^2),
+    the 5%-damped pseudo-spectral acceleration at ``period`` s (:func:`~.spectra.response_spectrum`), refused
+    naming the motion outside its usable periods (:func:`check_period`)."""
     _check_measure(im)
     if im == "pga":
         return float(motion.horizontal.peak_acceleration)
+    if im == "sa":
+        check_period(motion, period)
+        return float(response_spectrum(motion, [period]).psa[0])
     end = motion.horizontal.end_time
     if not math.isfinite(end):
         raise ValueError(f"{motion.name}: PGV needs a motion with an end (a record, a pulse)")
     step = min(VELOCITY_SAMPLING, motion.horizontal.time_scale / 50.0)
     t = np.linspace(0.0, end, int(math.ceil(end / step)) + 1)
     return float(np.max(np.abs(motion.horizontal.velocity(t))))
+
+
+def check_period(motion: GroundMotion, period) -> None:
+    """``ValueError`` naming ``motion`` where its spectrum cannot be read at ``period`` s: none given, or outside
+    SHORTEST_PERIOD_SAMPLES of its sampling intervals to its length."""
+    if period is None or not (isinstance(period, (int, float, np.number)) and math.isfinite(period) and period > 0):
+        raise ValueError(f"Sa(T) needs a period, a positive number of seconds; got {period!r}")
+    component = motion.horizontal
+    while hasattr(component, "component"):
+        component = component.component
+    dt, end = getattr(component, "dt", None), motion.end_time
+    if dt is not None and period < SHORTEST_PERIOD_SAMPLES * dt:
+        raise ValueError(f"{record_name(motion)}: a period of {period:g} s is under {SHORTEST_PERIOD_SAMPLES} of its "
+                         f"{dt:g} s samples; its usable periods are {SHORTEST_PERIOD_SAMPLES * dt:g} to {end:g} s")
+    if math.isfinite(end) and period > end:
+        raise ValueError(f"{record_name(motion)}: a period of {period:g} s is longer than the record "
+                         f"({end:g} s); its usable periods end there")
 
 
 def damage_ratio(result) -> float:
@@ -198,12 +229,13 @@ def stripes(count: int, top: float) -> np.ndarray:
 def fragility_study(scene, records: dict, levels, states=DEFAULT_STATES, *, im: str = "pga",
                     duration: float | None = None, device: str = "auto", threads: int | None = None,
                     progress=None, samples: int | None = None, periods=DEFAULT_PERIODS,
-                    **simulate_options) -> FragilityStudy:
+                    period: float | None = None, **simulate_options) -> FragilityStudy:
     """Run ``scene`` under every record of ``records`` ({name: :class:`GroundMotion`}) scaled to each intensity of
     ``levels`` (the measure ``im``), all as one :func:`~dem_core.batch.simulate_batch`, and fit one lognormal
     fragility per damage state of ``states`` (multiple-stripe analysis: each level's runs, one per record).
 
     A run that does not finish (unstable, refused) counts in no stripe and keeps its row, with its error.
+    ``period`` (s): the period of ``im="sa"``, Sa(T) (:func:`intensity`).
     ``periods`` (s): the periods of the spectral accelerations :meth:`FragilityStudy.intensity_measures` compares
     with PGA and PGV.
     ``samples`` : the bootstrap's refits (default that of :func:`fit_fragility`).  ``simulate_options`` go to
@@ -223,7 +255,7 @@ def fragility_study(scene, records: dict, levels, states=DEFAULT_STATES, *, im: 
     if not states or not all(0 < s <= 1 for s in states):
         raise ValueError(f"damage states are fractions of the critical angle above 0 and up to 1 (1 is "
                          f"overturning), got {states}")
-    own = {name: intensity(motion, im) for name, motion in records.items()}
+    own = {name: intensity(motion, im, period) for name, motion in records.items()}
     for name, value in own.items():
         if not value > 0:
             raise ValueError(f"record {name}: its {INTENSITY_MEASURES[im][0]} is zero; it cannot be scaled")
@@ -238,6 +270,7 @@ def fragility_study(scene, records: dict, levels, states=DEFAULT_STATES, *, im: 
     ida = {state: ida_estimate(levels, outcomes[:, :, k]) for k, state in enumerate(states)}
     return FragilityStudy(runs, fits, im, batch.device, batch.wall_time_s,
                           {"records": list(records), "levels": len(levels), "states": states, "im": im,
+                           **({"period": period} if im == "sa" else {}),
                            "duration": duration, **simulate_options,
                            "integrator": integrator_for(scene if not isinstance(scene, (list, tuple)) else scene[0],
                                                         simulate_options.get("integrator"))},

@@ -8,9 +8,9 @@ one dispersion beta and have ordered medians ``median_1 <= ... <= median_K``,
 
 so that ``P_1(x) >= P_2(x) >= ... >= P_K(x)`` at every x (Porter, Kennedy and Bachman 2007, "Creating fragility
 functions for performance-based earthquake engineering", Earthquake Spectra 23(2), discuss the crossing of
-sequential damage states' fragility functions; one dispersion is the mend taken here).  The K + 1 parameters maximise the multiple-stripe
-binomial likelihood (Baker 2015, eq. 11) summed over the states, with ``mu_k = ln median_k`` written as
-``mu_1 + sum_{i <= k} exp(d_i)``, so the order holds by construction.
+sequential damage states' fragility functions; one dispersion is the mend taken here).  The K + 1 parameters
+maximise the multiple-stripe binomial likelihood (Baker 2015, eq. 11) summed over the states, with
+``mu_k = ln median_k`` written as ``mu_1 + sum_{i <= k} exp(d_i)``, so the order holds by construction.
 
 The uncertainty comes from the suite, not from the runs: a run's outcome is fixed by its record and its level,
 so the runs of one record are not independent draws.  The bootstrap draws the suite's records again with

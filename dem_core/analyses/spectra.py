@@ -71,13 +71,17 @@ def response_spectrum(motion, periods=DEFAULT_PERIODS, damping: float = 0.05, *,
                       duration: float | None = None) -> ResponseSpectrum:
     """Elastic spectrum of the horizontal component of ``motion`` (a GroundMotion).
 
-    dt : s, sampling of the acceleration; default the record's own step (0.005 s for other motions).
+    dt : s, sampling of the acceleration; default the record's own step, a scaled record's too (0.005 s for other
+        motions).
     duration : s, default the motion's end plus 4 times the longest period (free vibration after
         the record can hold the peak of long periods).
     """
     periods = np.asarray(periods, dtype=float)
     horizontal = motion.horizontal
-    dt = dt or getattr(horizontal, "dt", None) or 0.005
+    recorded = horizontal
+    while hasattr(recorded, "component"):  # a scaled record keeps its record's samples
+        recorded = recorded.component
+    dt = dt or getattr(recorded, "dt", None) or 0.005
     end = motion.end_time
     if not np.isfinite(end) and duration is None:
         raise ValueError(f"the motion '{motion.name}' has no end: give a duration")

@@ -20,7 +20,7 @@
   ``--exaggerate K`` draws each block's motion on what it rests on K times larger, so that a
   block rocking on a corner still stands on it;
 * ``fragility [SCENE.toml] --out DIR``: fragility curves of the scene under a suite of records (the bundled
-  four, ``--records`` or ``--records-dir``) scaled to ``--levels`` stripes of PGA or PGV, all the runs one
+  four, ``--records`` or ``--records-dir``) scaled to ``--levels`` stripes of PGA, PGV or Sa(T), all the runs one
   batch on every core, a lognormal per damage state with bootstrap bands
   (:mod:`dem_core.analyses.fragility_study`), written as CSV files and a figure;
 * ``spectrum RECORD ... --out spectra.png``: elastic response spectra;

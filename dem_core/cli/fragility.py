@@ -1,13 +1,13 @@
 """``dem-core fragility [SCENE] --out DIR``: fragility curves of the scene under a suite of records scaled to stripes
-of PGA or PGV, every run one batch (:mod:`dem_core.analyses.fragility_study`)."""
+of PGA, PGV or Sa(T), every run one batch (:mod:`dem_core.analyses.fragility_study`)."""
 
 import sys
 from pathlib import Path
 
 import numpy as np
 
-from ..analyses.fragility_study import (DEFAULT_STATES, DEFAULT_TOP, INTENSITY_MEASURES, fragility_study,
-                                        state_label, stripes, write_study)
+from ..analyses.fragility_study import (DEFAULT_STATES, DEFAULT_TOP, INTENSITY_MEASURES, check_period,
+                                        fragility_study, state_label, stripes, write_study)
 from ..batch import DEVICES, check_device
 from ..inputs import records
 from ..inputs.records import G_STANDARD
@@ -20,7 +20,7 @@ from .progress import compile_first, progress_bar
 
 def add(sub):
     fragility = sub.add_parser(
-        "fragility", help="fragility curves: the scene under a suite of records scaled to stripes of PGA or PGV",
+        "fragility", help="fragility curves: the scene under a suite of records scaled to stripes of PGA, PGV or Sa(T)",
         description="Run the scene under each record scaled to each of --levels intensities evenly spaced up to "
         "--max (multiple-stripe analysis), all members of one batch on every core, and fit a lognormal fragility "
         "per damage state by maximum likelihood with bootstrap 90% bands (dem_core.analyses.fragility).  A "
@@ -37,12 +37,14 @@ def add(sub):
                        "suite (default: none, --records)")
     fragility.add_argument("--units", choices=("m/s^2", "g", "cm/s^2"), default="m/s^2", help="units of text "
                            "records (AT2 files state theirs)")
-    fragility.add_argument("--im", choices=tuple(INTENSITY_MEASURES), default="pga", help="intensity measure: peak "
-                           "ground acceleration (m/s^2) or velocity (m/s) of the horizontal component")
+    fragility.add_argument("--im", choices=tuple(INTENSITY_MEASURES), default="pga", help="intensity measure of the "
+                           "horizontal component: peak ground acceleration (m/s^2) or velocity (m/s), or the "
+                           "5%%-damped spectral acceleration at --period (m/s^2)")
+    fragility.add_argument("--period", type=POSITIVE, help="s, the period of --im sa (default: none; required with --im sa)")
     fragility.add_argument("--levels", type=LEVELS, default=32, help="intensity levels (stripes) per record, 2 to "
                            "100000")
     fragility.add_argument("--max", type=POSITIVE, help="highest level, in the measure's unit; the levels are evenly "
-                           "spaced from max/levels to max (default: 1 g of PGA, 1 m/s of PGV)")
+                           "spaced from max/levels to max (default: 1 g of PGA or Sa, 1 m/s of PGV)")
     fragility.add_argument("--states", type=STATE, nargs="+", default=list(DEFAULT_STATES),
                            help="damage states as peak |theta|/alpha, each above 0 and at most 1; 1 is overturning")
     fragility.add_argument("--out", required=True, help="output folder, created if need be")
@@ -68,13 +70,14 @@ def run(args) -> int:
         return 2
     duration = settings.pop("duration", None)
     settings.pop("output_dt", None)
-    cut = next((said for said in (cuts_strong_motion(motion, duration) for motion in suite.values()) if said), "")
-    if cut:
-        print(f"error: {'--duration' if args.duration is not None else 'the scene file duration'}: {cut}; a "
-              f"fragility of cut records would understate the damage", file=sys.stderr)
+    refused = _refusal(args, suite, duration)
+    if refused:
+        print(f"error: {refused}", file=sys.stderr)
         return 2
-    out = output_folder(args.out, "--out")
     label, unit = INTENSITY_MEASURES[args.im]
+    if args.im == "sa":
+        label = f"Sa({args.period:g} s)"
+    out = output_folder(args.out, "--out")
     levels = stripes(args.levels, args.max or DEFAULT_TOP[args.im])
     total = len(levels) * len(suite)
     integrator = integrator_for(spec.scene, settings.get("integrator"))
@@ -90,7 +93,8 @@ def run(args) -> int:
 
     args.on_interrupt = lambda: f"stopped after {done[0]} of {total} runs; nothing was written"
     try:
-        study = fragility_study(spec.scene, suite, levels, args.states, im=args.im, duration=duration,
+        study = fragility_study(spec.scene, suite, levels, args.states, im=args.im, period=args.period,
+                                duration=duration,
                                 device=args.device, threads=args.threads, progress=on_member, **settings)
     except (TypeError, ValueError) as exc:
         print(f"error: {exc}", file=sys.stderr)
@@ -109,7 +113,7 @@ def run(args) -> int:
     for _, row in table.iterrows():
         what = state_label(row["state"])
         if np.isfinite(row["median"]):
-            in_g = f" = {row['median'] / G_STANDARD:.3g} g" if args.im == "pga" else ""
+            in_g = f" = {row['median'] / G_STANDARD:.3g} g" if unit == "m/s^2" else ""
             ida = (f"; IDA-style {row['ida_median']:.3g} {unit} ({row['ida_records']} of {row['records']} records)"
                    if np.isfinite(row["ida_median"]) else "")
             print(f"  {what}: median {row['median']:.3g} {unit}{in_g} (90% {row['median_low']:.3g} to "
@@ -124,6 +128,26 @@ def run(args) -> int:
     written = _write_fragility(out, study, path, settings, duration)
     print(f"wrote {', '.join(written)} in {out}")
     return 0
+
+
+def _refusal(args, suite: dict, duration) -> str:
+    """Why the fragility command cannot run the suite, or '': a duration that cuts a record's strong motion, or a
+    period missing, unusable for a record, or given without --im sa."""
+    for motion in suite.values():
+        cut = cuts_strong_motion(motion, duration)
+        if cut:
+            return (f"{'--duration' if args.duration is not None else 'the scene file duration'}: {cut}; a "
+                    f"fragility of cut records would understate the damage")
+    if args.im != "sa":
+        return f"--period is the period of --im sa, not of --im {args.im}" if args.period is not None else ""
+    if args.period is None:
+        return "--im sa: give the period with --period"
+    for motion in suite.values():
+        try:
+            check_period(motion, args.period)
+        except ValueError as exc:
+            return f"--period: {exc}"
+    return ""
 
 
 def _record_suite(args):
