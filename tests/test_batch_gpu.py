@@ -204,9 +204,9 @@ def test_the_device_check_runs_every_section_under_the_simulator(tmp_path):
     done = subprocess.run([sys.executable, "-m", "comparisons", "gpu-check", "--smoke", "--out", str(tmp_path)],
                           capture_output=True, text=True, env=env, timeout=600, cwd=tmp_path, check=False)
     assert done.returncode == 0, done.stderr[-3000:]
-    for section in ("device", "agreement", "throughput", "fragility", "fine"):
-        assert f"| {section:10s} | section's wall time" in done.stdout, section
+    for section in ("device", "agreement", "throughput", "fragility", "fine", "throughput-other"):
+        assert f"| {section:16s} | section's wall time" in done.stdout, section
     assert "FAILED" not in done.stdout and "cut at" not in done.stdout, done.stdout + done.stderr[-3000:]
-    assert "| agreement  | column, moreau: steady members within 1e-9" in done.stdout
+    assert "| agreement        | column, moreau: steady members within 1e-9" in done.stdout
     scanned = pd.read_csv(tmp_path / "fine_scan.csv")
     assert len(scanned) == 1 and scanned["runs"][0] > 1
