@@ -26,7 +26,7 @@ import pandas as pd
 from . import batch_gpu
 from .batch_gpu import gpu_available
 from .engine.result import Result
-from .inputs.excitation import GroundMotion, cuts_strong_motion
+from .inputs.excitation import GroundMotion, strong_motion_cuts
 from .simulation import Simulation, SimulationUnstable, check_run_arguments, set_up_scene, warn_caller
 
 #: where a batch can run: ``"auto"`` takes the GPU where numba-cuda finds one and the batch has at least
@@ -105,7 +105,8 @@ def simulate_batch(scene, motions, duration: float | None = None, *, device: str
     WAKE_SECONDS), each distinct one once, at the caller's line.
     """
     threads, scenes, motions, keep = _checked(scene, motions, device, threads, histories, simulate_options)
-    _warn_cuts(motions, duration)
+    for said in strong_motion_cuts((motion, duration) for motion in motions):
+        warn_caller(f"the strong motion is cut: {said}")
     gpu = _gpu_for(device, len(motions), threads)
     started = time.perf_counter()
     rows, given, shared = {}, set(), {}
@@ -257,13 +258,6 @@ def _run_members(run_member, members, threads: int, stop: threading.Event, progr
                 if not future.cancelled() and future.exception() is None:
                     collect(future, m)
             raise
-
-
-def _warn_cuts(motions, duration) -> None:
-    """A warning for each record whose strong motion ``duration`` cuts (:func:`cuts_strong_motion`), once."""
-    for said in dict.fromkeys(cuts_strong_motion(motion, duration) for motion in motions):
-        if said:
-            warn_caller(f"the strong motion is cut: {said}")
 
 
 def check_device(device: str) -> None:

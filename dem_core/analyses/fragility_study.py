@@ -20,7 +20,7 @@ import numpy as np
 import pandas as pd
 
 from ..batch import simulate_batch
-from ..inputs.excitation import GroundMotion, record_name, scaled
+from ..inputs.excitation import GroundMotion, record_name, scaled, unscaled
 from ..inputs.records import G_STANDARD
 from ..output_files import replacing
 from ..simulation import integrator_for, warn_caller
@@ -187,10 +187,7 @@ def check_period(motion: GroundMotion, period) -> None:
     SHORTEST_PERIOD_SAMPLES of its sampling intervals to its length."""
     if period is None or not (isinstance(period, (int, float, np.number)) and math.isfinite(period) and period > 0):
         raise ValueError(f"Sa(T) needs a period, a positive number of seconds; got {period!r}")
-    component = motion.horizontal
-    while hasattr(component, "component"):
-        component = component.component
-    dt, end = getattr(component, "dt", None), motion.end_time
+    dt, end = getattr(unscaled(motion.horizontal), "dt", None), motion.end_time
     if dt is not None and period < SHORTEST_PERIOD_SAMPLES * dt:
         raise ValueError(f"{record_name(motion)}: a period of {period:g} s is under {SHORTEST_PERIOD_SAMPLES} of its "
                          f"{dt:g} s samples; its usable periods are {SHORTEST_PERIOD_SAMPLES * dt:g} to {end:g} s")

@@ -11,6 +11,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..inputs.excitation import unscaled
+
 DEFAULT_PERIODS = np.geomspace(0.02, 5.0, 120)  # s
 
 
@@ -78,10 +80,7 @@ def response_spectrum(motion, periods=DEFAULT_PERIODS, damping: float = 0.05, *,
     """
     periods = np.asarray(periods, dtype=float)
     horizontal = motion.horizontal
-    recorded = horizontal
-    while hasattr(recorded, "component"):  # a scaled record keeps its record's samples
-        recorded = recorded.component
-    dt = dt or getattr(recorded, "dt", None) or 0.005
+    dt = dt or getattr(unscaled(horizontal), "dt", None) or 0.005
     end = motion.end_time
     if not np.isfinite(end) and duration is None:
         raise ValueError(f"the motion '{motion.name}' has no end: give a duration")

@@ -69,7 +69,7 @@ from tqdm import tqdm
 from ..simulation import SimulationUnstable, simulate
 from ..inputs import scene_file
 from ..inputs.text_files import did_you_mean
-from ..inputs.excitation import GroundMotion, cuts_strong_motion
+from ..inputs.excitation import GroundMotion, strong_motion_cuts
 from ..inputs.scene import Scene
 from ..output_files import PARTIAL, OutputPathError, output_folder, replacing
 from . import run_identity
@@ -361,15 +361,6 @@ def _read_run(path: Path):
     return row
 
 
-def _warn_cuts(points: list) -> None:
-    """A warning for each record whose strong motion a point's duration cuts (:func:`cuts_strong_motion`), once."""
-    said = dict.fromkeys(cuts_strong_motion(p.spec.excitation, p.spec.simulation.get("duration"))
-                         for p in points if p.spec is not None)
-    for cut in said:
-        if cut:
-            warnings.warn(f"the strong motion is cut: {cut}", RuntimeWarning, stacklevel=3)
-
-
 def _warn_unreadable(unreadable: list, what: str) -> None:
     """One warning for the saved runs that cannot be read: ``[(path, why), ...]``."""
     if not unreadable:
@@ -525,7 +516,9 @@ def run_sweep(sweep: Sweep, out, *, workers: int | None = None, scheduler=None, 
     if workers is not None and (isinstance(workers, bool) or not isinstance(workers, numbers.Integral) or workers < 1):
         raise SweepError(f"workers must be a whole number of at least 1, got {workers!r}")
     points = _plan(sweep)
-    _warn_cuts(points)
+    for said in strong_motion_cuts((p.spec.excitation, p.spec.simulation.get("duration")) for p in points
+                                   if p.spec is not None):
+        warnings.warn(f"the strong motion is cut: {said}", RuntimeWarning, stacklevel=2)
     _claim(out, _spec(sweep, points), overwrite)
     runs_dir = out / "runs"
     runs_dir.mkdir(exist_ok=True)

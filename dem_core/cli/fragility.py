@@ -11,7 +11,7 @@ from ..analyses.fragility_study import (DEFAULT_STATES, DEFAULT_TOP, INTENSITY_M
 from ..batch import DEVICES, check_device
 from ..inputs import records
 from ..inputs.records import G_STANDARD
-from ..inputs.excitation import cuts_strong_motion, record
+from ..inputs.excitation import record, strong_motion_cuts
 from ..output_files import output_folder
 from ..simulation import integrator_for
 from .arguments import DEFAULT_SCENE, LEVELS, POSITIVE, SECONDS, STATE, WORKERS, add_integrator, scene_and_settings
@@ -40,7 +40,8 @@ def add(sub):
     fragility.add_argument("--im", choices=tuple(INTENSITY_MEASURES), default="pga", help="intensity measure of the "
                            "horizontal component: peak ground acceleration (m/s^2) or velocity (m/s), or the "
                            "5%%-damped spectral acceleration at --period (m/s^2)")
-    fragility.add_argument("--period", type=POSITIVE, help="s, the period of --im sa (default: none; required with --im sa)")
+    fragility.add_argument("--period", type=POSITIVE,
+                           help="s, the period of --im sa (default: none; required with --im sa)")
     fragility.add_argument("--levels", type=LEVELS, default=32, help="intensity levels (stripes) per record, 2 to "
                            "100000")
     fragility.add_argument("--max", type=POSITIVE, help="highest level, in the measure's unit; the levels are evenly "
@@ -133,11 +134,10 @@ def run(args) -> int:
 def _refusal(args, suite: dict, duration) -> str:
     """Why the fragility command cannot run the suite, or '': a duration that cuts a record's strong motion, or a
     period missing, unusable for a record, or given without --im sa."""
-    for motion in suite.values():
-        cut = cuts_strong_motion(motion, duration)
-        if cut:
-            return (f"{'--duration' if args.duration is not None else 'the scene file duration'}: {cut}; a "
-                    f"fragility of cut records would understate the damage")
+    cuts = strong_motion_cuts((motion, duration) for motion in suite.values())
+    if cuts:
+        return (f"{'--duration' if args.duration is not None else 'the scene file duration'}: {cuts[0]}; a "
+                f"fragility of cut records would understate the damage")
     if args.im != "sa":
         return f"--period is the period of --im sa, not of --im {args.im}" if args.period is not None else ""
     if args.period is None:

@@ -326,11 +326,17 @@ class GroundMotion:
 STRONG_MOTION = (0.05, 0.95)
 
 
+def unscaled(component: Component) -> Component:
+    """The component a chain of :class:`Scaled` scales (a record's samples), or ``component`` itself."""
+    while isinstance(component, Scaled):
+        component = component.component
+    return component
+
+
 def strong_motion(component: Component) -> tuple[float, float] | None:
     """``(start, end)`` s of a recorded component's strong motion (:data:`STRONG_MOTION` of its Arias intensity,
     the same for any scale of it), or None for a motion that is not a record or has no shaking."""
-    while isinstance(component, Scaled):
-        component = component.component
+    component = unscaled(component)
     if not isinstance(component, Sampled) or len(component.samples) < 2:
         return None
     squared = component.samples ** 2
@@ -356,9 +362,14 @@ def cuts_strong_motion(motion: GroundMotion, duration: float | None) -> str:
     if found is None or duration >= found[1]:
         return ""
     start, end = found
-    return (f"{duration:g} s of {record_name(motion)} stop before the end of its strong motion ({start:.1f} to {end:.1f} s "
-            f"hold {STRONG_MOTION[0]:.0%} to {STRONG_MOTION[1]:.0%} of its Arias intensity): run at least "
-            f"{math.ceil(end):g} s, or the whole record")
+    return (f"{duration:g} s of {record_name(motion)} stop before the end of its strong motion ({start:.1f} to "
+            f"{end:.1f} s hold {STRONG_MOTION[0]:.0%} to {STRONG_MOTION[1]:.0%} of its Arias intensity): run at "
+            f"least {math.ceil(end):g} s, or the whole record")
+
+
+def strong_motion_cuts(runs) -> list:
+    """The distinct :func:`cuts_strong_motion` of ``runs``, pairs ``(motion, duration)``, in their order."""
+    return [said for said in dict.fromkeys(cuts_strong_motion(motion, duration) for motion, duration in runs) if said]
 
 
 #: a ground acceleration above this many g (9.80665 m/s^2) is beyond what a stone block can meet and more likely a
