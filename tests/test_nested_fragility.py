@@ -45,13 +45,10 @@ def test_the_joint_fit_maximises_the_summed_likelihood_and_is_the_single_fit_for
     n, mild, severe = _counts_that_cross()
     runs, exceed = np.stack([n, n], 1), np.stack([mild, severe], 1)
     medians, beta, _ = nested_fragility.fit_nested(LEVELS, runs, exceed)
-    x = np.log(LEVELS)
 
     def log_likelihood(mu, b):
-        s = (x[:, None] - np.asarray(mu)[None, :]) / b
-        p = np.clip(fragility._probability(np.exp(x)[:, None], np.exp(np.asarray(mu))[None, :], b), 1e-300,
-                    1 - 1e-16)
-        return float(np.sum(exceed * np.log(p) + (runs - exceed) * np.log1p(-p))) if s.size else 0.0
+        p = np.clip(fragility._probability(LEVELS[:, None], np.exp(np.asarray(mu))[None, :], b), 1e-300, 1 - 1e-16)
+        return float(np.sum(exceed * np.log(p) + (runs - exceed) * np.log1p(-p)))
 
     best = log_likelihood(np.log(medians), beta)
     rng = np.random.default_rng(1)

@@ -31,21 +31,11 @@ import numpy as np
 
 import adapters
 import dem_core
-from dem_core import excitation, scenes
 from dem_core.batch import simulate_batch
 from dem_core.batch_gpu import gpu_available, run_members, serial_launcher
 from dem_core.simulation import Simulation, set_up_scene
-from dem_core.inputs.records import G_STANDARD
 
-#: scene name -> (builder, its rocking threshold's tan(alpha))
-SCENES = {
-    "block": (lambda: scenes.block(1.0, 6.0), 1.0 / 6.0),
-    "column": (lambda: scenes.column(n_drums=8, width=1.0, height=6.0), 1.0 / 6.0),
-}
-#: the members' amplitudes span these multiples of g tan(alpha)
-LOWEST, HIGHEST = 1.2, 3.0
-RECORD = "el_centro_1940"
-
+from .record_members import HIGHEST, LOWEST, RECORD, SCENES, motions
 
 def arguments(parser: argparse.ArgumentParser) -> None:
     """The options of its subcommand of ``python -m comparisons``."""
@@ -57,14 +47,6 @@ def arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--loop-up-to", type=int, default=64, help="largest M also run as a loop of simulate")
     parser.add_argument("--peers-up-to", type=int, default=64, help="largest M also run in pymunk")
     parser.add_argument("--repeats", type=int, default=3, help="timings of each M up to --loop-up-to, the least kept")
-
-
-def motions(tan_alpha: float, members: int) -> list:
-    """The members' ground motions: the record at ``members`` amplitudes from LOWEST to HIGHEST g tan(alpha)."""
-    record = excitation.record(RECORD)
-    peak = record.horizontal.peak_acceleration
-    amplitudes = np.linspace(LOWEST, HIGHEST, members) if members > 1 else np.array([0.5 * (LOWEST + HIGHEST)])
-    return [excitation.scaled(record, a * G_STANDARD * tan_alpha / peak) for a in amplitudes]
 
 
 def _pymunk_peak(scene_name: str, motion, duration: float) -> float:

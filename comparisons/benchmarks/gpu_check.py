@@ -50,11 +50,9 @@ from dem_core.inputs.records import G_STANDARD
 from dem_core.engine.state import STEP
 from dem_core.simulation import Simulation, set_up_scene
 
+from .record_members import RECORD, SCENES, motions
+
 STUDIES = Path(__file__).resolve().parents[2] / "examples" / "studies"
-RECORD = "el_centro_1940"
-#: scene name -> (builder, tan(alpha), the alpha its theta is divided by)
-SCENES = {"block": (lambda: scenes.block(1.0, 6.0), 1.0 / 6.0), "column": (lambda: scenes.column(), 1.0 / 6.0)}
-LOWEST, HIGHEST = 1.2, 3.0
 #: a member is not chaotic when its CPU peak moves less than this (relative) as its scale moves by NUDGE
 STEADY, NUDGE, AGREEMENT = 1e-10, 1e-12, 1e-9
 #: the sections in the order they run: the issue's marked throughputs before the studies, the others last
@@ -69,7 +67,8 @@ MARKS = {"block explicit member-steps/s": 1e10, "column moreau batch s": 10.0, "
 def arguments(parser: argparse.ArgumentParser) -> None:
     """The options of its subcommand of ``python -m comparisons``."""
     parser.add_argument("--budget", type=float, default=450.0, help="s for every section together (default 450)")
-    parser.add_argument("--out", default=".", help="folder for fine_scan.csv and gpu_check.csv (default: here)")
+    parser.add_argument("--out", default=".", help="folder for fine_scan.csv and each section's gpu_check_<section>.csv "
+                        "(default: here)")
     parser.add_argument("--sample", type=int, default=64, help="members of each agreement check (default 64)")
     parser.add_argument("--block-members", type=int, default=65536)
     parser.add_argument("--column-members", type=int, default=4096)
@@ -100,14 +99,6 @@ class Clock:
     def progress(self, done: int, total: int) -> None:
         if self.left() <= 0:
             raise OverBudget
-
-
-def motions(tan_alpha: float, members: int, nudge: float = 0.0) -> list:
-    """El Centro at ``members`` amplitudes from LOWEST to HIGHEST g tan(alpha), each scale times (1 + nudge)."""
-    record = excitation.record(RECORD)
-    amplitudes = np.linspace(LOWEST, HIGHEST, members) if members > 1 else np.array([LOWEST])
-    factor = G_STANDARD * tan_alpha / record.horizontal.peak_acceleration * (1.0 + nudge)
-    return [excitation.scaled(record, a * factor) for a in amplitudes]
 
 
 def _line(section: str, item: str, value: str, mark: str = "") -> None:

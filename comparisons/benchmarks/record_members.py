@@ -1,0 +1,27 @@
+"""The members the batch benchmarks run (``batch-throughput``, ``gpu-check``): the 1 x 6 m block and the 8-drum
+column (6 m x 1 m), each under the 1940 El Centro record scaled evenly from 1.2 to 3 times its rocking threshold
+g tan(alpha), the spread of the report's ensembles.  It imports no other engine, so that ``gpu-check`` runs where
+only dem_core's own dependencies are installed."""
+
+import numpy as np
+
+from dem_core import excitation, scenes
+from dem_core.inputs.records import G_STANDARD
+
+#: scene name -> (builder, its rocking threshold's tan(alpha))
+SCENES = {
+    "block": (lambda: scenes.block(1.0, 6.0), 1.0 / 6.0),
+    "column": (lambda: scenes.column(n_drums=8, width=1.0, height=6.0), 1.0 / 6.0),
+}
+#: the members' amplitudes span these multiples of g tan(alpha)
+LOWEST, HIGHEST = 1.2, 3.0
+RECORD = "el_centro_1940"
+
+
+def motions(tan_alpha: float, members: int, nudge: float = 0.0) -> list:
+    """The members' ground motions: the record at ``members`` amplitudes from LOWEST to HIGHEST g tan(alpha) (one
+    member: midway), each scale times ``1 + nudge``."""
+    record = excitation.record(RECORD)
+    amplitudes = np.linspace(LOWEST, HIGHEST, members) if members > 1 else np.array([0.5 * (LOWEST + HIGHEST)])
+    factor = G_STANDARD * tan_alpha / record.horizontal.peak_acceleration * (1.0 + nudge)
+    return [excitation.scaled(record, a * factor) for a in amplitudes]
