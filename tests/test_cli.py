@@ -9,6 +9,7 @@ import subprocess
 import sys
 import textwrap
 
+import numpy as np
 import pandas as pd
 import pytest
 
@@ -16,6 +17,7 @@ import dem_core
 from dem_core import cli
 from dem_core.analyses import thresholds
 from dem_core.cli import main
+from dem_core.inputs.suites import load_suite
 
 ACCELERATION = r"-?\d[\d.e+-]* m/s\^2 \(-?\d[\d.e+-]* g\)"
 
@@ -67,14 +69,37 @@ def test_bad_scene_file_is_reported_with_its_name(tmp_path, capsys):
     assert "bad.toml" in err and "n_drums" in err
 
 
-def test_module_entry_point_lists_records_with_their_pga_in_one_unit():
+def test_module_entry_point_lists_the_demonstration_suite_with_each_pga_in_one_unit():
     done = subprocess.run([sys.executable, "-m", "dem_core", "records"], capture_output=True, text=True, check=True)
+    suite = load_suite()
     lines = done.stdout.splitlines()
-    assert len(lines) == len(dem_core.records.BUNDLED)
-    assert lines[0].startswith("el_centro_1940     PGA 2.75 m/s^2 (0.281 g)")
-    for line in lines:
-        assert re.search(f"PGA {ACCELERATION}, ", line), line
-        assert line.count("PGA") == 1
+    assert lines[0] == f"suite demonstration: {len(suite)} records" and len(lines) == len(suite) + 1
+    assert lines[1].startswith("el_centro_1940     PGA 2.75 m/s^2 (0.281 g), PGV ")
+    for line, entry in zip(lines[1:], suite.records, strict=True):
+        assert line.startswith(entry.name) and line.endswith(entry.source), line
+        assert re.search(f"PGA {ACCELERATION}, PGV ", line) and line.count("PGA") == 1 + entry.source.count("PGA")
+
+
+def test_records_lists_a_folder_and_writes_its_table(tmp_path, capsys):
+    folder = tmp_path / "suite"
+    folder.mkdir()
+    np.savetxt(folder / "one.txt", np.sin(np.arange(400) * 0.05))
+    (folder / "records.csv").write_text("file,dt,magnitude,source\none.txt,0.01,6.1,a test\n")
+    assert main(["records", str(folder), "--csv", str(tmp_path / "suite.csv")]) == 0
+    printed = capsys.readouterr().out.splitlines()
+    assert printed[0] == "suite suite: 1 records"
+    assert "every 0.01 s (given in records.csv), strong motion " in printed[1] and printed[1].endswith("; M6.1: a test")
+    table = pd.read_csv(tmp_path / "suite.csv")
+    assert list(table["name"]) == ["one"] and table.loc[0, "pgv_m_s"] > 0
+
+
+def test_records_names_a_suite_it_cannot_read_in_one_line(tmp_path, capsys):
+    folder = tmp_path / "suite"
+    folder.mkdir()
+    np.savetxt(folder / "one.txt", np.sin(np.arange(400) * 0.05))
+    assert main(["records", str(folder)]) == 2
+    error = capsys.readouterr().err
+    assert error.count("\n") == 1 and "one.txt" in error and "records.csv's dt column" in error
 
 
 COLUMN = textwrap.dedent("""
@@ -281,7 +306,7 @@ def test_a_reader_that_stops_reading_ends_the_listing_quietly():
 
 def test_records_say_where_each_sampling_interval_comes_from(capsys):
     assert main(["records"]) == 0
-    lines = {line.split()[0]: line for line in capsys.readouterr().out.splitlines()}
+    lines = {line.split()[0]: line for line in capsys.readouterr().out.splitlines()[1:]}
     assert "every 0.01 s (stated in the file's header)" in lines["el_centro_1940"]
     assert "every 0.02 s (from its time column)" in lines["northridge_1994"]
     assert ("every 0.01 s (not stated in the file, which has no time column: dem_core's reading; the file's name "

@@ -60,7 +60,7 @@ def test_a_folder_of_text_records_is_a_suite(tmp_path, capsys):
         np.savetxt(folder / f"{name}.txt", np.column_stack([t, np.sin(2 * np.pi * frequency * t)]))
     (folder / "notes.md").write_text("not a record")
     out = tmp_path / "out"
-    assert main(["fragility", _scene(tmp_path), "--records-dir", str(folder), "--units", "g", "--levels", "2",
+    assert main(["fragility", _scene(tmp_path), "--suite", str(folder), "--units", "g", "--levels", "2",
                  "--out", str(out)]) == 0
     assert sorted(set(pd.read_csv(out / "runs.csv")["record"])) == ["north", "south"]
 
@@ -74,9 +74,11 @@ def test_a_record_that_cannot_be_read_is_named(tmp_path, capsys):
 
 def test_an_empty_records_folder_is_refused(tmp_path, capsys):
     (tmp_path / "empty").mkdir()
-    assert main(["fragility", _scene(tmp_path), "--records-dir", str(tmp_path / "empty"), "--out",
+    assert main(["fragility", _scene(tmp_path), "--suite", str(tmp_path / "empty"), "--out",
                  str(tmp_path / "out")]) == 2
-    assert "no .at2, .txt, .dat or .csv file" in capsys.readouterr().err
+    assert capsys.readouterr().err == (f"error: --suite: {tmp_path / 'empty'}: no record in it: a suite folder holds "
+                                       f"record files (.at2, .txt, .dat, .csv) and optionally records.csv\n")
+    assert not (tmp_path / "out").exists()
 
 
 def test_the_gpu_is_refused_before_anything_runs(tmp_path, capsys):

@@ -19,16 +19,18 @@
 * ``animate SCENE.toml --out run.gif``: run and animate (GIF or MP4, at most 5000 frames);
   ``--exaggerate K`` draws each block's motion on what it rests on K times larger, so that a
   block rocking on a corner still stands on it;
-* ``fragility [SCENE.toml] --out DIR``: fragility curves of the scene under a suite of records (the bundled
-  four, ``--records`` or ``--records-dir``) scaled to ``--levels`` stripes of PGA, PGV or Sa(T), all the runs one
-  batch on every core, a lognormal per damage state with bootstrap bands
-  (:mod:`dem_core.analyses.fragility_study`), written as CSV files and a figure;
+* ``fragility [SCENE.toml] --out DIR``: fragility curves of the scene under a record suite (``--suite``, the
+  bundled demonstration suite by default, or ``--records``) scaled to ``--levels`` stripes of PGA, PGV or Sa(T),
+  all the runs one batch on every core, lognormals fitted to the damage states together with bands drawn by
+  record (:mod:`dem_core.analyses.fragility_study`), written as CSV files and a figure;
 * ``spectrum RECORD ... --out spectra.png``: elastic response spectra;
 * ``stiffness SCENE.toml``: the run again at 10 and 100 times the contact stiffness, to see
   whether the answer depends on it: each measure named, its value at each stiffness and a
   verdict (converged when it changes by at most 5% from the stiffest run, or by less than
   1 mm of sliding, 0.001 rad of rotation, 0.1 s of overturn time; otherwise what to do);
-* ``records``: the bundled accelerograms, with where each one's sampling interval comes from.
+* ``records [SUITE]``: a record suite's motions (:mod:`dem_core.inputs.suites`; the bundled demonstration suite
+  by default), with their intensities, where each one's sampling interval comes from and what is known of their
+  earthquakes.
 
 Every command that runs a scene compiles the engine first; that takes about half a minute the
 first time (numba caches it for later runs) and is announced on stderr when it takes more than

@@ -12,6 +12,7 @@ from ..batch import DEVICES, check_device
 from ..inputs import records
 from ..inputs.records import G_STANDARD
 from ..inputs.excitation import record, strong_motion_cuts
+from ..inputs.suites import BUNDLED_SUITES, DEFAULT_SUITE, METADATA, SuiteError, load_suite
 from ..output_files import output_folder
 from ..simulation import integrator_for
 from .arguments import DEFAULT_SCENE, LEVELS, POSITIVE, SECONDS, STATE, WORKERS, add_integrator, scene_and_settings
@@ -21,9 +22,10 @@ from .progress import compile_first, progress_bar
 def add(sub):
     fragility = sub.add_parser(
         "fragility", help="fragility curves: the scene under a suite of records scaled to stripes of PGA, PGV or Sa(T)",
-        description="Run the scene under each record scaled to each of --levels intensities evenly spaced up to "
-        "--max (multiple-stripe analysis), all members of one batch on every core, and fit a lognormal fragility "
-        "per damage state by maximum likelihood with bootstrap 90% bands (dem_core.analyses.fragility).  A "
+        description="Run the scene under each record of the suite scaled to each of --levels intensities evenly spaced up to "
+        "--max (multiple-stripe analysis), all members of one batch on every core, and fit lognormal fragilities "
+        "to the damage states together by maximum likelihood, one dispersion and ordered medians so that no curves "
+        "cross, with 90% bands drawn by record (dem_core.analyses.nested_fragility).  A "
         "damage state is a peak |theta|/alpha (alpha the column's critical angle for a drum, else the block's "
         "own); 1 is overturning.  Writes fragility.csv (median and dispersion per state with their "
         "bands), counts.csv (runs and exceedances per level and state), runs.csv (every run's measures), "
@@ -31,12 +33,13 @@ def add(sub):
     fragility.add_argument("scene", nargs="?", help=f"scene file (its [excitation] is ignored); default the bundled "
                            f"{DEFAULT_SCENE}")
     suite = fragility.add_mutually_exclusive_group()
+    suite.add_argument("--suite", default=DEFAULT_SUITE, help=f"a record suite: a folder of record files with an "
+                       f"optional {METADATA} (see dem-core records), or a bundled suite's name (default: "
+                       f"{DEFAULT_SUITE}, {BUNDLED_SUITES[DEFAULT_SUITE]})")
     suite.add_argument("--records", nargs="+", metavar="RECORD", help="bundled record names or record files (AT2 "
-                       "or text) (default: the four bundled records)")
-    suite.add_argument("--records-dir", metavar="DIR", help="a folder whose .at2, .txt, .dat and .csv files are the "
-                       "suite (default: none, --records)")
-    fragility.add_argument("--units", choices=("m/s^2", "g", "cm/s^2"), default="m/s^2", help="units of text "
-                           "records (AT2 files state theirs)")
+                       "or text) as the suite instead (default: none, --suite)")
+    fragility.add_argument("--units", choices=("m/s^2", "g", "cm/s^2"), default="m/s^2", help=f"units of text "
+                           f"records {METADATA} gives none for (AT2 files state theirs)")
     fragility.add_argument("--im", choices=tuple(INTENSITY_MEASURES), default="pga", help="intensity measure of the "
                            "horizontal component: peak ground acceleration (m/s^2) or velocity (m/s), or the "
                            "5%%-damped spectral acceleration at --period (m/s^2)")
@@ -151,21 +154,16 @@ def _refusal(args, suite: dict, duration) -> str:
 
 
 def _record_suite(args):
-    """{name: GroundMotion} of the fragility command's records (the bundled four by default), or None after
-    printing which record could not be read."""
-    if args.records_dir:
-        folder = Path(args.records_dir)
-        if not folder.is_dir():
-            print(f"error: --records-dir {folder}: not a folder", file=sys.stderr)
+    """{name: GroundMotion} of the fragility command's records (--records, else the --suite), or None after printing
+    which record could not be read."""
+    if not args.records:
+        try:
+            return load_suite(args.suite, args.units).motions()
+        except SuiteError as exc:
+            print(f"error: --suite: {exc}", file=sys.stderr)
             return None
-        sources = sorted(str(p) for p in folder.iterdir() if p.suffix.lower() in (".at2", ".txt", ".dat", ".csv"))
-        if not sources:
-            print(f"error: --records-dir {folder}: no .at2, .txt, .dat or .csv file in it", file=sys.stderr)
-            return None
-    else:
-        sources = args.records or list(records.BUNDLED)
     suite = {}
-    for source in sources:
+    for source in args.records:
         name = source if source in records.BUNDLED else Path(source).stem
         if name in suite:
             print(f"error: two records are named {name!r}: rename one", file=sys.stderr)

@@ -1,34 +1,52 @@
-"""``dem-core records``: the bundled accelerograms, with where each one's sampling interval comes from."""
+"""``dem-core records [SUITE]``: a record suite's motions (the bundled demonstration suite by default), with their
+intensities, where each one's sampling interval comes from, and what is known of its earthquake."""
 
 import math
-import re
+import sys
 
-from ..inputs import records
-from ..inputs.excitation import record
+from ..analyses.fragility_study import intensity
+from ..inputs.suites import BUNDLED_SUITES, DEFAULT_SUITE, METADATA, SuiteError, load_suite
 from .console import acceleration_text
 
 
 def add(sub):
-    sub.add_parser("records", help="list the bundled accelerograms: PGA, length, sampling interval and where it "
-                   "comes from")
+    listing = sub.add_parser(
+        "records", help="list a record suite's motions: PGA, PGV, length, sampling interval, strong motion, "
+        "earthquake and source",
+        description=f"List the motions of a record suite: a folder of record files (AT2 or text) with an optional "
+        f"{METADATA} (columns file, name, dt, units, component, magnitude, distance_km, vs30, pulse_period, source), "
+        f"or a bundled suite ({', '.join(BUNDLED_SUITES)}).  Every record is read, so a suite this lists is one "
+        f"fragility can run.")
+    listing.add_argument("suite", nargs="?", default=DEFAULT_SUITE, help=f"a suite folder or a bundled suite's "
+                         f"name (default: {DEFAULT_SUITE})")
+    listing.add_argument("--units", choices=("m/s^2", "g", "cm/s^2"), default="m/s^2", help="units of text records "
+                         f"{METADATA} gives none for (AT2 files state theirs)")
+    listing.add_argument("--csv", metavar="FILE", help="also write the listing as a CSV table to FILE (default: none)")
 
 
-def run(args=None) -> int:
-    for name, entry in records.BUNDLED.items():
-        horizontal = record(name).horizontal
-        what = re.sub(r"\s*\(PGA [^)]*\)", "", entry.description)
-        print(f"{name:18s} PGA {acceleration_text(horizontal.peak_acceleration)}, {horizontal.end_time:.4g} s "
-              f"every {horizontal.dt:.3g} s ({_sampling_source(entry, horizontal.dt)}): {what}")
+def run(args) -> int:
+    try:
+        suite = load_suite(args.suite, args.units)
+    except SuiteError as exc:
+        print(f"error: {exc}", file=sys.stderr)
+        return 2
+    table = suite.table()
+    table.insert(3, "pgv_m_s", [intensity(entry.motion, "pgv") for entry in suite.records])
+    print(f"suite {suite.name}: {len(suite)} records")
+    for entry, (_, row) in zip(suite.records, table.iterrows()):
+        known = ", ".join(text for text, value in (("M{:g}", row["magnitude"]), ("{:.3g} km", row["distance_km"]),
+                                                   ("Vs30 {:.3g} m/s", row["vs30"]),
+                                                   ("pulse {:.3g} s", row["pulse_period_s"]))
+                          if math.isfinite(value) for text in [text.format(value)])
+        print(f"{entry.name:18s} PGA {acceleration_text(row['pga_m_s2'])}, PGV {row['pgv_m_s']:.3g} m/s, "
+              f"{row['length_s']:.4g} s every {row['dt_s']:.3g} s ({entry.sampling}), strong motion "
+              f"{row['strong_start_s']:.3g} to {row['strong_end_s']:.3g} s" + (f"; {known}" if known else "")
+              + (f": {entry.source}" if entry.source else ""))
+    if args.csv:
+        try:
+            table.to_csv(args.csv, index=False)
+        except OSError as exc:
+            print(f"error: --csv {args.csv}: {exc.strerror or exc}", file=sys.stderr)
+            return 2
+        print(f"wrote {args.csv}")
     return 0
-
-
-def _sampling_source(entry, dt: float) -> str:
-    """Where a bundled record's sampling interval comes from, in words: the AT2 header, the time column, or (for a
-    file without either) dem_core's table of bundled records, with the interval the file's name gives if other."""
-    if entry.dt is None:
-        return "stated in the file's header" if entry.file.lower().endswith(".at2") else "from its time column"
-    named = re.search(r"dt[_=]?(\d+(?:\.\d+)?)", entry.file, re.IGNORECASE)
-    other = (f"; the file's name says {float(named.group(1)):g} s" if named and
-             not math.isclose(float(named.group(1)), dt, rel_tol=1e-6) else "")
-    return (f"not stated in the file, which has no time column: dem_core's reading{other}, see "
-            f"dem_core/data/records/SOURCES.md")

@@ -87,6 +87,18 @@ def _bundled_hint(name: str) -> str:
     return f"{guess} (bundled records: {', '.join(BUNDLED)})"
 
 
+def sampling_source(entry: BundledRecord, dt: float) -> str:
+    """Where a bundled record's sampling interval comes from, in words: the AT2 header, the time column, or (for a
+    file without either) this module's :data:`BUNDLED`, with the interval the file's name gives if other."""
+    if entry.dt is None:
+        return "stated in the file's header" if entry.file.lower().endswith(".at2") else "from its time column"
+    named = re.search(r"dt[_=]?(\d+(?:\.\d+)?)", entry.file, re.IGNORECASE)
+    other = (f"; the file's name says {float(named.group(1)):g} s" if named and
+             not math.isclose(float(named.group(1)), dt, rel_tol=1e-6) else "")
+    return (f"not stated in the file, which has no time column: dem_core's reading{other}, see "
+            f"dem_core/data/records/SOURCES.md")
+
+
 def check_dt(dt, where: str, what: str = "dt") -> float:
     """``dt`` (s) as a float if it is a usable sampling interval: a finite number of at least
     :data:`MIN_DT`; otherwise :class:`RecordError` naming ``where`` and ``what``."""
