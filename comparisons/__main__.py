@@ -27,6 +27,7 @@ BENCHMARKS = {
     "moreau-stages": "moreau_stages",
     "restitution": "restitution",
     "gpu-check": "gpu_check",
+    "fragility-suite": "fragility_suite",
 }
 
 

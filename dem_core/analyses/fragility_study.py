@@ -19,7 +19,6 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from ..batch import simulate_batch
 from ..inputs.excitation import GroundMotion, record_name, scaled, unscaled
 from ..inputs.records import G_STANDARD
 from ..output_files import replacing
@@ -28,6 +27,7 @@ from .damage import critical_angles
 from .fragility import fragility_figure
 from .nested_fragility import ADVISED_RECORDS, fit_nested, fit_states, ida_estimate
 from .spectra import response_spectrum
+from .study_members import run_members
 
 #: the intensity measures: name -> (label, unit)
 INTENSITY_MEASURES = {"pga": ("PGA", "m/s^2"), "pgv": ("PGV", "m/s"), "sa": ("Sa(T)", "m/s^2")}
@@ -58,6 +58,7 @@ class FragilityStudy:
     ida : {state: (median, beta, records that reached it)}, the IDA-style estimate
         (:func:`~dem_core.analyses.nested_fragility.ida_estimate`).
     intensities : {record: {measure: value at unit scale}} (:func:`record_intensities`).
+    resumed : runs read from the study's log instead of run (:func:`~.study_members.run_members`).
     """
 
     runs: pd.DataFrame
@@ -68,6 +69,7 @@ class FragilityStudy:
     settings: dict = field(default_factory=dict)
     ida: dict = field(default_factory=dict)
     intensities: dict = field(default_factory=dict)
+    resumed: int = 0
 
     def table(self) -> pd.DataFrame:
         """One row per damage state: ``state``, ``median`` and ``beta`` (the states fitted together, one common
@@ -196,6 +198,11 @@ def check_period(motion: GroundMotion, period) -> None:
                          f"({end:g} s); its usable periods end there")
 
 
+def damage_measures(result) -> dict:
+    """A run's measures for a study: ``{"damage_ratio": damage_ratio(result)}``."""
+    return {"damage_ratio": damage_ratio(result)}
+
+
 def damage_ratio(result) -> float:
     """The largest over the blocks of peak |theta| / the governing critical angle (:func:`.damage.critical_angles`:
     the column's for a block in a column, else the block's own); nan for a result without critical angles."""
@@ -226,10 +233,11 @@ def stripes(count: int, top: float) -> np.ndarray:
 def fragility_study(scene, records: dict, levels, states=DEFAULT_STATES, *, im: str = "pga",
                     duration: float | None = None, device: str = "auto", threads: int | None = None,
                     progress=None, samples: int | None = None, periods=DEFAULT_PERIODS,
-                    period: float | None = None, **simulate_options) -> FragilityStudy:
+                    period: float | None = None, log=None, scheduler=None, **simulate_options) -> FragilityStudy:
     """Run ``scene`` under every record of ``records`` ({name: :class:`GroundMotion`}) scaled to each intensity of
-    ``levels`` (the measure ``im``), all as one :func:`~dem_core.batch.simulate_batch`, and fit one lognormal
-    fragility per damage state of ``states`` (multiple-stripe analysis: each level's runs, one per record).
+    ``levels`` (the measure ``im``), as batches (:func:`~.study_members.run_members`: one on this machine without a
+    log), and fit lognormal fragilities to the damage states of ``states`` together (multiple-stripe analysis: each
+    level's runs, one per record; :func:`~.nested_fragility.fit_states`).
 
     A run that does not finish (unstable, refused) counts in no stripe and keeps its row, with its error.
     ``period`` (s): the period of ``im="sa"``, Sa(T) (:func:`intensity`).
@@ -237,6 +245,9 @@ def fragility_study(scene, records: dict, levels, states=DEFAULT_STATES, *, im: 
     with PGA and PGV.
     ``samples`` : the bootstrap's refits (default that of :func:`fit_fragility`).  ``simulate_options`` go to
     every run, as :func:`~dem_core.simulate` takes them.
+    ``log`` : a file where every finished run is saved as it ends and from which a rerun resumes; ``scheduler``: a
+    Dask scheduler's address (or client) whose workers run one record's stripes each
+    (:func:`~.study_members.run_members`).
     """
     _check_measure(im)
     if not records:
@@ -258,8 +269,9 @@ def fragility_study(scene, records: dict, levels, states=DEFAULT_STATES, *, im: 
             raise ValueError(f"record {name}: its {INTENSITY_MEASURES[im][0]} is zero; it cannot be scaled")
     plan = [(name, level, level / own[name]) for level in levels for name in records]
     motions = [scaled(records[name], factor) for name, _, factor in plan]
-    batch = simulate_batch(scene, motions, duration, device=device, threads=threads, progress=progress,
-                           measures=lambda result: {"damage_ratio": damage_ratio(result)}, **simulate_options)
+    by_record = [[m for m, (name, _, _) in enumerate(plan) if name == record] for record in records]
+    batch = run_members(scene, motions, duration, by_record, log=log, scheduler=scheduler, device=device,
+                        threads=threads, progress=progress, measures=damage_measures, **simulate_options)
     runs = pd.concat([pd.DataFrame(plan, columns=["record", "level", "scale"]), batch.table], axis=1)
     outcomes = study_outcomes(runs, list(records), len(levels), states)
     options = {} if samples is None else {"samples": samples}
@@ -271,7 +283,8 @@ def fragility_study(scene, records: dict, levels, states=DEFAULT_STATES, *, im: 
                            "duration": duration, **simulate_options,
                            "integrator": integrator_for(scene if not isinstance(scene, (list, tuple)) else scene[0],
                                                         simulate_options.get("integrator"))},
-                          ida, {name: record_intensities(motion, periods) for name, motion in records.items()})
+                          ida, {name: record_intensities(motion, periods) for name, motion in records.items()},
+                          batch.resumed)
 
 
 def record_intensities(motion: GroundMotion, periods=DEFAULT_PERIODS) -> dict:

@@ -74,7 +74,7 @@ def describe(value):
     """A JSON-able description of ``value`` that equal values share.
 
     Dataclasses by their type and init fields (not caches), arrays by shape, dtype and a digest of
-    their bytes, mappings as sorted key-value pairs, floats exactly (non-finite ones as text),
+    their bytes, partial functions by their function and arguments, mappings as sorted key-value pairs, floats exactly (non-finite ones as text),
     functions and classes by qualified name, other objects by type and attributes.
     """
     if value is None or isinstance(value, (bool, int, str)):
@@ -96,6 +96,9 @@ def describe(value):
     if dataclasses.is_dataclass(value) and not isinstance(value, type):
         return {"type": _qualified_name(type(value)),
                 **{f.name: describe(getattr(value, f.name)) for f in dataclasses.fields(value) if f.init}}
+    if isinstance(value, functools.partial):
+        return {"partial": describe(value.func), "args": describe(list(value.args)),
+                "keywords": describe(value.keywords)}
     if inspect.isroutine(value) or inspect.isclass(value):
         return {"callable": _qualified_name(value)}
     if hasattr(value, "__dict__"):

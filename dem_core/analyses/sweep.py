@@ -73,6 +73,7 @@ from ..inputs.excitation import GroundMotion, strong_motion_cuts
 from ..inputs.scene import Scene
 from ..output_files import PARTIAL, OutputPathError, output_folder, replacing
 from . import run_identity
+from .cluster import ClusterError, dask_client
 from .worker_pool import TaskFailed, WorkerDied, run_tasks
 
 RESULTS = "results.parquet"
@@ -553,10 +554,14 @@ def _run(points: list, history_dir, workers, scheduler):
             yield {**outcome, "attempts": attempts}
         return
     try:
-        from distributed import Client
-    except ImportError:
-        raise SweepError("running on a Dask cluster needs dask.distributed: pip install 'dask[distributed]'") from None
-    client = scheduler if isinstance(scheduler, Client) else Client(scheduler)
+        with dask_client(scheduler) as client:
+            yield from _on_cluster(client, points, history_dir)
+    except ClusterError as exc:
+        raise SweepError(str(exc)) from None
+
+
+def _on_cluster(client, points: list, history_dir):
+    """The rows of ``points`` as their runs finish on the Dask cluster of ``client``."""
     executor = client.get_executor()
     try:
         futures = {executor.submit(run_point, p.spec, p.params, p.run_id, history_dir): p for p in points}
@@ -567,8 +572,6 @@ def _run(points: list, history_dir, workers, scheduler):
                 yield _failed_row(futures[future], f"{type(exc).__name__}: {exc}")
     finally:
         executor.shutdown(wait=False)  # on an interruption, do not wait for the cluster
-        if client is not scheduler:
-            client.close()
 
 
 def collect(out, order=None) -> pd.DataFrame:

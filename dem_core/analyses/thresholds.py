@@ -20,16 +20,17 @@ above windows it stepped over; hence the fine scan over the whole range, started
 uplift acceleration (below which nothing rocks, so nothing overturns).
 """
 
+import functools
 from collections.abc import Callable
 from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..batch import simulate_batch
 from ..simulation import SimulationUnstable, simulate
 from ..engine.model import compile_model, interface_history, result_states
 from ..inputs.excitation import ramp
 from ..inputs.scene import Scene
+from .study_members import run_members
 
 ROCKING_FRACTION = 1.0 / 30.0  # rocking starts at theta_cr / 30
 SLIP_THRESHOLD = 1e-4  # m
@@ -221,12 +222,17 @@ def _outcome(happens, scale: float, failures):
         return exc
 
 
-def batch_outcomes(scene: Scene, motion_at: Callable, scales, event: Callable, **simulate_options) -> list:
+def batch_outcomes(scene: Scene, motion_at: Callable, scales, event: Callable, *, log=None, scheduler=None,
+                   **simulate_options) -> list:
     """For each of ``scales``: ``event(result)`` of the run of ``scene`` under ``motion_at(scale)``, or the error
     of a run that failed (a :class:`SimulationUnstable` with its message and no ``partial``; a ``ValueError``
-    naming the scale for a run refused), all the runs one :func:`~dem_core.batch.simulate_batch`."""
-    table = simulate_batch(scene, [motion_at(s) for s in scales], simulate_options.pop("duration", None),
-                           measures=lambda result: {"event": bool(event(result))}, **simulate_options).table
+    naming the scale for a run refused), all the runs one batch (:func:`~.study_members.run_members`: with a
+    ``log`` of finished runs to resume from, or on the Dask cluster of ``scheduler``, one run a task; ``event``
+    must then be picklable, a module-level function or a partial of one)."""
+    motions = [motion_at(s) for s in scales]
+    table = run_members(scene, motions, simulate_options.pop("duration", None), [[m] for m in range(len(motions))],
+                        log=log, scheduler=scheduler, measures=functools.partial(_event_measure, event),
+                        **simulate_options).table
     outcomes = []
     for scale, (_, row) in zip(scales, table.iterrows()):
         if row["status"] == "ok":
@@ -236,6 +242,19 @@ def batch_outcomes(scene: Scene, motion_at: Callable, scales, event: Callable, *
         else:
             outcomes.append(ValueError(f"the run at scale {scale:g} was refused: {row['error']}"))
     return outcomes
+
+
+def _event_measure(event: Callable, result) -> dict:
+    return {"event": bool(event(result))}
+
+
+def _overturned(result) -> bool:
+    return bool(result.overturned)
+
+
+def _started(scene: Scene, criterion: str, slip: float, result) -> bool:
+    """Whether ``criterion`` ("rocking" or "sliding") started in ``result`` (:func:`rocks`, :func:`slides`)."""
+    return rocks(scene, result) if criterion == "rocking" else slides(scene, result, slip)
 
 
 def interface_offsets(scene: Scene, result) -> np.ndarray:
@@ -285,14 +304,14 @@ def overturning_threshold(scene: Scene, motion_at: Callable, low: float, high: f
     step, absolute_step, scan, tolerance, on_run, first_only : as :func:`scan_and_refine`.
     simulate_options : as :func:`dem_core.simulate` takes them (duration, dt, ...), for every run of
         :func:`~dem_core.batch.simulate_batch` (so not ``parallel``; a ``progress`` callback is not passed on:
-        ``on_run`` reports each run); runs stop at the first overturn; a run that loses stability is a failure,
-        not a survivor.
+        ``on_run`` reports each run), and ``log`` and ``scheduler`` as :func:`batch_outcomes` takes them; runs stop
+        at the first overturn; a run that loses stability is a failure, not a survivor.
     """
     simulate_options.pop("progress", None)
     options = {**simulate_options, "stop_at_overturn": True}
 
     def overturned(scales):
-        return batch_outcomes(scene, motion_at, scales, lambda result: result.overturned, **options)
+        return batch_outcomes(scene, motion_at, scales, _overturned, **options)
 
     return scan_and_refine(lambda scale: _single(overturned([scale])[0]), low, high, step=step,
                            absolute_step=absolute_step, scan=scan, tolerance=tolerance, criterion="overturning",
@@ -310,8 +329,7 @@ def onset_threshold(scene: Scene, motion_at: Callable, low: float, high: float, 
     simulate_options.setdefault("output_dt", 1e-3)
     simulate_options.pop("progress", None)
 
-    def started(result):
-        return rocks(scene, result) if criterion == "rocking" else slides(scene, result, slip)
+    started = functools.partial(_started, scene, criterion, slip)
 
     def starts(scales):
         return batch_outcomes(scene, motion_at, scales, started, **simulate_options)

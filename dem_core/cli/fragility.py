@@ -6,8 +6,10 @@ from pathlib import Path
 
 import numpy as np
 
+from ..analyses.cluster import ClusterError
 from ..analyses.fragility_study import (DEFAULT_STATES, DEFAULT_TOP, INTENSITY_MEASURES, check_period,
                                         fragility_study, state_label, stripes, write_study)
+from ..analyses.study_members import LOG
 from ..batch import DEVICES, check_device
 from ..inputs import records
 from ..inputs.records import G_STANDARD
@@ -29,7 +31,8 @@ def add(sub):
         "damage state is a peak |theta|/alpha (alpha the column's critical angle for a drum, else the block's "
         "own); 1 is overturning.  Writes fragility.csv (median and dispersion per state with their "
         "bands), counts.csv (runs and exceedances per level and state), runs.csv (every run's measures), "
-        "fragility.png and study.json (the settings, the machine and the wall time).")
+        "fragility.png and study.json (the settings, the machine and the wall time).  Every finished run is saved in OUT/members.jsonl as "
+        "it ends: after Ctrl-C or a crash the same command resumes, running only what is missing.")
     fragility.add_argument("scene", nargs="?", help=f"scene file (its [excitation] is ignored); default the bundled "
                            f"{DEFAULT_SCENE}")
     suite = fragility.add_mutually_exclusive_group()
@@ -56,7 +59,10 @@ def add(sub):
                            "file, else each record's length)")
     add_integrator(fragility)
     fragility.add_argument("--device", choices=DEVICES, default="auto", help="where the batch runs")
-    fragility.add_argument("--threads", type=WORKERS, help="runs at once (default: one per core)")
+    fragility.add_argument("--threads", type=WORKERS, help="runs at once on this machine (default: one per core)")
+    fragility.add_argument("--scheduler", help="address of a running Dask scheduler, e.g. tcp://10.0.0.5:8786, whose "
+                           "workers each run one record's stripes as a batch on their cores or GPU (default: none, "
+                           "this machine)")
 
 
 def run(args) -> int:
@@ -85,28 +91,33 @@ def run(args) -> int:
     levels = stripes(args.levels, args.max or DEFAULT_TOP[args.im])
     total = len(levels) * len(suite)
     integrator = integrator_for(spec.scene, settings.get("integrator"))
+    where = f" on the Dask scheduler {args.scheduler}" if args.scheduler else ""
     print(f"fragility of {path.name}: {len(suite)} record(s) x {len(levels)} {label} levels from {levels[0]:.4g} to "
-          f"{levels[-1]:.4g} {unit} ({total} runs), integrator {integrator}", flush=True)
-    compile_first(spec.scene, next(iter(suite.values())), settings)
+          f"{levels[-1]:.4g} {unit} ({total} runs), integrator {integrator}{where}", flush=True)
+    if args.scheduler is None:
+        compile_first(spec.scene, next(iter(suite.values())), settings)
     bar = progress_bar(total=total, desc="runs", unit="run")
+    log = out / LOG
     done = [0]
 
     def on_member(finished, _total):
         done[0] = finished
         bar.update(finished - bar.n)
 
-    args.on_interrupt = lambda: f"stopped after {done[0]} of {total} runs; nothing was written"
+    args.on_interrupt = lambda: (f"stopped after {done[0]} of {total} runs, saved in {log}: run the same command "
+                                 f"again to resume")
     try:
         study = fragility_study(spec.scene, suite, levels, args.states, im=args.im, period=args.period,
-                                duration=duration,
-                                device=args.device, threads=args.threads, progress=on_member, **settings)
+                                duration=duration, device=args.device, threads=args.threads, progress=on_member,
+                                log=log, scheduler=args.scheduler, **settings)
     except (TypeError, ValueError) as exc:
-        print(f"error: {exc}", file=sys.stderr)
+        print(f"error: {f'--scheduler: {exc}' if isinstance(exc, ClusterError) else exc}", file=sys.stderr)
         return 2
     finally:
         bar.close()
     failed = study.runs[study.runs["status"] != "ok"]
-    print(f"{total} runs in {study.wall_time_s:.1f} s on {study.device}"
+    resumed = f" ({study.resumed} read from {log}, saved by an earlier run)" if study.resumed else ""
+    print(f"{total} runs{resumed} in {study.wall_time_s:.1f} s on {study.device}"
           + (f"; {len(failed)} did not finish and count in no stripe" if len(failed) else ""))
     for _, row in failed.head(5).iterrows():
         print(f"  {row['record']} at {label} {row['level']:.4g} {unit}: {row['status']}: "

@@ -1,14 +1,19 @@
 """``dem-core threshold SCENE``: the smallest value of an [excitation] key at which the scene overturns, or starts
 rocking or sliding, by the scan and bisection of :mod:`dem_core.analyses.thresholds`."""
 
+import json
 import math
 import sys
 
 import numpy as np
+import pandas as pd
 
+from ..analyses.cluster import ClusterError
+from ..analyses.study_members import LOG
 from ..analyses.sweep import SceneFileBuild
 from ..analyses.thresholds import SCAN_STEP, TOLERANCE, onset_threshold, overturning_threshold, scan_grid
 from ..inputs.scene_file import SceneFileError, read_toml
+from ..output_files import output_folder, replacing
 from .arguments import FRACTION, POSITIVE, SCALES, SECONDS, add_integrator, with_integrator
 from .console import acceleration_text, percent
 from .progress import compile_first, progress_bar, simulate_options
@@ -44,6 +49,12 @@ def add(sub):
     threshold.add_argument("--duration", type=SECONDS, help="simulated time of each run in s (default: from the "
                            "file or the record)")
     add_integrator(threshold)
+    threshold.add_argument("--out", help="output folder, created if need be: runs.csv (every run's value and "
+                           "outcome) and threshold.json (the answer and the settings), and members.jsonl, every "
+                           "finished run as it ends, from which the same command resumes after Ctrl-C or a crash "
+                           "(default: none, nothing written)")
+    threshold.add_argument("--scheduler", help="address of a running Dask scheduler, e.g. tcp://10.0.0.5:8786, whose "
+                           "workers run the scan's runs, one a task (default: none, this machine's cores)")
 
 
 #: excitation kinds whose ``amplitude`` is an acceleration (a harmonic's is a displacement, m)
@@ -97,7 +108,9 @@ def run(args) -> int:
     print(f"searching for {args.criterion}: {args.parameter} from {parameter_text(args.low, unit)} to "
           f"{parameter_text(args.high, unit)}: {_scan_text(args, step, unit, len(grid))}, then each change "
           f"refined to {percent(args.tolerance)} of its value")
-    compile_first(spec.scene, spec.excitation, settings)
+    out = output_folder(args.out, "--out") if args.out else None
+    if args.scheduler is None:
+        compile_first(spec.scene, spec.excitation, settings)
 
     def gap(value):
         """The scan's step near ``value``: the bracket each change starts from."""
@@ -116,15 +129,19 @@ def run(args) -> int:
         bar.update()
 
     runs_so_far = []
-    args.on_interrupt = lambda: f"the search was stopped after {len(runs_so_far)} run(s); nothing was written"
-    options = {**search, "on_run": on_run, **simulate_options(settings, progress=False)}
+    log = None if out is None else out / LOG
+    args.on_interrupt = lambda: (f"the search was stopped after {len(runs_so_far)} run(s); " + (
+        "nothing was written" if log is None else f"the finished ones are saved in {log}: run the same command "
+                                                  f"again to resume"))
+    options = {**search, "on_run": on_run, "log": log, "scheduler": args.scheduler,
+               **simulate_options(settings, progress=False)}
     try:
         if args.criterion == "overturning":
             found = overturning_threshold(spec.scene, motion_at, args.low, args.high, **options)
         else:
             found = onset_threshold(spec.scene, motion_at, args.low, args.high, criterion=args.criterion, **options)
     except (SceneFileError, TypeError, ValueError) as exc:
-        print(f"error: {exc}", file=sys.stderr)
+        print(f"error: {f'--scheduler: {exc}' if isinstance(exc, ClusterError) else exc}", file=sys.stderr)
         return 2
     finally:
         bar.total = bar.n
@@ -143,7 +160,28 @@ def run(args) -> int:
         print(f"no {args.criterion} up to {args.parameter} = {parameter_text(args.high, unit)}")
     else:
         print(f"{args.criterion} already at {args.parameter} = {parameter_text(args.low, unit)}: lower --low")
+    if out is not None:
+        _write_threshold(out, found, args, unit, settings)
+        print(f"wrote runs.csv and threshold.json in {out}")
     return 0
+
+
+def _write_threshold(out, found, args, unit: str, settings: dict) -> None:
+    """``runs.csv`` (value, outcome: the criterion happened, not, or failed with its message) and ``threshold.json``
+    (the answer, its bracket and the search's settings) of a search, each whole or not at all."""
+    runs = pd.DataFrame([(value, "yes" if happened else "no", "") for value, happened in found.runs]
+                        + [(value, "failed", message.splitlines()[0]) for value, message in found.failures],
+                        columns=[args.parameter, args.criterion, "error"]).sort_values(args.parameter)
+    answer = {"criterion": args.criterion, "parameter": args.parameter, "unit": unit,
+              "threshold": found.value if np.isfinite(found.value) else None, "below": found.below,
+              "above": found.above, "monotonic": found.monotonic, "runs": len(found.runs),
+              "failures": len(found.failures), "scene": str(args.scene), "low": args.low, "high": args.high,
+              "step": args.step, "absolute_step": args.absolute_step, "scan": args.scan,
+              "tolerance": args.tolerance, "simulation": settings}
+    with replacing(out / "runs.csv") as tmp:
+        runs.to_csv(tmp, index=False)
+    with replacing(out / "threshold.json") as tmp:
+        tmp.write_text(json.dumps(answer, indent=2, default=str))
 
 
 def _scan_text(args, step, unit, runs) -> str:

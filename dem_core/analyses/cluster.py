@@ -1,0 +1,35 @@
+"""A Dask cluster as the studies reach it: a client for a scheduler's address, or one clear error saying why not."""
+
+from contextlib import contextmanager
+
+#: s a study waits for a scheduler to answer before it says it cannot be reached
+CONNECT_TIMEOUT = 10.0
+
+
+class ClusterError(ValueError):
+    """A Dask scheduler that cannot be used; the message names its address and why."""
+
+
+@contextmanager
+def dask_client(scheduler):
+    """A ``distributed.Client`` for ``scheduler``: an address (``tcp://host:8786``), connected within
+    :data:`CONNECT_TIMEOUT` s and closed on leaving, or a client of the caller's, used as it is.  A scheduler that
+    cannot be reached, or a machine without dask.distributed, is :class:`ClusterError` naming it."""
+    try:
+        from distributed import Client
+    except ImportError:
+        raise ClusterError("running on a Dask cluster needs dask.distributed: pip install 'dask[distributed]'") \
+            from None
+    if isinstance(scheduler, Client):
+        yield scheduler
+        return
+    try:
+        client = Client(scheduler, timeout=CONNECT_TIMEOUT)
+    except (OSError, TimeoutError, ValueError, TypeError) as exc:
+        why = str(exc).strip().splitlines()[0] if str(exc).strip() else type(exc).__name__
+        raise ClusterError(f"the Dask scheduler {scheduler} cannot be reached within {CONNECT_TIMEOUT:g} s "
+                           f"({why}); is it running, and is the address right?") from None
+    try:
+        yield client
+    finally:
+        client.close()
