@@ -25,7 +25,7 @@ def add(sub):
     fragility = sub.add_parser(
         "fragility", help="fragility curves: the scene under a suite of records scaled to stripes of PGA, PGV or Sa(T)",
         description="Run the scene under each record of the suite scaled to each of --levels intensities evenly spaced up to "
-        "--max (multiple-stripe analysis), all members of one batch on every core, and fit lognormal fragilities "
+        "--max (multiple-stripe analysis), as batches on every core (or on the workers of a Dask cluster), and fit lognormal fragilities "
         "to the damage states together by maximum likelihood, one dispersion and ordered medians so that no curves "
         "cross, with 90% bands drawn by record (dem_core.analyses.nested_fragility).  A "
         "damage state is a peak |theta|/alpha (alpha the column's critical angle for a drum, else the block's "
