@@ -19,8 +19,9 @@ which were cut):
    (GPU / CPU: their member-steps per second, the break-even that ``simulate_batch(device="auto")`` rests on).
    The issue's marked cases (the block by central differences, the column by Moreau-Jean) run here; the other two
    (``throughput-other``) run last, after the studies.
-4. fragility: the committed study (examples/studies/fragility.py: the bundled default column, the four bundled
-   records x 256 stripes, Moreau-Jean) on the GPU: its time and its overturning median.
+4. fragility: the committed study (examples/studies/fragility.py: the bundled default column, the demonstration
+   suite's 40 motions x 40 stripes, each followed by 10 s at rest, Moreau-Jean) on the GPU: its time and its
+   overturning median.
 5. fine scan: the first overturn of each of record_overturning's 28 systems (examples/studies/record_overturning.py:
    columns of 1 to 3 drums and colonnades of 1, 2, 3 and 5 drums under the four records), every 0.02 m/s^2 from
    its lowest PGA to its cap, one GPU batch a system: the time, and ``fine_scan.csv`` in ``--out``.
@@ -59,6 +60,8 @@ STEADY, NUDGE, AGREEMENT = 1e-10, 1e-12, 1e-9
 SECTION_ORDER = ("device", "agreement", "throughput", "fragility", "fine", "throughput-other")
 #: s of every run under --smoke (the record's whole length otherwise, where a study runs it)
 SMOKE_DURATION = 0.05
+#: motions of the fragility study's suite run under --smoke
+SMOKE_RECORDS = 2
 #: the issue's marks
 MARKS = {"block explicit member-steps/s": 1e10, "column moreau batch s": 10.0, "fragility s": 60.0,
          "fine scan s": 600.0}
@@ -229,17 +232,18 @@ def _study(name: str):
 def fragility_section(args, clock: Clock) -> None:
     from dem_core.analyses.fragility_study import fragility_study, stripes
     from dem_core.cli import default_scene_path
-    from dem_core.inputs.records import BUNDLED
     from dem_core.inputs.scene_file import load
 
     study = _study("fragility")
-    records = {name: excitation.record(name) for name in BUNDLED}
-    levels = stripes(args.stripes or study.LEVELS, G_STANDARD)
+    records = study.suite()
+    if args.smoke:  # the suite's first two motions
+        records = dict(list(records.items())[:SMOKE_RECORDS])
+    levels = stripes(args.stripes or study.LEVELS, study.TOP)
     began = time.perf_counter()
     try:
         done = fragility_study(load(default_scene_path()).scene, records, levels, study.STATES, device="gpu",
                                duration=SMOKE_DURATION if args.smoke else None, progress=clock.progress,
-                               **study.OPTIONS)
+                               residual=None if args.smoke else study.RESIDUAL, **study.OPTIONS)
     except BatchInterrupted:
         _line("fragility", f"{len(records) * len(levels)} runs", "cut at the budget's end", "NOT met")
         return

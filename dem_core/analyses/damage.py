@@ -1,4 +1,5 @@
-"""How near each block of a run came to overturning: the critical angle that governs it (docs/method.md section 3)."""
+"""How much a run damaged its blocks: how near each came to overturning, by the critical angle that governs it
+(docs/method.md section 3), and what the run left: the drums' residual dislocation and the residual tilt."""
 
 import numpy as np
 
@@ -13,3 +14,41 @@ def critical_angles(result) -> np.ndarray:
         for name in column.blocks:
             alpha[result.index(name)] = column.critical_angle
     return alpha
+
+
+def residual_dislocation(scene, result) -> float:
+    """m: the largest offset, at the run's end, of a block over the one it rested on at the start (or the base),
+    along their joint: the dislocation of drums a survey measures (``thresholds.interface_offsets``); 0 for a
+    scene without joints."""
+    from .thresholds import interface_offsets
+
+    offsets = interface_offsets(scene, result)
+    return float(np.max(np.abs(offsets[-1]))) if offsets.size else 0.0
+
+
+def residual_tilt(result) -> float:
+    """rad: the largest lean, at the run's end, that the run added: for each column the change in the angle
+    between the line through its bottom and top blocks' centres of mass and its bottom block's axis (the lean that
+    dislocated drums leave; a column still rocking as one body adds nothing), for every other block the change in
+    its own rotation."""
+    x, y, theta = (np.asarray(a, dtype=float) for a in (result.x, result.y, result.theta))
+    leans, in_columns = [], set()
+    for column in result.columns:
+        bottom, top = result.index(column.blocks[0]), result.index(column.blocks[-1])
+        in_columns.update(result.index(name) for name in column.blocks)
+        if bottom != top:
+            lean = np.arctan2(x[:, top] - x[:, bottom], y[:, top] - y[:, bottom]) + theta[:, bottom]
+            leans.append(abs(lean[-1] - lean[0]))
+    leans += [abs(theta[-1, k] - theta[0, k]) for k in range(theta.shape[1]) if k not in in_columns]
+    return float(max(leans, default=0.0))
+
+
+def still_at_end(result, speed: float) -> bool:
+    """Whether every block of ``result`` moves slower than ``speed`` (m/s, its centre of mass relative to the
+    ground between the last two outputs) at the run's end: whether what the run leaves is a resting state."""
+    if len(result.t) < 2:
+        return False
+    step = result.t[-1] - result.t[-2]
+    x = np.asarray(result.x, dtype=float) - np.asarray(result.base_x, dtype=float)[:, None]
+    y = np.asarray(result.y, dtype=float) - np.asarray(result.base_y, dtype=float)[:, None]
+    return bool(np.all(np.hypot(x[-1] - x[-2], y[-1] - y[-2]) / step < speed))

@@ -181,18 +181,19 @@ RESAMPLED_WORDS = {"runs": "each stripe's runs drawn again", "records": "the sui
 
 
 def fragility_figure(fits: dict, intensity: str = "PGA (m/s$^2$)", title: str = "Fragility",
-                     median_text=lambda median: f"{median:.3g}"):
+                     median_text=lambda median: f"{median:.3g}", ax=None):
     """Figure of the probability of exceedance against the intensity measure: per damage state (``fits``:
     {label: :class:`Fragility`}) the fitted lognormal as a line, its bootstrap band shaded, and the stripes'
     observed fractions as points; a state without a fit shows its points and its note in the legend, and the
-    legend says what the bands and the points are.  median_text : a median in words (its units)."""
+    legend says what the bands and the points are.  median_text : a median in words (its units).  ax : the
+    axes to draw in (default: a new figure's)."""
     import matplotlib
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
     from matplotlib.patches import Patch
 
-    fig, ax = plt.subplots(figsize=(7.5, 4.8))
+    fig, ax = plt.subplots(figsize=(7.5, 4.8)) if ax is None else (ax.figure, ax)
     colours = plt.get_cmap("viridis")(np.linspace(0.0, 0.85, max(len(fits), 1)))
     resampled = {fit.resampled for fit in fits.values() if fit.samples.size}
     for colour, (label, fit) in zip(colours, fits.items()):

@@ -10,6 +10,7 @@ ratio reaches ``s`` or it overturned; state 1 is overturning, as the engine's ov
 
 from __future__ import annotations
 
+import functools
 import json
 import math
 import textwrap
@@ -19,11 +20,11 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from ..inputs.excitation import GroundMotion, record_name, scaled, unscaled
+from ..inputs.excitation import GroundMotion, extended, record_name, scaled, unscaled
 from ..inputs.records import G_STANDARD
 from ..output_files import replacing
 from ..simulation import integrator_for, warn_caller
-from .damage import critical_angles
+from .damage import critical_angles, residual_dislocation, residual_tilt, still_at_end
 from .fragility import fragility_figure
 from .nested_fragility import ADVISED_RECORDS, fit_nested, fit_states, ida_estimate
 from .spectra import response_spectrum
@@ -37,6 +38,16 @@ DEFAULT_TOP = {"pga": G_STANDARD, "pgv": 1.0, "sa": G_STANDARD}
 #: its samples hold) and at most its length
 SHORTEST_PERIOD_SAMPLES = 4
 DEFAULT_STATES = (0.1, 0.3, 0.5, 1.0)
+#: the damage measures a state is set on: key -> (the runs' column, what it is, its unit); a run exceeds a state
+#: when it overturned or its measure reached the state's threshold (peak theta/alpha: 1 is overturning itself)
+DAMAGE_MEASURES = {"peak": ("damage_ratio", "peak |theta|/alpha", ""),
+                   "dislocation": ("residual_dislocation_mm", "residual dislocation", "mm"),
+                   "tilt": ("residual_tilt_rad", "residual tilt", "rad")}
+#: s of ground at rest after each record when a study measures what the runs leave (residual states) and is given
+#: no other: time for a column's rocking to die out
+RESIDUAL_REST = 10.0
+#: m/s: a run whose blocks all move slower than this at its end left a resting state (``at_rest`` in its row)
+STILL_SPEED = 0.01
 #: s: the periods of the spectral accelerations a study compares with PGA and PGV (a rocking column has no natural
 #: period of its own, so the measure is compared at a few)
 DEFAULT_PERIODS = (0.5, 1.0, 2.0)
@@ -49,8 +60,10 @@ class FragilityStudy:
     """What :func:`fragility_study` returns.
 
     runs : one row per run: ``record``, ``level`` (the intensity, in the measure's unit), ``scale`` (the factor
-        applied to the record) and ``damage_ratio``, then the batch's measures (:func:`dem_core.batch.member_row`).
-    fits : {state: :class:`~dem_core.analyses.fragility.Fragility`}.
+        applied to the record) and ``damage_ratio``, with residual states ``residual_dislocation_mm``,
+        ``residual_tilt_rad`` and ``at_rest``, then the batch's measures (:func:`dem_core.batch.member_row`).
+    fits : {state: :class:`~dem_core.analyses.fragility.Fragility`}, a state a peak |theta|/alpha (a float) or a
+        residual state ``(measure, threshold)`` (:data:`DAMAGE_MEASURES`; :func:`state_parts`).
     im : the intensity measure's name (a key of :data:`INTENSITY_MEASURES`).
     device, wall_time_s : where the batch ran and how long the study took, s.
     settings : the records' names, the number of levels, the states, the measure, the duration, the integrator
@@ -72,15 +85,16 @@ class FragilityStudy:
     resumed: int = 0
 
     def table(self) -> pd.DataFrame:
-        """One row per damage state: ``state``, ``median`` and ``beta`` (the states fitted together, one common
-        beta) with their bootstrap bands (``median_low`` .. ``beta_high``) and what the bootstrap drew again
+        """One row per damage state: ``measure`` (a key of :data:`DAMAGE_MEASURES`), ``state`` (its threshold),
+        ``median`` and ``beta`` (each measure's states fitted together, one common beta) with their bootstrap bands (``median_low`` .. ``beta_high``) and what the bootstrap drew again
         (``resampled``), ``records``, ``runs``, ``exceeded``, the IDA-style ``ida_median``, ``ida_beta`` and
         ``ida_records`` (the records that reached the state), and ``note``."""
         rows = []
         for state, fit in self.fits.items():
             (m_low, m_high), (b_low, b_high) = fit.median_band, fit.beta_band
             ida_median, ida_beta, ida_records = self.ida.get(state, (np.nan, np.nan, 0))
-            rows.append({"state": state, "median": fit.median, "median_low": m_low, "median_high": m_high,
+            measure, threshold = state_parts(state)
+            rows.append({"measure": measure, "state": threshold, "median": fit.median, "median_low": m_low, "median_high": m_high,
                          "beta": fit.beta, "beta_low": b_low, "beta_high": b_high, "resampled": fit.resampled,
                          "records": self.runs["record"].nunique(), "runs": int(fit.runs.sum()),
                          "exceeded": int(fit.exceed.sum()), "ida_median": ida_median, "ida_beta": ida_beta,
@@ -88,11 +102,11 @@ class FragilityStudy:
         return pd.DataFrame(rows)
 
     def counts(self) -> pd.DataFrame:
-        """One row per stripe and state: ``level``, ``state``, ``runs`` (that finished), ``exceeded`` and
+        """One row per stripe and state: ``level``, ``measure``, ``state``, ``runs`` (that finished), ``exceeded`` and
         ``unfinished`` (the stripe's runs that lost stability or were refused, in neither count)."""
         unfinished = (self.runs["status"] != "ok").groupby(self.runs["level"]).sum()
-        return pd.DataFrame([{"level": level, "state": state, "runs": int(n), "exceeded": int(z),
-                              "unfinished": int(unfinished.get(level, 0))}
+        return pd.DataFrame([{"level": level, "measure": state_parts(state)[0], "state": state_parts(state)[1],
+                              "runs": int(n), "exceeded": int(z), "unfinished": int(unfinished.get(level, 0))}
                              for state, fit in self.fits.items()
                              for level, n, z in zip(fit.levels, fit.runs, fit.exceed)])
 
@@ -100,11 +114,12 @@ class FragilityStudy:
         """Which intensity measure predicts the damage best: one row per measure of :attr:`intensities`, the
         states fitted together (:func:`~.nested_fragility.fit_nested`) to every finished run at its own value of
         the measure (its record's value times its scale), with ``beta``, the common dispersion (the smaller, the
-        more efficient the measure, Luco and Cornell 2007), and ``median_<state>``; ``runs`` and ``note``."""
+        more efficient the measure, Luco and Cornell 2007), and ``median_<state>``; ``runs`` and ``note``.  The
+        states of peak |theta|/alpha only."""
         if not self.intensities:
             return pd.DataFrame()
         runs = self.runs[self.runs["status"] == "ok"]
-        states = list(self.fits)
+        states = [state for state in self.fits if state_parts(state)[0] == "peak"]
         outcomes = np.column_stack([exceeds(runs["damage_ratio"].to_numpy(), runs["overturned"], state)
                                     for state in states]).astype(np.int64)
         placed = [k for k in range(len(states)) if 0 < outcomes[:, k].sum() < len(runs)]
@@ -122,13 +137,25 @@ class FragilityStudy:
         return pd.DataFrame(rows)
 
     def figure(self, title: str = ""):
-        """The fits' figure (:func:`~.fragility.fragility_figure`), titled ``title`` over a line that names the
-        suite, the duration, the integrator and the step."""
+        """The fits' figure (:func:`~.fragility.fragility_figure`), a panel per damage measure, titled ``title`` over
+        a line that names the suite, the duration, the integrator and the step."""
+        import matplotlib
+        matplotlib.use("Agg")
+        import matplotlib.pyplot as plt
+
         label, unit = self.measure_label(), INTENSITY_MEASURES[self.im][1]
-        fits = {state_label(state): fit for state, fit in self.fits.items()}
-        return fragility_figure(fits, intensity=f"{label} ({unit.replace('^2', '$^2$')})",
-                                title="\n".join([title or "Fragility", *textwrap.wrap(self.described(), 100)]),
-                                median_text=self.median_text)
+        families = {}
+        for state, fit in self.fits.items():
+            families.setdefault(state_parts(state)[0], {})[state_label(state)] = fit
+        figure, axes = plt.subplots(1, len(families), figsize=(7.5 * len(families), 4.8), squeeze=False)
+        for ax, (measure, fits) in zip(axes[0], families.items()):
+            fragility_figure(fits, intensity=f"{label} ({unit.replace('^2', '$^2$')})", ax=ax,
+                             title=f"damage as {DAMAGE_MEASURES[measure][1]}" if len(families) > 1 else "",
+                             median_text=self.median_text)
+        figure.suptitle("\n".join([title or "Fragility", *textwrap.wrap(self.described(), 100 * len(families))]),
+                        fontsize=9)
+        figure.tight_layout()
+        return figure
 
     def measure_label(self) -> str:
         """The intensity measure's name: PGA, PGV, or Sa(T) with its period."""
@@ -150,14 +177,27 @@ class FragilityStudy:
         steps = sorted(set(np.round(self.runs["dt_s"].dropna(), 12))) if "dt_s" in self.runs else []
         step = (f"dt {steps[0]:.3g} s" if len(steps) == 1 else
                 f"dt {steps[0]:.3g} to {steps[-1]:.3g} s" if steps else "dt unknown")
+        rest = self.settings.get("rest", 0.0)
+        whole = "each record whole" if duration is None else f"{duration:g} s of each record"
         return (f"{len(names)} records ({suite}) x {self.settings.get('levels', '?')} stripes; "
-                f"{'each record whole' if duration is None else f'{duration:g} s of each record'}; "
+                f"{whole}{f' then {rest:g} s at rest' if rest else ''}; "
                 f"{self.settings.get('integrator', '?')}, {step}")
 
 
-def state_label(state: float) -> str:
-    """A damage state in words: ``"overturning"`` for 1, ``"peak |theta|/alpha >= 0.3"`` below."""
-    return "overturning" if state >= 1.0 else f"peak |theta|/alpha >= {state:g}"
+def state_parts(state) -> tuple:
+    """``(measure, threshold)`` of a study's damage state: a float is a peak |theta|/alpha, a pair a residual state
+    (:data:`DAMAGE_MEASURES`)."""
+    return state if isinstance(state, tuple) else ("peak", float(state))
+
+
+def state_label(state) -> str:
+    """A damage state in words: ``"overturning"`` for a peak |theta|/alpha of 1, ``"peak |theta|/alpha >= 0.3"``
+    below, ``"residual dislocation >= 5 mm"`` for a residual state."""
+    measure, threshold = state_parts(state)
+    if measure == "peak" and threshold >= 1.0:
+        return "overturning"
+    _, what, unit = DAMAGE_MEASURES[measure]
+    return f"{what} >= {threshold:g}{f' {unit}' if unit else ''}"
 
 
 def _check_measure(im: str) -> None:
@@ -203,6 +243,16 @@ def damage_measures(result) -> dict:
     return {"damage_ratio": damage_ratio(result)}
 
 
+def residual_measures(scene, result) -> dict:
+    """A run's measures for a study of residual states: :func:`damage_measures`, the residual dislocation (mm) and
+    tilt (rad) of :mod:`.damage` (nan where a block overturned: the run exceeds every state), and ``at_rest``
+    (:func:`.damage.still_at_end` below :data:`STILL_SPEED`)."""
+    fell = bool(np.any(result.overturned))
+    return {**damage_measures(result),
+            "residual_dislocation_mm": math.nan if fell else 1e3 * residual_dislocation(scene, result),
+            "residual_tilt_rad": math.nan if fell else residual_tilt(result), "at_rest": still_at_end(result, STILL_SPEED)}
+
+
 def damage_ratio(result) -> float:
     """The largest over the blocks of peak |theta| / the governing critical angle (:func:`.damage.critical_angles`:
     the column's for a block in a column, else the block's own); nan for a result without critical angles."""
@@ -211,14 +261,15 @@ def damage_ratio(result) -> float:
     return float(np.max(result.peak_theta / critical_angles(result)))
 
 
-def exceeds(ratio, overturned, state: float) -> np.ndarray:
-    """Whether runs of damage ``ratio`` that ``overturned`` (arrays of one shape; a missing overturn counts as
-    none) exceed damage ``state``: state 1 is overturning; below 1, a ratio of at least ``state``, or an
-    overturn."""
+def exceeds(value, overturned, state) -> np.ndarray:
+    """Whether runs of damage ``value`` (the state's measure, :data:`DAMAGE_MEASURES`) that ``overturned`` (arrays
+    of one shape; a missing overturn counts as none) exceed damage ``state`` (:func:`state_parts`): a peak
+    |theta|/alpha of 1 is overturning; any other state, a value of at least its threshold, or an overturn."""
     overturned = pd.Series(np.ravel(overturned)).fillna(False).to_numpy(bool).reshape(np.shape(overturned))
-    if state >= 1.0:
+    measure, threshold = state_parts(state)
+    if measure == "peak" and threshold >= 1.0:
         return overturned
-    return overturned | (np.asarray(ratio, float) >= state)
+    return overturned | (np.asarray(value, float) >= threshold)
 
 
 def stripes(count: int, top: float) -> np.ndarray:
@@ -233,7 +284,8 @@ def stripes(count: int, top: float) -> np.ndarray:
 def fragility_study(scene, records: dict, levels, states=DEFAULT_STATES, *, im: str = "pga",
                     duration: float | None = None, device: str = "auto", threads: int | None = None,
                     progress=None, samples: int | None = None, periods=DEFAULT_PERIODS,
-                    period: float | None = None, log=None, scheduler=None, **simulate_options) -> FragilityStudy:
+                    period: float | None = None, log=None, scheduler=None, residual: dict | None = None,
+                    rest: float | None = None, **simulate_options) -> FragilityStudy:
     """Run ``scene`` under every record of ``records`` ({name: :class:`GroundMotion`}) scaled to each intensity of
     ``levels`` (the measure ``im``), as batches (:func:`~.study_members.run_members`: one on this machine without a
     log), and fit lognormal fragilities to the damage states of ``states`` together (multiple-stripe analysis: each
@@ -248,6 +300,9 @@ def fragility_study(scene, records: dict, levels, states=DEFAULT_STATES, *, im: 
     ``log`` : a file where every finished run is saved as it ends and from which a rerun resumes; ``scheduler``: a
     Dask scheduler's address (or client) whose workers run one record's stripes each
     (:func:`~.study_members.run_members`).
+    ``residual`` : what the runs leave as damage states too, {"dislocation": (mm, ...), "tilt": (rad, ...)}
+    (:data:`DAMAGE_MEASURES`), each measure's states fitted together; ``rest`` (s) of ground at rest follow every
+    record (default :data:`RESIDUAL_REST` with residual states, else 0), so that the runs end at rest.
     """
     _check_measure(im)
     if not records:
@@ -263,24 +318,36 @@ def fragility_study(scene, records: dict, levels, states=DEFAULT_STATES, *, im: 
     if not states or not all(0 < s <= 1 for s in states):
         raise ValueError(f"damage states are fractions of the critical angle above 0 and up to 1 (1 is "
                          f"overturning), got {states}")
+    families = {"peak": states, **_residual_states(residual)}
+    rest = (RESIDUAL_REST if len(families) > 1 else 0.0) if rest is None else rest
+    if not (isinstance(rest, (int, float)) and math.isfinite(rest) and rest >= 0):
+        raise ValueError(f"rest must be a finite number of seconds, at least 0, got {rest!r}")
+    if rest and duration is not None:
+        raise ValueError(f"a rest of {rest:g} s follows each whole record: give no duration, or no rest")
     own = {name: intensity(motion, im, period) for name, motion in records.items()}
     for name, value in own.items():
         if not value > 0:
             raise ValueError(f"record {name}: its {INTENSITY_MEASURES[im][0]} is zero; it cannot be scaled")
     plan = [(name, level, level / own[name]) for level in levels for name in records]
-    motions = [scaled(records[name], factor) for name, _, factor in plan]
+    motions = [extended(scaled(records[name], factor), rest) for name, _, factor in plan]
     by_record = [[m for m, (name, _, _) in enumerate(plan) if name == record] for record in records]
+    measures = (damage_measures if len(families) == 1 else
+                functools.partial(residual_measures, scene[0] if isinstance(scene, (list, tuple)) else scene))
     batch = run_members(scene, motions, duration, by_record, log=log, scheduler=scheduler, device=device,
-                        threads=threads, progress=progress, measures=damage_measures, **simulate_options)
+                        threads=threads, progress=progress, measures=measures, **simulate_options)
     runs = pd.concat([pd.DataFrame(plan, columns=["record", "level", "scale"]), batch.table], axis=1)
-    outcomes = study_outcomes(runs, list(records), len(levels), states)
     options = {} if samples is None else {"samples": samples}
-    fits = dict(zip(states, fit_states(levels, outcomes, **options)))
-    ida = {state: ida_estimate(levels, outcomes[:, :, k]) for k, state in enumerate(states)}
+    fits, ida = {}, {}
+    for measure, thresholds in families.items():
+        keys = thresholds if measure == "peak" else [(measure, threshold) for threshold in thresholds]
+        outcomes = study_outcomes(runs, list(records), len(levels), keys)
+        fits.update(zip(keys, fit_states(levels, outcomes, **options)))
+        ida.update({key: ida_estimate(levels, outcomes[:, :, k]) for k, key in enumerate(keys)})
     return FragilityStudy(runs, fits, im, batch.device, batch.wall_time_s,
                           {"records": list(records), "levels": len(levels), "states": states, "im": im,
                            **({"period": period} if im == "sa" else {}),
-                           "duration": duration, **simulate_options,
+                           **({"residual": {m: t for m, t in families.items() if m != "peak"}} if residual else {}),
+                           "duration": duration, "rest": rest, **simulate_options,
                            "integrator": integrator_for(scene if not isinstance(scene, (list, tuple)) else scene[0],
                                                         simulate_options.get("integrator"))},
                           ida, {name: record_intensities(motion, periods) for name, motion in records.items()},
@@ -298,13 +365,29 @@ def record_intensities(motion: GroundMotion, periods=DEFAULT_PERIODS) -> dict:
     return found
 
 
+def _residual_states(residual) -> dict:
+    """{measure: sorted thresholds} of a study's residual states, or ValueError naming what is wrong."""
+    found = {}
+    for measure, thresholds in (residual or {}).items():
+        if measure not in DAMAGE_MEASURES or measure == "peak":
+            raise ValueError(f"residual states are set on {' or '.join(m for m in DAMAGE_MEASURES if m != 'peak')}, "
+                             f"got {measure!r}")
+        values = sorted(float(t) for t in thresholds)
+        if not values or not all(math.isfinite(t) and t > 0 for t in values):
+            raise ValueError(f"residual {measure} states must be positive thresholds in "
+                             f"{DAMAGE_MEASURES[measure][2]}, got {list(thresholds)}")
+        found[measure] = values
+    return found
+
+
 def study_outcomes(runs: pd.DataFrame, records: list, levels: int, states) -> np.ndarray:
     """(R, L, K) per record, level and state of a study's ``runs`` (ordered level by level, the records in
     ``records``' order within each): 1 exceeded, 0 not, nan where the run did not finish."""
     finished = (runs["status"] == "ok").to_numpy()
     outcomes = np.empty((len(records), levels, len(states)))
     for k, state in enumerate(states):
-        hit = exceeds(runs["damage_ratio"].to_numpy(), runs["overturned"], state).astype(float)
+        column = DAMAGE_MEASURES[state_parts(state)[0]][0]
+        hit = exceeds(runs[column].to_numpy(), runs["overturned"], state).astype(float)
         hit[~finished] = np.nan
         outcomes[:, :, k] = hit.reshape(levels, len(records)).T
     return outcomes

@@ -83,6 +83,7 @@ SCALES = _number(int, lambda v: 2 <= v <= 1000, "a whole number from 2 to 1000")
 LEVELS = _number(int, lambda v: 2 <= v <= 100_000, "a whole number from 2 to 100000")
 STATE = _number(float, lambda v: 0 < v <= 1, "a number above 0 and at most 1")
 FRACTION = _number(float, lambda v: 0 < v < 1, "a number between 0 and 1 (both excluded)")
+REST = _number(float, lambda v: math.isfinite(v) and v >= 0, "a finite number of seconds, at least 0")
 DAMPING = _number(float, lambda v: 0 <= v < 1, "a damping ratio from 0 up to (not including) 1")
 
 

@@ -7,8 +7,8 @@ from pathlib import Path
 import numpy as np
 
 from ..analyses.cluster import ClusterError
-from ..analyses.fragility_study import (DEFAULT_STATES, DEFAULT_TOP, INTENSITY_MEASURES, check_period,
-                                        fragility_study, state_label, stripes, write_study)
+from ..analyses.fragility_study import (DEFAULT_STATES, DEFAULT_TOP, INTENSITY_MEASURES, RESIDUAL_REST,
+                                        check_period, fragility_study, state_label, stripes, write_study)
 from ..analyses.study_members import LOG
 from ..batch import DEVICES, check_device
 from ..inputs import records
@@ -17,7 +17,8 @@ from ..inputs.excitation import record, strong_motion_cuts
 from ..inputs.suites import BUNDLED_SUITES, DEFAULT_SUITE, METADATA, SuiteError, load_suite
 from ..output_files import output_folder
 from ..simulation import integrator_for
-from .arguments import DEFAULT_SCENE, LEVELS, POSITIVE, SECONDS, STATE, WORKERS, add_integrator, scene_and_settings
+from .arguments import (DEFAULT_SCENE, LEVELS, POSITIVE, REST, SECONDS, STATE, WORKERS, add_integrator,
+                        scene_and_settings)
 from .progress import compile_first, progress_bar
 
 
@@ -54,6 +55,14 @@ def add(sub):
                            "spaced from max/levels to max (default: 1 g of PGA or Sa, 1 m/s of PGV)")
     fragility.add_argument("--states", type=STATE, nargs="+", default=list(DEFAULT_STATES),
                            help="damage states as peak |theta|/alpha, each above 0 and at most 1; 1 is overturning")
+    fragility.add_argument("--dislocation", type=POSITIVE, nargs="+", metavar="MM", help="damage states as the "
+                           "largest residual dislocation of a block over the one below it, in mm, measured after "
+                           "--rest (default: none)")
+    fragility.add_argument("--tilt", type=POSITIVE, nargs="+", metavar="RAD", help="damage states as the residual "
+                           "tilt, rad: the lean the run added to the line through a column's bottom and top blocks, or "
+                           "a lone block's rotation, measured after --rest (default: none)")
+    fragility.add_argument("--rest", type=REST, help=f"s of ground at rest after each record, so that the runs end "
+                           f"at rest (default: {RESIDUAL_REST:g} with --dislocation or --tilt, else 0)")
     fragility.add_argument("--out", required=True, help="output folder, created if need be")
     fragility.add_argument("--duration", type=SECONDS, help="simulated time of each run in s (default: from the "
                            "file, else each record's length)")
@@ -107,9 +116,11 @@ def run(args) -> int:
     args.on_interrupt = lambda: (f"stopped after {done[0]} of {total} runs, saved in {log}: run the same command "
                                  f"again to resume")
     try:
+        residual = {name: values for name, values in (("dislocation", args.dislocation), ("tilt", args.tilt))
+                    if values}
         study = fragility_study(spec.scene, suite, levels, args.states, im=args.im, period=args.period,
                                 duration=duration, device=args.device, threads=args.threads, progress=on_member,
-                                log=log, scheduler=args.scheduler, **settings)
+                                log=log, scheduler=args.scheduler, residual=residual, rest=args.rest, **settings)
     except (TypeError, ValueError) as exc:
         print(f"error: {f'--scheduler: {exc}' if isinstance(exc, ClusterError) else exc}", file=sys.stderr)
         return 2
@@ -122,11 +133,25 @@ def run(args) -> int:
     for _, row in failed.head(5).iterrows():
         print(f"  {row['record']} at {label} {row['level']:.4g} {unit}: {row['status']}: "
               f"{str(row['error']).splitlines()[0]}")
+    _print_fits(study, unit)
+    written = _write_fragility(out, study, path, settings, duration)
+    print(f"wrote {', '.join(written)} in {out}")
+    return 0
+
+
+def _print_fits(study, unit: str) -> None:
+    """Each damage state's fit, the runs left moving at the end of their rest, and the intensity measures'
+    dispersions, as the command prints them."""
     table = study.table()
-    print(f"  the states fitted together (one beta, ordered medians); 90% bands drawn by record from "
-          f"{len(suite)} records")
+    print(f"  each measure's states fitted together (one beta, ordered medians); 90% bands drawn by record from "
+          f"{study.runs['record'].nunique()} records")
+    moving = int((~study.runs["at_rest"].astype(bool) & ~study.runs["overturned"].astype(bool)).sum()) \
+        if "at_rest" in study.runs else 0
+    if moving:
+        print(f"  {moving} standing run(s) still moved at the end of their {study.settings['rest']:g} s rest (the "
+              f"residual measures leave a column's rocking as one body out; a longer --rest lets it die out)")
     for _, row in table.iterrows():
-        what = state_label(row["state"])
+        what = state_label(row["state"] if row["measure"] == "peak" else (row["measure"], row["state"]))
         if np.isfinite(row["median"]):
             in_g = f" = {row['median'] / G_STANDARD:.3g} g" if unit == "m/s^2" else ""
             ida = (f"; IDA-style {row['ida_median']:.3g} {unit} ({row['ida_records']} of {row['records']} records)"
@@ -140,9 +165,6 @@ def run(args) -> int:
     if len(measures):
         print("  dispersion by intensity measure (the smaller, the better it predicts the damage): " + ", ".join(
             f"{row['measure'].split(' (')[0]} {row['beta']:.2f}" for _, row in measures.iterrows()))
-    written = _write_fragility(out, study, path, settings, duration)
-    print(f"wrote {', '.join(written)} in {out}")
-    return 0
 
 
 def _refusal(args, suite: dict, duration) -> str:

@@ -327,8 +327,9 @@ STRONG_MOTION = (0.05, 0.95)
 
 
 def unscaled(component: Component) -> Component:
-    """The component a chain of :class:`Scaled` scales (a record's samples), or ``component`` itself."""
-    while isinstance(component, Scaled):
+    """The component a chain of :class:`Scaled` and :class:`Extended` wraps (a record's samples), or ``component``
+    itself."""
+    while isinstance(component, (Scaled, Extended)):
         component = component.component
     return component
 
@@ -430,6 +431,48 @@ class Scaled(Component):
     @property
     def peak_acceleration(self):
         return self.factor * self.component.peak_acceleration
+
+
+@dataclass(frozen=True)
+class Extended(Component):
+    """``component`` run ``extra`` s past its natural end: the same motion, its end later.  After a record's last
+    sample the ground keeps its final velocity, zero for a baseline-corrected record: the ground at rest."""
+
+    component: Component
+    extra: float
+
+    @property
+    def end_time(self):
+        return self.component.end_time + self.extra
+
+    @property
+    def time_scale(self):
+        return self.component.time_scale
+
+    def acceleration(self, t):
+        return self.component.acceleration(t)
+
+    def velocity(self, t):
+        return self.component.velocity(t)
+
+    def displacement(self, t):
+        return self.component.displacement(t)
+
+    @property
+    def peak_acceleration(self):
+        return self.component.peak_acceleration
+
+
+def extended(motion: GroundMotion, extra: float) -> GroundMotion:
+    """``motion`` with both components run ``extra`` s (finite, at least 0) past its natural end, under its own
+    name: a record followed by the ground at rest, for what a run leaves once the shaking is over."""
+    if isinstance(extra, bool) or not isinstance(extra, numbers.Real) or not (math.isfinite(extra) and extra >= 0):
+        raise ValueError(f"{motion.name}: the time past the motion's end must be a finite number of seconds, at least "
+                         f"0, got {extra!r}")
+    if extra == 0:
+        return motion
+    return GroundMotion(Extended(motion.horizontal, float(extra)), Extended(motion.vertical, float(extra)),
+                        name=motion.name)
 
 
 def scaled(motion: GroundMotion, factor: float) -> GroundMotion:
