@@ -108,3 +108,25 @@ def test_stripes_of_spectral_acceleration_need_a_usable_period(tmp_path, capsys)
     assert main([*common, "--period", "1"]) == 2
     assert "--period is the period of --im sa" in capsys.readouterr().err
     assert not (tmp_path / "out").exists()
+
+
+def test_residual_states_are_fitted_and_written_after_a_rest(tmp_path, capsys):
+    out = tmp_path / "out"
+    assert main(["fragility", _scene(tmp_path), "--records", "kalamata_1986", "el_centro_1940", "--levels", "3",
+                 "--max", "9", "--dislocation", "1", "5", "--tilt", "0.002", "--rest", "4", "--out", str(out)]) == 0
+    printed = capsys.readouterr().out
+    assert "residual dislocation >= 1 mm:" in printed and "residual tilt >= 0.002 rad:" in printed
+    fits = pd.read_csv(out / "fragility.csv")
+    assert list(zip(fits["measure"], fits["state"])) == [("peak", 0.1), ("peak", 0.3), ("peak", 0.5), ("peak", 1.0),
+                                                         ("dislocation", 1.0), ("dislocation", 5.0), ("tilt", 0.002)]
+    runs = pd.read_csv(out / "runs.csv")
+    assert {"residual_dislocation_mm", "residual_tilt_rad", "at_rest"} <= set(runs.columns)
+    assert json.loads((out / "study.json").read_text())["rest"] == 4.0
+
+
+def test_residual_states_with_a_duration_are_refused_naming_it(tmp_path, capsys):
+    assert main(["fragility", _scene(tmp_path), "--records", "kalamata_1986", "--levels", "2", "--tilt", "0.01",
+                 "--duration", "27", "--out", str(tmp_path / "out")]) == 2
+    error = capsys.readouterr().err
+    assert error.startswith("error: --duration: residual states are read after each whole record and --rest s at "
+                            "rest; leave out the duration, or give --rest 0") and error.count("\n") == 1

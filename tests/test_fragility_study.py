@@ -70,8 +70,15 @@ def test_the_study_counts_each_stripes_runs_as_the_runs_themselves_say():
     assert len(study.runs) == 10 and (study.runs["status"] == "ok").all()
     assert study.described() == "2 records (pulse, long pulse) x 5 stripes; 2 s of each record; moreau, dt 0.001 s"
     measures = study.intensity_measures().set_index("measure")
-    assert list(measures.index) == ["PGA (m/s^2)", "PGV (m/s)", "Sa(0.5 s) (m/s^2)", "Sa(1 s) (m/s^2)",
-                                    "Sa(2 s) (m/s^2)"]
+    assert list(measures.index) == ["PGA (m/s^2)", "PGV (m/s)", "PGA/(g tan alpha)", "PGV/(p R)",
+                                    "Sa(0.5 s) (m/s^2)", "Sa(1 s) (m/s^2)", "Sa(2 s) (m/s^2)"]
+    # the dimensionless measures of the 0.6 x 3 m block (b/h = 0.2, R = sqrt(0.3^2 + 1.5^2) m): the same fits,
+    # their medians divided by g tan(alpha) and p R = sqrt(3 g R / 4)
+    radius = math.hypot(0.3, 1.5)
+    for measure, named, scale in (("PGA (m/s^2)", "PGA/(g tan alpha)", 9.81 * 0.2),
+                                  ("PGV (m/s)", "PGV/(p R)", math.sqrt(3.0 * 9.81 * radius / 4.0))):
+        assert measures.loc[named, "beta"] == pytest.approx(measures.loc[measure, "beta"], rel=1e-4)
+        assert measures.loc[named, "median_1"] == pytest.approx(measures.loc[measure, "median_1"] / scale, rel=1e-4)
     # every run's PGA is its stripe's level: the fit to the runs is the fit to the stripes
     assert measures.loc["PGA (m/s^2)", "beta"] == pytest.approx(study.fits[1.0].beta, rel=1e-5)
     assert measures.loc["PGA (m/s^2)", "median_1"] == pytest.approx(study.fits[1.0].median, rel=1e-5)

@@ -10,7 +10,7 @@ import pytest
 from dem_core import scenes
 from dem_core.analyses import cluster, study_members, thresholds
 from dem_core.analyses.fragility_study import fragility_study, stripes
-from dem_core.analyses.study_members import MemberLog, MembersInterrupted
+from dem_core.analyses.study_members import LOST, MembersInterrupted
 from dem_core.cli import main
 from dem_core.inputs.excitation import sine_pulse
 
@@ -50,17 +50,12 @@ def test_ctrl_c_keeps_the_finished_members_and_the_rerun_gives_the_same_study(tm
     with pytest.raises(MembersInterrupted) as stopped:
         _study(log=log, progress=stop, threads=1)
     saved = stopped.value.saved
-    assert 5 <= saved < 12 and len(MemberLog(log).finished(_digests(log))) == saved
+    assert 5 <= saved < 12 and len(log.read_text().splitlines()) == saved
     with log.open("a") as handle:
         handle.write('{"digest": "torn')  # a crash in the middle of a line
     resumed = _study(log=log, threads=1)
     assert resumed.resumed == saved
     pd.testing.assert_frame_equal(_study().runs[OUTCOME], resumed.runs[OUTCOME], check_dtype=False)
-
-
-def _digests(log) -> list:
-    import json
-    return [json.loads(line)["digest"] for line in log.read_text().splitlines()]
 
 
 @pytest.mark.slow
@@ -125,3 +120,22 @@ def test_threshold_writes_its_runs_and_answer_and_resumes_from_its_log(tmp_path,
     assert main(command) == 0
     assert capsys.readouterr().out == first
     assert len((out / "members.jsonl").read_text().splitlines()) == answer["runs"]  # nothing ran again
+
+
+@pytest.mark.slow
+def test_a_task_lost_on_the_cluster_fails_its_members_alone_and_is_not_logged(tmp_path):
+    distributed = pytest.importorskip("distributed")
+    log = tmp_path / "members.jsonl"
+
+    def flaky(result):
+        if result.peak_theta.max() > 0.02:
+            raise RuntimeError("a worker fault")
+        return {}
+
+    with distributed.LocalCluster(n_workers=1, threads_per_worker=1, processes=False,
+                                  dashboard_address=None) as dask:
+        done = study_members.run_members(BLOCK, [sine_pulse(a, 0.5) for a in (1.0, 2.0, 8.0)], 1.0, [[0], [1], [2]],
+                                         log=log, scheduler=dask.scheduler_address, measures=flaky,
+                                         integrator="moreau")
+    assert list(done.table["status"]) == ["ok", "ok", LOST] and "a worker fault" in done.table["error"][2]
+    assert len(log.read_text().splitlines()) == 2

@@ -42,23 +42,33 @@ def test_a_folders_table_gives_the_order_names_units_and_metadata(tmp_path):
                                "south.txt,Southern,g,,6.5,12,a station\n"
                                "bare.dat,Bare,m/s^2,0.02,,,\n")
     suite = read_suite(folder)
-    assert [entry.name for entry in suite.records] == ["Southern", "Bare", "north"]
-    south, bare, north = suite.records
+    assert [entry.name for entry in suite.records] == ["Southern", "Bare"] and suite.ignored == ("north.txt",)
+    south, bare = suite.records
     in_g = record(folder / "south.txt", units="g").horizontal.peak_acceleration
     assert south.motion.horizontal.peak_acceleration == in_g == pytest.approx(
         record(folder / "south.txt").horizontal.peak_acceleration * records.G_STANDARD)
     assert (south.magnitude, south.distance_km, south.source) == (6.5, 12.0, "a station")
     assert np.isnan(south.vs30) and bare.sampling == f"given in {METADATA}" and bare.motion.horizontal.dt == 0.02
-    assert north.sampling == "from its time column" and north.source == ""
+    assert south.sampling == "from its time column"
     table = suite.table()
-    assert list(table["name"]) == ["Southern", "Bare", "north"] and table.loc[0, "magnitude"] == 6.5
-    assert list(suite.motions()) == ["Southern", "Bare", "north"]
+    assert list(table["name"]) == ["Southern", "Bare"] and table.loc[0, "magnitude"] == 6.5
+    assert list(suite.motions()) == ["Southern", "Bare"]
+
+
+def test_without_a_table_every_record_file_is_in_the_suite_by_name(tmp_path):
+    folder = _folder(tmp_path, "file\n")
+    (folder / METADATA).unlink()
+    np.savetxt(folder / "bare.dat", np.column_stack([np.arange(100) * 0.02, np.zeros(100) + 0.1]))
+    suite = read_suite(folder)
+    assert [entry.name for entry in suite.records] == ["bare", "north", "south"] and suite.ignored == ()
+    assert suite.records[1].sampling == "from its time column" and suite.records[1].source == ""
 
 
 def test_a_record_without_a_sampling_interval_is_named_with_where_to_give_it(tmp_path):
-    with pytest.raises(SuiteError, match=r"bare\.dat: record bare\.dat: .*give dt.*give its sampling interval in "
-                                         r"records\.csv's dt column"):
+    with pytest.raises(SuiteError) as refused:
         read_suite(_folder(tmp_path))
+    assert str(refused.value) == (f"{tmp_path / 'suite' / 'bare.dat'}: bare.dat has no time column and no sampling "
+                                  f"interval: give it in records.csv's dt column")
 
 
 def test_a_table_naming_a_missing_file_is_refused_naming_its_line(tmp_path):
@@ -73,7 +83,8 @@ def test_a_table_naming_a_missing_file_is_refused_naming_its_line(tmp_path):
     ("name\nnorth\n", r"records\.csv:1: no 'file' column"),
     ("file,dt\nbare.dat,fast\n", r"records\.csv:2: dt 'fast' is not a number"),
     ("file,dt\nbare.dat,0.02,3\n", r"records\.csv:2: 3 cells, the header has 2 columns"),
-    ("file,name,dt\nbare.dat,north,0.02\n", r"north\.txt: a second record named 'north'"),
+    ("file,name,dt\nbare.dat,north,0.02\nnorth.txt,,\n", r"records\.csv:3: a second record named 'north'"),
+    ("file,dt,dt\nbare.dat,0.02,0.01\n", r"records\.csv:1: the column 'dt' twice"),
 ])
 def test_a_table_that_cannot_be_read_is_refused_naming_its_line(tmp_path, table, said):
     with pytest.raises(SuiteError, match=said):
@@ -87,6 +98,12 @@ def test_an_empty_or_missing_folder_is_refused_naming_it(tmp_path):
         read_suite(tmp_path / "empty")
     with pytest.raises(SuiteError, match=r"nowhere: not a folder; bundled suites: demonstration"):
         load_suite(str(tmp_path / "nowhere"))
+
+
+def test_a_table_saved_with_a_byte_order_mark_is_read(tmp_path):
+    folder = _folder(tmp_path)
+    (folder / METADATA).write_text("file,dt\nbare.dat,0.02\n", encoding="utf-8-sig")
+    assert [entry.name for entry in read_suite(folder).records] == ["bare"]
 
 
 def test_a_written_suite_reads_back_with_its_metadata(tmp_path):

@@ -33,3 +33,19 @@ def dask_client(scheduler):
         yield client
     finally:
         client.close()
+
+
+def completed(futures: dict):
+    """``(futures[future], result)`` of each of ``futures`` (Dask or concurrent futures, keyed to what they run) as it
+    completes; ``result`` is the exception of a task lost on the cluster (a KilledWorker, an error in the task),
+    which fails alone."""
+    from concurrent.futures import as_completed as concurrent_completed
+
+    from distributed import Future, as_completed
+
+    waiting = as_completed(futures) if all(isinstance(f, Future) for f in futures) else concurrent_completed(futures)
+    for future in waiting:
+        try:
+            yield futures[future], future.result()
+        except Exception as exc:  # noqa: BLE001 - a task lost on the cluster fails alone
+            yield futures[future], exc

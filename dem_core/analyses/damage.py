@@ -43,12 +43,14 @@ def residual_tilt(result) -> float:
     return float(max(leans, default=0.0))
 
 
-def still_at_end(result, speed: float) -> bool:
-    """Whether every block of ``result`` moves slower than ``speed`` (m/s, its centre of mass relative to the
-    ground between the last two outputs) at the run's end: whether what the run leaves is a resting state."""
-    if len(result.t) < 2:
+def still_at_end(result, speed: float, window: float = 0.25) -> bool:
+    """Whether every block of ``result`` moved slower than ``speed`` (m/s, its centre of mass relative to the ground,
+    between each two outputs) over the run's last ``window`` s: whether what the run leaves is a resting state (a
+    column at the turning point of its rocking is still for an instant only)."""
+    last = np.flatnonzero(result.t >= result.t[-1] - window)
+    if len(result.t) < 2 or len(last) < 2:
         return False
-    step = result.t[-1] - result.t[-2]
-    x = np.asarray(result.x, dtype=float) - np.asarray(result.base_x, dtype=float)[:, None]
-    y = np.asarray(result.y, dtype=float) - np.asarray(result.base_y, dtype=float)[:, None]
-    return bool(np.all(np.hypot(x[-1] - x[-2], y[-1] - y[-2]) / step < speed))
+    x = np.asarray(result.x, dtype=float)[last] - np.asarray(result.base_x, dtype=float)[last, None]
+    y = np.asarray(result.y, dtype=float)[last] - np.asarray(result.base_y, dtype=float)[last, None]
+    step = np.diff(np.asarray(result.t, dtype=float)[last])[:, None]
+    return bool(np.all(np.hypot(np.diff(x, axis=0), np.diff(y, axis=0)) / step < speed))

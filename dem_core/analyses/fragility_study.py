@@ -86,7 +86,8 @@ class FragilityStudy:
 
     def table(self) -> pd.DataFrame:
         """One row per damage state: ``measure`` (a key of :data:`DAMAGE_MEASURES`), ``state`` (its threshold),
-        ``median`` and ``beta`` (each measure's states fitted together, one common beta) with their bootstrap bands (``median_low`` .. ``beta_high``) and what the bootstrap drew again
+        ``median`` and ``beta`` (each measure's states fitted together, one common
+        beta) with their bootstrap bands (``median_low`` .. ``beta_high``) and what the bootstrap drew again
         (``resampled``), ``records``, ``runs``, ``exceeded``, the IDA-style ``ida_median``, ``ida_beta`` and
         ``ida_records`` (the records that reached the state), and ``note``."""
         rows = []
@@ -94,7 +95,8 @@ class FragilityStudy:
             (m_low, m_high), (b_low, b_high) = fit.median_band, fit.beta_band
             ida_median, ida_beta, ida_records = self.ida.get(state, (np.nan, np.nan, 0))
             measure, threshold = state_parts(state)
-            rows.append({"measure": measure, "state": threshold, "median": fit.median, "median_low": m_low, "median_high": m_high,
+            rows.append({"measure": measure, "state": threshold, "median": fit.median, "median_low": m_low,
+                         "median_high": m_high,
                          "beta": fit.beta, "beta_low": b_low, "beta_high": b_high, "resampled": fit.resampled,
                          "records": self.runs["record"].nunique(), "runs": int(fit.runs.sum()),
                          "exceeded": int(fit.exceed.sum()), "ida_median": ida_median, "ida_beta": ida_beta,
@@ -109,6 +111,14 @@ class FragilityStudy:
                               "runs": int(n), "exceeded": int(z), "unfinished": int(unfinished.get(level, 0))}
                              for state, fit in self.fits.items()
                              for level, n, z in zip(fit.levels, fit.runs, fit.exceed)])
+
+    def still_moving(self) -> int:
+        """How many finished runs that did not overturn still moved at their end (``at_rest`` false: a study of
+        residual states; 0 without)."""
+        if "at_rest" not in self.runs:
+            return 0
+        standing = (self.runs["status"] == "ok") & ~self.runs["overturned"].fillna(False).astype(bool)
+        return int((standing & ~self.runs["at_rest"].fillna(False).astype(bool)).sum())
 
     def intensity_measures(self) -> pd.DataFrame:
         """Which intensity measure predicts the damage best: one row per measure of :attr:`intensities`, the
@@ -250,7 +260,8 @@ def residual_measures(scene, result) -> dict:
     fell = bool(np.any(result.overturned))
     return {**damage_measures(result),
             "residual_dislocation_mm": math.nan if fell else 1e3 * residual_dislocation(scene, result),
-            "residual_tilt_rad": math.nan if fell else residual_tilt(result), "at_rest": still_at_end(result, STILL_SPEED)}
+            "residual_tilt_rad": math.nan if fell else residual_tilt(result),
+            "at_rest": still_at_end(result, STILL_SPEED)}
 
 
 def damage_ratio(result) -> float:
@@ -329,10 +340,11 @@ def fragility_study(scene, records: dict, levels, states=DEFAULT_STATES, *, im: 
         if not value > 0:
             raise ValueError(f"record {name}: its {INTENSITY_MEASURES[im][0]} is zero; it cannot be scaled")
     plan = [(name, level, level / own[name]) for level in levels for name in records]
-    motions = [extended(scaled(records[name], factor), rest) for name, _, factor in plan]
+    resting = {name: extended(motion, rest) for name, motion in records.items()}
+    motions = [scaled(resting[name], factor) for name, _, factor in plan]
     by_record = [[m for m, (name, _, _) in enumerate(plan) if name == record] for record in records]
-    measures = (damage_measures if len(families) == 1 else
-                functools.partial(residual_measures, scene[0] if isinstance(scene, (list, tuple)) else scene))
+    first = scene[0] if isinstance(scene, (list, tuple)) else scene
+    measures = damage_measures if len(families) == 1 else functools.partial(residual_measures, first)
     batch = run_members(scene, motions, duration, by_record, log=log, scheduler=scheduler, device=device,
                         threads=threads, progress=progress, measures=measures, **simulate_options)
     runs = pd.concat([pd.DataFrame(plan, columns=["record", "level", "scale"]), batch.table], axis=1)
@@ -348,17 +360,31 @@ def fragility_study(scene, records: dict, levels, states=DEFAULT_STATES, *, im: 
                            **({"period": period} if im == "sa" else {}),
                            **({"residual": {m: t for m, t in families.items() if m != "peak"}} if residual else {}),
                            "duration": duration, "rest": rest, **simulate_options,
-                           "integrator": integrator_for(scene if not isinstance(scene, (list, tuple)) else scene[0],
-                                                        simulate_options.get("integrator"))},
-                          ida, {name: record_intensities(motion, periods) for name, motion in records.items()},
+                           "integrator": integrator_for(first, simulate_options.get("integrator"))},
+                          ida, {name: record_intensities(motion, periods, rocking_scales(first))
+                                for name, motion in records.items()},
                           batch.resumed)
 
 
-def record_intensities(motion: GroundMotion, periods=DEFAULT_PERIODS) -> dict:
-    """{measure: value} of ``motion`` at unit scale: PGA (m/s^2), PGV (m/s) and the 5%-damped pseudo-spectral
-    acceleration Sa(T) (m/s^2) at each of ``periods`` (s) (:func:`~.spectra.response_spectrum`); every one of them
-    scales with the motion."""
+def rocking_scales(scene) -> tuple[float, float]:
+    """``(g tan alpha m/s^2, p R m/s)`` of ``scene`` as one rigid block, its blocks' bounding box ``2b x 2h``:
+    ``alpha = atan(b / h)``, ``R = sqrt(b^2 + h^2)``, ``p = sqrt(3 g / (4 R))`` (Housner 1963), the scales of the
+    dimensionless rocking measures PGA / (g tan alpha) and PGV / (p R)."""
+    vertices = np.concatenate([block.vertices for block in scene.blocks])
+    b, h = np.ptp(vertices, axis=0) / 2.0
+    radius = math.hypot(b, h)
+    return scene.gravity * b / h, math.sqrt(3.0 * scene.gravity / (4.0 * radius)) * radius
+
+
+def record_intensities(motion: GroundMotion, periods=DEFAULT_PERIODS, scales: tuple | None = None) -> dict:
+    """{measure: value} of ``motion`` at unit scale: PGA (m/s^2), PGV (m/s), with ``scales`` (g tan alpha, p R:
+    :func:`rocking_scales`) the dimensionless PGA / (g tan alpha) and PGV / (p R), and the 5%-damped
+    pseudo-spectral acceleration Sa(T) (m/s^2) at each of ``periods`` (s) (:func:`~.spectra.response_spectrum`);
+    every one of them scales with the motion."""
     found = {"PGA (m/s^2)": intensity(motion, "pga"), "PGV (m/s)": intensity(motion, "pgv")}
+    if scales is not None:
+        found.update({"PGA/(g tan alpha)": found["PGA (m/s^2)"] / scales[0],
+                      "PGV/(p R)": found["PGV (m/s)"] / scales[1]})
     if len(periods):
         spectrum = response_spectrum(motion, np.asarray(periods, float))
         found.update({f"Sa({period:g} s) (m/s^2)": float(sa) for period, sa in zip(spectrum.periods, spectrum.psa)})
@@ -372,7 +398,7 @@ def _residual_states(residual) -> dict:
         if measure not in DAMAGE_MEASURES or measure == "peak":
             raise ValueError(f"residual states are set on {' or '.join(m for m in DAMAGE_MEASURES if m != 'peak')}, "
                              f"got {measure!r}")
-        values = sorted(float(t) for t in thresholds)
+        values = sorted(float(t) for t in ([thresholds] if isinstance(thresholds, (int, float)) else thresholds))
         if not values or not all(math.isfinite(t) and t > 0 for t in values):
             raise ValueError(f"residual {measure} states must be positive thresholds in "
                              f"{DAMAGE_MEASURES[measure][2]}, got {list(thresholds)}")

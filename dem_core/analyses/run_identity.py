@@ -74,7 +74,8 @@ def describe(value):
     """A JSON-able description of ``value`` that equal values share.
 
     Dataclasses by their type and init fields (not caches), arrays by shape, dtype and a digest of
-    their bytes, partial functions by their function and arguments, mappings as sorted key-value pairs, floats exactly (non-finite ones as text),
+    their bytes, partial functions by their function and arguments, mappings as sorted key-value pairs,
+    floats exactly (non-finite ones as text),
     functions and classes by qualified name, other objects by type and attributes.
     """
     if value is None or isinstance(value, (bool, int, str)):

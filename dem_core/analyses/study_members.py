@@ -1,12 +1,13 @@
 """The members of a study (one scene under many motions) run as batches where they are sent, this machine's cores or
 a Dask cluster's workers, with each finished member's row appended to a log that a rerun of the study resumes from.
 
-A member is known in the log by its run digest (:func:`~dem_core.analyses.run_identity.run_digest`: the scene, the
-motion's every sample and scale, the settings and the dem_core code) and the measures taken of it, so a rerun with anything changed runs again
-what changed and never mixes in rows of other settings.  On this machine the members run in batches of
-:data:`LOCAL_PER_THREAD` per thread: Ctrl-C keeps every member that finished, a crash loses the batch running.  On a
-cluster each group of members (a study's: one record's stripes) is one task, a batch on the worker's cores or
-GPU (``device="auto"``), whose rows are logged as it returns.
+A member is known in the log by its run digest (:func:`~dem_core.analyses.run_identity.run_digest`: the scene,
+the motion's every sample and scale, the settings and the dem_core code) and the measures taken of it, so a rerun
+with anything changed runs again what changed and never mixes in rows of other settings.  On this machine the
+members run in batches of :data:`LOCAL_PER_THREAD` per thread: Ctrl-C keeps every member that finished, a crash
+loses the batch running.  On a cluster each group of members (a study's: one record's stripes) is one task, a batch
+on the worker's cores or GPU (``device="auto"``), whose rows are logged as it returns; the members of a task lost
+on the cluster get the status :data:`LOST` and are not logged, so a rerun runs them again.
 """
 
 import json
@@ -19,13 +20,15 @@ import numpy as np
 import pandas as pd
 
 from ..batch import BatchInterrupted, simulate_batch
-from .cluster import dask_client
+from .cluster import completed, dask_client
 from .run_identity import describe, digest, run_digest
 
 #: the log of a study's finished members, in the study's output folder
 LOG = "members.jsonl"
 #: members per batch and thread on this machine when a log is kept
 LOCAL_PER_THREAD = 64
+#: the status of a member whose cluster task was lost (a worker died, the task raised): not logged, so run again
+LOST = "lost"
 
 
 class MembersInterrupted(KeyboardInterrupt):
@@ -114,8 +117,8 @@ def run_members(scene, motions: list, duration, groups: list, *, log=None, sched
 
     def finish(found: dict) -> None:
         rows.update(found)
-        if log is not None:
-            log.append((digests[m], row) for m, row in found.items())
+        if log is not None:  # a member lost on the cluster runs again on resuming
+            log.append((digests[m], row) for m, row in found.items() if row["status"] != LOST)
         if progress is not None:
             progress(len(rows), total)
 
@@ -194,19 +197,17 @@ def _remote(members: list, run: dict) -> tuple:
 def _on_cluster(groups: list, scheduler, run: dict, finish) -> str:
     """Run each of ``groups`` as one task on the Dask cluster of ``scheduler``; ``finish`` takes each task's rows as
     it returns.  A task lost on the cluster fails its members alone."""
-    from distributed import as_completed
     devices = set()
     with dask_client(scheduler) as client:
         workers = len(client.scheduler_info().get("workers", {}))
         [shared] = client.scatter([run], broadcast=True)
-        futures = {client.submit(_remote, group, shared, pure=False): group for group in groups}
+        futures = {client.submit(_remote, group, shared, pure=False): tuple(group) for group in groups}
         try:
-            for future in as_completed(futures):
-                try:
-                    found, device = future.result()
-                except Exception as exc:  # noqa: BLE001 - a task lost on the cluster (KilledWorker) fails alone
-                    found = {m: _lost(m, run["motions"][m].name, exc) for m in futures[future]}
-                    device = ""
+            for group, done in completed(futures):
+                if isinstance(done, Exception):
+                    finish({m: _lost(m, run["motions"][m].name, done) for m in group})
+                    continue
+                found, device = done
                 devices.add(device)
                 finish(found)
         finally:
@@ -217,5 +218,5 @@ def _on_cluster(groups: list, scheduler, run: dict, finish) -> str:
 
 def _lost(member: int, motion: str, exc: Exception) -> dict:
     """The row of a member whose cluster task failed."""
-    return {"member": member, "motion": motion, "status": "failed", "error": f"{type(exc).__name__}: {exc}",
+    return {"member": member, "motion": motion, "status": LOST, "error": f"{type(exc).__name__}: {exc}",
             "wall_time_s": math.nan}

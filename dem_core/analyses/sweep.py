@@ -58,7 +58,6 @@ import time
 import traceback
 import warnings
 from collections.abc import Callable
-from concurrent.futures import as_completed
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -73,7 +72,7 @@ from ..inputs.excitation import GroundMotion, strong_motion_cuts
 from ..inputs.scene import Scene
 from ..output_files import PARTIAL, OutputPathError, output_folder, replacing
 from . import run_identity
-from .cluster import ClusterError, dask_client
+from .cluster import ClusterError, completed, dask_client
 from .worker_pool import TaskFailed, WorkerDied, run_tasks
 
 RESULTS = "results.parquet"
@@ -565,11 +564,8 @@ def _on_cluster(client, points: list, history_dir):
     executor = client.get_executor()
     try:
         futures = {executor.submit(run_point, p.spec, p.params, p.run_id, history_dir): p for p in points}
-        for future in as_completed(futures):
-            try:
-                yield future.result()
-            except Exception as exc:  # noqa: BLE001 - a run lost on the cluster (KilledWorker) fails alone
-                yield _failed_row(futures[future], f"{type(exc).__name__}: {exc}")
+        for point, row in completed(futures):
+            yield _failed_row(point, f"{type(row).__name__}: {row}") if isinstance(row, Exception) else row
     finally:
         executor.shutdown(wait=False)  # on an interruption, do not wait for the cluster
 

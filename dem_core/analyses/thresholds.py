@@ -30,7 +30,7 @@ from ..simulation import SimulationUnstable, simulate
 from ..engine.model import compile_model, interface_history, result_states
 from ..inputs.excitation import ramp
 from ..inputs.scene import Scene
-from .study_members import run_members
+from .study_members import LOST, run_members
 
 ROCKING_FRACTION = 1.0 / 30.0  # rocking starts at theta_cr / 30
 SLIP_THRESHOLD = 1e-4  # m
@@ -239,6 +239,8 @@ def batch_outcomes(scene: Scene, motion_at: Callable, scales, event: Callable, *
             outcomes.append(bool(row["event"]))
         elif row["status"] == "unstable":
             outcomes.append(SimulationUnstable(row["error"], None))
+        elif row["status"] == LOST:
+            outcomes.append(SimulationUnstable(f"lost on the Dask cluster: {row['error']}", None))
         else:
             outcomes.append(ValueError(f"the run at scale {scale:g} was refused: {row['error']}"))
     return outcomes

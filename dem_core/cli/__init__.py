@@ -21,13 +21,16 @@
   block rocking on a corner still stands on it;
 * ``fragility [SCENE.toml] --out DIR``: fragility curves of the scene under a record suite (``--suite``, the
   bundled demonstration suite by default, or ``--records``) scaled to ``--levels`` stripes of PGA, PGV or Sa(T),
-  all the runs one batch on every core, lognormals fitted to the damage states together with bands drawn by
-  record (:mod:`dem_core.analyses.fragility_study`), written as CSV files and a figure;
+  the runs in batches on every core or on a Dask cluster (``--scheduler``), each saved as it ends so that the same
+  command resumes, lognormals fitted to the damage states together with bands drawn by record
+  (:mod:`dem_core.analyses.fragility_study`), written as CSV files and a figure;
 * ``spectrum RECORD ... --out spectra.png``: elastic response spectra;
 * ``stiffness SCENE.toml``: the run again at 10 and 100 times the contact stiffness, to see
   whether the answer depends on it: each measure named, its value at each stiffness and a
   verdict (converged when it changes by at most 5% from the stiffest run, or by less than
   1 mm of sliding, 0.001 rad of rotation, 0.1 s of overturn time; otherwise what to do);
+* ``select [SUITE] --ec8 B --ag 2.4 --out DIR`` (or ``--scenario M R VS30 MECHANISM``): the records of a suite that
+  best match a target spectrum, each scaled to it, written as a suite (:mod:`dem_core.analyses.target_spectra`);
 * ``records [SUITE]``: a record suite's motions (:mod:`dem_core.inputs.suites`; the bundled demonstration suite
   by default), with their intensities, where each one's sampling interval comes from and what is known of their
   earthquakes.
@@ -85,14 +88,15 @@ import sys
 import warnings
 
 from ..output_files import OutputPathError, OutputWriteError
-from . import animate, fragility, ramp, records, run, spectrum, stiffness, sweep, threshold
+from . import animate, fragility, ramp, records, run, select, spectrum, stiffness, sweep, threshold
 from .arguments import ArgumentError, Parser, default_scene_path
 from .console import Refused, one_line, show_warning
 from .interrupts import INTERRUPTS
 
 #: the commands, each a module of this package that declares its options (``add``) and runs (``run``)
 COMMANDS = {"run": run, "sweep": sweep, "threshold": threshold, "ramp": ramp, "animate": animate,
-            "fragility": fragility, "spectrum": spectrum, "stiffness": stiffness, "records": records}
+            "fragility": fragility, "spectrum": spectrum, "stiffness": stiffness, "records": records,
+            "select": select}
 __all__ = ["COMMANDS", "default_scene_path", "main", "parser"]
 #: exit status of a command stopped by Ctrl-C (128 + SIGINT, as shells report it)
 INTERRUPTED = 130

@@ -25,14 +25,16 @@ from .progress import compile_first, progress_bar
 def add(sub):
     fragility = sub.add_parser(
         "fragility", help="fragility curves: the scene under a suite of records scaled to stripes of PGA, PGV or Sa(T)",
-        description="Run the scene under each record of the suite scaled to each of --levels intensities evenly spaced up to "
-        "--max (multiple-stripe analysis), as batches on every core (or on the workers of a Dask cluster), and fit lognormal fragilities "
-        "to the damage states together by maximum likelihood, one dispersion and ordered medians so that no curves "
-        "cross, with 90% bands drawn by record (dem_core.analyses.nested_fragility).  A "
+        description="Run the scene under each record of the suite scaled to each of --levels intensities evenly "
+        "spaced up to --max (multiple-stripe analysis), as batches on every core (or on the workers of a Dask "
+        "cluster), and fit lognormal fragilities to the damage states together by maximum likelihood, one "
+        "dispersion and ordered medians so that no curves cross, with 90% bands drawn by record "
+        "(dem_core.analyses.nested_fragility).  A "
         "damage state is a peak |theta|/alpha (alpha the column's critical angle for a drum, else the block's "
         "own); 1 is overturning.  Writes fragility.csv (median and dispersion per state with their "
         "bands), counts.csv (runs and exceedances per level and state), runs.csv (every run's measures), "
-        "fragility.png and study.json (the settings, the machine and the wall time).  Every finished run is saved in OUT/members.jsonl as "
+        "fragility.png and study.json (the settings, the machine and the wall time).  Every finished run is saved "
+        "in OUT/members.jsonl as "
         "it ends: after Ctrl-C or a crash the same command resumes, running only what is missing.")
     fragility.add_argument("scene", nargs="?", help=f"scene file (its [excitation] is ignored); default the bundled "
                            f"{DEFAULT_SCENE}")
@@ -133,8 +135,8 @@ def run(args) -> int:
     for _, row in failed.head(5).iterrows():
         print(f"  {row['record']} at {label} {row['level']:.4g} {unit}: {row['status']}: "
               f"{str(row['error']).splitlines()[0]}")
-    _print_fits(study, unit)
     written = _write_fragility(out, study, path, settings, duration)
+    _print_fits(study, unit)
     print(f"wrote {', '.join(written)} in {out}")
     return 0
 
@@ -145,8 +147,7 @@ def _print_fits(study, unit: str) -> None:
     table = study.table()
     print(f"  each measure's states fitted together (one beta, ordered medians); 90% bands drawn by record from "
           f"{study.runs['record'].nunique()} records")
-    moving = int((~study.runs["at_rest"].astype(bool) & ~study.runs["overturned"].astype(bool)).sum()) \
-        if "at_rest" in study.runs else 0
+    moving = study.still_moving()
     if moving:
         print(f"  {moving} standing run(s) still moved at the end of their {study.settings['rest']:g} s rest (the "
               f"residual measures leave a column's rocking as one body out; a longer --rest lets it die out)")
@@ -170,6 +171,10 @@ def _print_fits(study, unit: str) -> None:
 def _refusal(args, suite: dict, duration) -> str:
     """Why the fragility command cannot run the suite, or '': a duration that cuts a record's strong motion, or a
     period missing, unusable for a record, or given without --im sa."""
+    if (args.dislocation or args.tilt) and duration is not None and args.rest != 0:
+        given = "--duration" if args.duration is not None else "the scene file's [simulation] duration"
+        return (f"{given}: residual states are read after each whole record and --rest s at rest; leave out the "
+                f"duration, or give --rest 0 to read them at its end")
     cuts = strong_motion_cuts((motion, duration) for motion in suite.values())
     if cuts:
         return (f"{'--duration' if args.duration is not None else 'the scene file duration'}: {cuts[0]}; a "

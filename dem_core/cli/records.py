@@ -42,6 +42,8 @@ def run(args) -> int:
               f"{row['length_s']:.4g} s every {row['dt_s']:.3g} s ({entry.sampling}), strong motion "
               f"{row['strong_start_s']:.3g} to {row['strong_end_s']:.3g} s" + (f"; {known}" if known else "")
               + (f": {entry.source}" if entry.source else ""))
+    if suite.ignored:
+        print(f"not in {METADATA}, so left out of the suite: {', '.join(suite.ignored)}")
     if args.csv:
         try:
             table.to_csv(args.csv, index=False)

@@ -49,6 +49,10 @@ class RecordError(ValueError):
     """A record file that cannot be read; the message names the file and line."""
 
 
+class NoSamplingInterval(RecordError):
+    """A record with neither a time column nor a sampling interval given."""
+
+
 @dataclass(frozen=True)
 class BundledRecord:
     file: str
@@ -222,7 +226,7 @@ def read_text_record(path, *, dt=None, units="m/s^2", component=1, time_column=N
         if dt is None:
             why = ("a single column of accelerations" if data.shape[1] == 1 else
                    "the first column does not increase steadily, so every column is read as accelerations")
-            raise RecordError(f"{path}: no time column ({why}); give dt (the sampling interval in s)")
+            raise NoSamplingInterval(f"{path}: no time column ({why}); give dt (the sampling interval in s)")
         t, step = np.arange(len(data)) * dt, dt
         columns = data
     if columns.shape[1] == 0:

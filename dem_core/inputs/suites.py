@@ -12,9 +12,10 @@ table with a header row and one row per record.  Its columns (:data:`COLUMNS`; o
   pulse's period, where known;
 - ``source``: where the record comes from, in words.
 
-With a metadata table, its rows are the suite in their order, and a record file of the folder it does not name
-joins the suite after them, without metadata.  Every record is read when the suite is: a record that cannot be read
-is an error naming the record and, where it comes from the table, the table's line.
+With a metadata table, its rows are the suite in their order, and the folder's other files are left out, named in
+:attr:`RecordSuite.ignored` (``dem-core records`` lists them); without one, every record file of the folder is in
+the suite, by name.  Every record is read when the suite is: a record that cannot be read is an error naming the
+record and, where it comes from the table, the table's line.
 """
 
 import csv
@@ -70,6 +71,8 @@ class RecordSuite:
 
     name: str
     records: tuple
+    #: the folder's record files its metadata table does not name, left out of the suite
+    ignored: tuple = ()
 
     def __len__(self) -> int:
         return len(self.records)
@@ -109,7 +112,7 @@ def load_suite(source=DEFAULT_SUITE, units: str = "m/s^2") -> RecordSuite:
 
 
 def read_suite(folder, units: str = "m/s^2", name: str | None = None) -> RecordSuite:
-    """The suite of ``folder``: its :data:`METADATA` table's rows, then its other record files.  ``units`` are those
+    """The suite of ``folder``: its :data:`METADATA` table's rows, or without one its record files.  ``units`` are those
     of text files the table gives none for.  :class:`SuiteError` naming the culprit for a folder that is missing or
     holds no record, a table line that cannot be read or names a missing file, a record that cannot be read (a
     text file without a time column needs its ``dt`` in the table), or two records of one name."""
@@ -118,9 +121,9 @@ def read_suite(folder, units: str = "m/s^2", name: str | None = None) -> RecordS
         raise SuiteError(f"{folder}: not a folder{'; bundled suites: ' + ', '.join(BUNDLED_SUITES)}")
     files = sorted(p.name for p in folder.iterdir()
                    if p.is_file() and p.suffix.lower() in RECORD_SUFFIXES and p.name != METADATA)
-    rows = _metadata(folder / METADATA, folder, files) if (folder / METADATA).is_file() else []
+    table = folder / METADATA
+    rows = _metadata(table, folder, files) if table.is_file() else [({"file": file}, None) for file in files]
     named = {row["file"] for row, _ in rows}
-    rows += [({"file": file}, None) for file in files if file not in named]
     if not rows:
         raise SuiteError(f"{folder}: no record in it: a suite folder holds record files ({', '.join(RECORD_SUFFIXES)})"
                          f" and optionally {METADATA}")
@@ -133,17 +136,19 @@ def read_suite(folder, units: str = "m/s^2", name: str | None = None) -> RecordS
                              f"each its own name")
         where[entry.name] = at
         entries.append(entry)
-    return RecordSuite(name or folder.name, tuple(entries))
+    return RecordSuite(name or folder.name, tuple(entries), tuple(file for file in files if file not in named))
 
 
 def _metadata(path: Path, folder: Path, files: list) -> list:
     """``[(row, line)]`` of a metadata table, each row {column: value} with the columns it fills."""
-    with file_errors(path, SuiteError, "metadata table"), open(path, encoding="utf-8", newline="") as handle:
+    with file_errors(path, SuiteError, "metadata table"), open(path, encoding="utf-8-sig", newline="") as handle:
         lines = list(csv.reader(handle))
     header = [cell.strip() for cell in lines[0]] if lines else []
     unknown = [column for column in header if column not in COLUMNS]
-    if unknown or "file" not in header:
-        why = (f"unknown column {unknown[0]!r}{did_you_mean(unknown[0], COLUMNS)}" if unknown else "no 'file' column")
+    twice = [column for column in COLUMNS if header.count(column) > 1]
+    if unknown or twice or "file" not in header:
+        why = (f"unknown column {unknown[0]!r}{did_you_mean(unknown[0], COLUMNS)}" if unknown else
+               f"the column {twice[0]!r} twice" if twice else "no 'file' column")
         raise SuiteError(f"{path}:1: {why}; the columns are {', '.join(COLUMNS)} (only file is required)")
     rows = []
     for line, cells in enumerate(lines[1:], start=2):
@@ -184,11 +189,12 @@ def _entry(folder: Path, row: dict, units: str, where: str) -> SuiteRecord:
     source = str(folder / file) if (folder / file).is_file() else file
     try:
         motion = record(source, dt=row.get("dt"), units=row.get("units", units), component=row.get("component"))
-    except records.RecordError as exc:
-        hint = (f"; give its sampling interval in {METADATA}'s dt column" if "give dt" in str(exc) else "")
-        raise SuiteError(f"{where}: record {file}: {exc}{hint}") from None
-    except (OSError, ValueError) as exc:
-        raise SuiteError(f"{where}: record {file}: {exc}") from None
+    except records.NoSamplingInterval:
+        raise SuiteError(f"{where}: {file} has no time column and no sampling interval: give it in {METADATA}'s "
+                         f"dt column") from None
+    except (OSError, ValueError) as exc:  # the record's own error names its file, and its line where it has one
+        said = str(exc)
+        raise SuiteError(said if said.startswith(where) else f"{where}: {said}") from None
     known = {key: float(row[key]) for key in ("magnitude", "distance_km", "vs30", "pulse_period") if key in row}
     name = row.get("name", Path(file).stem)
     return SuiteRecord(name, dataclasses.replace(motion, name=name), file, row.get("source", ""),
@@ -206,9 +212,9 @@ def _sampling(file: str, source: str, in_table: bool, dt: float) -> str:
 
 def write_suite(entries, folder, fmt: str = "%.5g") -> Path:
     """Write ``entries`` (:class:`SuiteRecord`) into ``folder`` as a suite :func:`read_suite` reads back, and return
-    the path of its :data:`METADATA` table.  An entry whose ``file`` is a bundled record's name is a row naming it;
-    any other is its horizontal component's samples (a sampled motion) as the one-column text file
-    ``<name>.txt`` in m/s^2, ``fmt`` each, with its sampling interval in the table."""
+    the path of its :data:`METADATA` table.  An entry whose ``file`` is a bundled record's name is a row naming it
+    (its motion is that record as bundled); any other is its horizontal component's samples (a sampled motion) as
+    the one-column text file ``<name>.txt`` in m/s^2, ``fmt`` each, with its sampling interval in the table."""
     folder = Path(folder)
     folder.mkdir(parents=True, exist_ok=True)
     with open(folder / METADATA, "w", encoding="utf-8", newline="") as handle:

@@ -114,10 +114,11 @@ def stochastic_accelerations(scenario: Scenario, rng: np.random.Generator, dt: f
 
     The envelope lasts ``D5-95 / significant_share()``, D5-95 of Afshari and Stewart (2016), and the motion
     :data:`TAIL` s more; the target Fourier amplitude is Bayless and Abrahamson's (2019) effective amplitude
-    spectrum, interpolated in log-log between its frequencies (0.1 to 100 Hz) and falling as f^2 below 0.1 Hz (the omega-squared source).  ``variability``: the
-    duration and the spectrum each take a residual drawn with their model's standard deviation (the spectrum's
-    correlated across frequency, Bayless and Abrahamson 2018; above the highest frequency whose standard deviation
-    the model gives, the last one given); otherwise both are the medians and only the phases are random.
+    spectrum, interpolated in log-log between its frequencies (0.1 to 100 Hz) and falling as f^2 below 0.1 Hz (the
+    omega-squared source).  ``variability``: the duration and the spectrum each take a residual drawn with their
+    model's standard deviation (the spectrum's correlated across frequency, Bayless and Abrahamson 2018; above the
+    highest frequency whose standard deviation the model gives, the last one given); otherwise both are the medians
+    and only the phases are random.
     """
     import pygmm
     where = scenario.pygmm()
@@ -228,13 +229,18 @@ def near_fault_accelerations(scenario: Scenario, rng: np.random.Generator, dt: f
     return a, (amplitude, period, gamma, phase, peak_time)
 
 
-def near_fault_motion(scenario: Scenario, seed: int = 0, index: int = 0, dt: float = DT) -> GroundMotion:
-    """Motion ``index`` of the near-fault suite of ``scenario`` seeded ``seed`` (:func:`near_fault_accelerations`),
-    baseline-corrected as a record is."""
-    a, (amplitude, period, _, _, _) = near_fault_accelerations(scenario, motion_rng(seed, index), dt)
-    a = baseline_correct(a, dt)
+def near_fault_record(scenario: Scenario, seed: int = 0, index: int = 0, dt: float = DT) -> tuple:
+    """``(motion, pulse)``: motion ``index`` of the near-fault suite of ``scenario`` seeded ``seed``
+    (:func:`near_fault_accelerations`), baseline-corrected as a record is, and its pulse's parameters."""
+    a, pulse = near_fault_accelerations(scenario, motion_rng(seed, index), dt)
+    amplitude, period = pulse[:2]
     name = f"near-fault {scenario.label} pulse {amplitude:.2g} m/s T_p {period:.2g} s seed {seed}-{index}"
-    return GroundMotion(Sampled(a, dt, name=name), Still(), name=name)
+    return GroundMotion(Sampled(baseline_correct(a, dt), dt, name=name), Still(), name=name), pulse
+
+
+def near_fault_motion(scenario: Scenario, seed: int = 0, index: int = 0, dt: float = DT) -> GroundMotion:
+    """Motion ``index`` of the near-fault suite of ``scenario`` seeded ``seed`` (:func:`near_fault_record`)."""
+    return near_fault_record(scenario, seed, index, dt)[0]
 
 
 def synthetic_suite(scenario: Scenario, count: int, seed: int = 0, *, pulses: bool = False, dt: float = DT,

@@ -99,7 +99,7 @@ def main():
     fell = finished["overturned"].astype(bool)
     by_kind = fell.groupby(finished["record"].map(kind)).mean()
     never = [name for name in records if not fell[finished["record"] == name].any()]
-    moving = int((~finished["at_rest"].astype(bool) & ~fell).sum())
+    moving = study.still_moving()
     counted = [kind(name) for name in records]
     kinds = ", ".join(f"{counted.count(k)} {k}" for k in ("recorded", "stochastic", "near-fault"))
     family = {measure: [s for s in study.fits if state_parts(s)[0] == measure] for measure in ("peak", *RESIDUAL)}
@@ -109,8 +109,9 @@ def main():
         "together, with one dispersion and ordered medians, so their curves cannot cross.",
         f"Which intensity measure predicts the column's peak damage best (second table: the peak states fitted "
         f"together to every run at its own value of the measure; the smaller the common dispersion, the more "
-        f"efficient the measure): {best}. For one column the dimensionless measures PGA/(g tan alpha) and PGV/(p R) "
-        "are PGA and PGV times constants, with the same dispersions.",
+        f"efficient the measure): {best}. The dimensionless rocking measures PGA/(g tan alpha) and PGV/(p R) (the "
+        "column as one rigid block) are, for one column, PGA and PGV divided by constants: the same dispersions, "
+        "with medians that studies of other columns can compare.",
         f"{len(study.runs)} runs in {study.wall_time_s:.0f} s ({study.device}; {machine()}); "
         f"{int((study.runs['status'] != 'ok').sum())} did not finish; each run is its motion and then "
         f"{study.settings['rest']:g} s of ground at rest, after which {moving} of the {int((~fell).sum())} standing "

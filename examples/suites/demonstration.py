@@ -14,17 +14,10 @@ numpy and pygmm (constraints.txt).
 import sys
 from pathlib import Path
 
-from dem_core.inputs.excitation import GroundMotion, Sampled, baseline_correct, record
+from dem_core.inputs.excitation import record
 from dem_core.inputs.records import BUNDLED
 from dem_core.inputs.suites import SuiteRecord, suite_folder, write_suite
-from dem_core.inputs.synthetic import (
-    DT,
-    Scenario,
-    motion_rng,
-    near_fault_accelerations,
-    pulse_period,
-    stochastic_motion,
-)
+from dem_core.inputs.synthetic import Scenario, near_fault_record, pulse_period, stochastic_motion
 
 SEED = 2026
 PER_SCENARIO = 4
@@ -35,7 +28,8 @@ NEAR_FAULT = (Scenario(6.0, 3.0, 760.0, "NS"), Scenario(6.7, 5.0, 760.0, "SS"))
 #: what is known of the bundled records: magnitude, distance (km), Vs30 (m/s), pulse period (s), where from
 REAL = {
     "el_centro_1940": (6.95, 12.99, 213.44, None, "PEER NGA-West2 RSN6 (M, Rrup, Vs30)"),
-    "mexico_city_1985": (8.0, None, None, None, "Mw 8.0; SCT on the lake-bed clay, some 350 to 400 km from the rupture"),
+    "mexico_city_1985": (8.0, None, None, None,
+                         "Mw 8.0; SCT on the lake-bed clay, some 350 to 400 km from the rupture"),
     "northridge_1994": (6.69, 5.30, 440.54, 3.11, ("PEER NGA-West2 RSN1086 Sylmar - Olive View (M, Rrup, Vs30); "
                                                     "pulse period of Baker (2007)")),
     "kalamata_1986": (5.9, None, None, None, "Mw 5.9"),
@@ -68,8 +62,7 @@ def synthetic_records() -> list:
         seed = SEED + len(STOCHASTIC) + number
         for index in range(PER_SCENARIO):
             name = f"near_fault_{number + 1}{'abcd'[index]}"
-            a, (amplitude, period, gamma, phase, peak) = near_fault_accelerations(scenario, motion_rng(seed, index))
-            motion = GroundMotion(Sampled(baseline_correct(a, DT), DT, name=name), name=name)
+            motion, (amplitude, period, gamma, phase, peak) = near_fault_record(scenario, seed, index)
             entries.append(SuiteRecord(name, motion, f"{name}.txt",
                                        f"synthetic, near-fault: {scenario.label}; stochastic motion plus a "
                                        f"Mavroeidis-Papageorgiou 2003 pulse of {amplitude:.3g} m/s, T_p {period:.3g} s,"
