@@ -73,7 +73,7 @@ class BatchInterrupted(KeyboardInterrupt):
 
 
 def simulate_batch(scene, motions, duration: float | None = None, *, device: str = "auto",
-                   threads: int | None = None, histories=(), measures=None, progress=None,
+                   threads: int | None = None, histories=(), measures=None, progress=None, finished=None,
                    **simulate_options) -> Batch:
     """Run ``scene`` under each of ``motions``; one row of measures per member.
 
@@ -91,6 +91,9 @@ def simulate_batch(scene, motions, duration: float | None = None, *, device: str
     histories : indices of the members whose :class:`Result` is kept (in :attr:`Batch.histories`).
     measures : optional ``function(result) -> dict`` whose items are added to each member's row.
     progress : optional ``function(done, total)`` called as members finish.
+    finished : optional ``function(member, row)`` called on the caller's thread with each member's row as soon as
+        the batch has it (as each member ends on the CPU, when the batch ends on the GPU, and for the members that
+        finished when the batch is stopped), to save it as it comes.
     simulate_options : the keyword arguments of :func:`~dem_core.simulate` (``dt``, ``integrator``, ...), the
         same for every member; ``parallel`` does not apply (the batch spreads members, not one run).
 
@@ -112,11 +115,24 @@ def simulate_batch(scene, motions, duration: float | None = None, *, device: str
     rows, given, shared = {}, set(), {}
     first, built, said = _first_member(scenes, motions, duration, simulate_options, rows, shared)
     _give(said, given)
-    if gpu:
-        return _on_gpu(gpu, scenes, motions, duration, simulate_options, keep, measures, progress, rows, first,
-                       built, given, started, shared)
-    return _on_cpu(threads, scenes, motions, duration, simulate_options, keep, measures, progress, rows, first,
+    announced = set()
+
+    def announce():
+        for m in sorted(set(rows) - announced) if finished is not None else ():
+            announced.add(m)
+            finished(m, rows[m])
+
+    def told(done, total):
+        announce()
+        if progress is not None:
+            progress(done, total)
+
+    run = _on_gpu if gpu else _on_cpu
+    try:
+        return run(gpu or threads, scenes, motions, duration, simulate_options, keep, measures, told, rows, first,
                    built, given, started, shared)
+    finally:
+        announce()
 
 
 def _on_cpu(threads: int, scenes, motions, duration, simulate_options, keep, measures, progress, rows: dict,

@@ -154,6 +154,28 @@ def test_ctrl_c_hands_back_the_members_that_finished():
     assert (caught.value.partial.table["status"] == "ok").all()
 
 
+def test_each_members_row_is_handed_over_as_it_ends_and_those_finished_when_stopped():
+    """``finished`` gets every member's row once, the table's row, as the member ends; stopped after two, it has had
+    every row the interrupted batch hands back."""
+    said = []
+    done = simulate_batch(scenes.block(0.6, 3.0), _motions(), 0.3, integrator="moreau", threads=2,
+                          finished=lambda m, row: said.append((m, row)))
+    assert sorted(m for m, _ in said) == list(range(len(_motions())))
+    for m, row in said:
+        peak = done.table.loc[m, "peak_abs_theta_rad[block]"]
+        assert row["member"] == m and row["peak_abs_theta_rad[block]"] == peak
+    said.clear()
+
+    def interrupt_on_second(finished, total):
+        if finished == 2:
+            raise KeyboardInterrupt
+
+    with pytest.raises(BatchInterrupted) as caught:
+        simulate_batch(scenes.block(0.6, 3.0), _motions() * 2, 0.3, integrator="moreau", threads=1,
+                       progress=interrupt_on_second, finished=lambda m, row: said.append(m))
+    assert sorted(said) == caught.value.partial.table["member"].tolist()
+
+
 @pytest.mark.filterwarnings("ignore:a long run")
 def test_ctrl_c_stops_a_running_member_between_its_chunks():
     """A KeyboardInterrupt raised in the calling thread while one long member runs (as Ctrl-C raises it in the main

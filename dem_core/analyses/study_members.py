@@ -4,10 +4,11 @@ a Dask cluster's workers, with each finished member's row appended to a log that
 A member is known in the log by its run digest (:func:`~dem_core.analyses.run_identity.run_digest`: the scene,
 the motion's every sample and scale, the settings and the dem_core code) and the measures taken of it, so a rerun
 with anything changed runs again what changed and never mixes in rows of other settings.  On this machine the
-members run in batches of :data:`LOCAL_PER_THREAD` per thread: Ctrl-C keeps every member that finished, a crash
-loses the batch running.  On a cluster each group of members (a study's: one record's stripes) is one task, a batch
-on the worker's cores or GPU (``device="auto"``), whose rows are logged as it returns; the members of a task lost
-on the cluster get the status :data:`LOST` and are not logged, so a rerun runs them again.
+members run as one batch and each is logged as it ends (:func:`~dem_core.batch.simulate_batch`'s ``finished``):
+Ctrl-C or a crash loses only the members running.  On a cluster each group of members (a study's: one record's
+stripes) is one task, a batch on the worker's cores or GPU (``device="auto"``), whose rows are logged as it
+returns; the members of a task lost on the cluster get the status :data:`LOST` and are not logged, so a rerun runs
+them again.
 """
 
 import json
@@ -19,14 +20,12 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from ..batch import BatchInterrupted, simulate_batch
+from ..batch import simulate_batch
 from .cluster import completed, dask_client
 from .run_identity import describe, digest, run_digest
 
 #: the log of a study's finished members, in the study's output folder
 LOG = "members.jsonl"
-#: members per batch and thread on this machine when a log is kept
-LOCAL_PER_THREAD = 64
 #: the status of a member whose cluster task was lost (a worker died, the task raised): not logged, so run again
 LOST = "lost"
 
@@ -95,10 +94,9 @@ def run_members(scene, motions: list, duration, groups: list, *, log=None, sched
     """Run ``scene`` under each of ``motions`` (as :func:`~dem_core.batch.simulate_batch` does, with ``duration``,
     ``device``, ``threads``, ``measures`` and ``simulate_options``) and return their rows.
 
-    groups : lists of member indices that partition the members: one cluster task each; on this machine, batches
-        of whole groups.
-    log : path of a :class:`MemberLog`: members it holds are not run again, and every finished member is appended.
-        Without a log and a scheduler the members are one batch.
+    groups : lists of member indices that partition the members: one cluster task each.
+    log : path of a :class:`MemberLog`: members it holds are not run again, and every finished member is appended
+        as it ends.
     scheduler : address of a running Dask scheduler, or a ``distributed.Client``; ``measures`` must then be a
         module-level function (it travels to the workers).
     progress : optional ``function(done, total)``.
@@ -124,18 +122,19 @@ def run_members(scene, motions: list, duration, groups: list, *, log=None, sched
 
     run = {"scene": scene, "motions": motions, "duration": duration, "device": device, "measures": measures,
            "options": simulate_options}
+    where = "resumed from the log"
     try:
-        if scheduler is not None:
+        if todo and scheduler is not None:
             where = _on_cluster(todo, scheduler, run, finish)
-        else:
-            where = _here(todo, log is not None, threads, run, finish, progress, len(rows), total)
+        elif todo:
+            where = _here(todo, threads, run, finish)
     except KeyboardInterrupt:
         raise MembersInterrupted(len(rows) if log is not None else 0, total, None if log is None else log.path) \
             from None
     table = pd.DataFrame([{**rows[m], "member": m} for m in sorted(rows)])
     if "overturned" in table:
         table["overturned"] = table["overturned"].astype("boolean")
-    return MemberRuns(table, where if todo else "resumed from the log", time.perf_counter() - started, resumed)
+    return MemberRuns(table, where, time.perf_counter() - started, resumed)
 
 
 def _logged(log, digests) -> dict:
@@ -146,39 +145,15 @@ def _logged(log, digests) -> dict:
     return {m: found[d] for m, d in enumerate(digests) if d in found}
 
 
-def _here(groups: list, logged: bool, threads, run: dict, finish, progress, done: int, total: int) -> str:
-    """Run ``groups`` on this machine: one batch, or (``logged``) batches of whole groups of at least
-    :data:`LOCAL_PER_THREAD` members per thread, each finished member passed to ``finish`` as its batch ends."""
+def _here(groups: list, threads, run: dict, finish) -> str:
+    """Run ``groups`` on this machine as one batch, each member's row passed to ``finish`` as the member ends."""
     members = [m for group in groups for m in group]
-    size = len(members) if not logged else LOCAL_PER_THREAD * (threads or _threads())
-    batches, current = [], []
-    for group in groups:
-        current += group
-        if len(current) >= size:
-            batches.append(current)
-            current = []
-    batches += [current] if current else []
-    where = ""
-    for batch in batches:
-        offset = done
 
-        def step(finished, _total, offset=offset):
-            if progress is not None:
-                progress(offset + finished, total)
-        try:
-            found, where = _batch_rows(batch, threads, run, step)
-        except BatchInterrupted as stopped:
-            finish({batch[row["member"]]: {**row, "member": batch[row["member"]]}
-                    for row in stopped.partial.table.to_dict("records")})
-            raise
-        finish(found)
-        done += len(batch)
-    return where
+    def ended(k: int, row: dict) -> None:
+        finish({members[k]: {**row, "member": members[k]}})
 
-
-def _threads() -> int:
-    import numba
-    return numba.get_num_threads()
+    return simulate_batch(run["scene"], [run["motions"][m] for m in members], run["duration"], device=run["device"],
+                          threads=threads, measures=run["measures"], finished=ended, **run["options"]).device
 
 
 def _batch_rows(members: list, threads, run: dict, progress=None) -> tuple:
