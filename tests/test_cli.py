@@ -406,3 +406,8 @@ def test_the_stiffness_check_runs_the_explicit_integrator_and_says_so(tmp_path, 
     assert main(["stiffness", str(scene)]) == 130
     assert seen[0]["integrator"] == "explicit"
     assert "this check is the explicit core's" in capsys.readouterr().out
+
+
+def test_threshold_runs_the_bundled_scene_when_given_none(capsys):
+    assert main(["threshold", "--low", "1.5", "--high", "2", "--scan", "2", "--tolerance", "0.2"]) == 0
+    assert "no overturning up to pga = 2 m/s^2" in capsys.readouterr().out

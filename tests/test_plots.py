@@ -190,3 +190,20 @@ def test_labels_of_the_spectrum_and_the_snapshots_lie_inside_their_figures():
     scene = scenes.column(3)
     result = hand_result(rocking(1.0, 1.0, 1.0))
     assert_text_inside(snapshot_strip(scene, result, [0.0, 5.0], title="column", exaggerate=10), dpi=110)
+
+
+def test_cli_md_says_how_drums_share_a_line_and_how_the_default_run_draws_them():
+    """docs/cli.md's words on rotations.png: the tolerance the grouping uses, and the default run's drums drawn as
+    it says (all eight agree)."""
+    from pathlib import Path
+
+    from dem_core import simulate
+    from dem_core.cli import default_scene_path
+    from dem_core.inputs.scene_file import load
+
+    text = " ".join((Path(__file__).resolve().parents[1] / "docs" / "cli.md").read_text().split())
+    assert f"within {plots.DRUM_AGREEMENT:.0%} of the column's peak of each other" in text
+    spec = load(default_scene_path())
+    done = simulate(spec.scene, spec.excitation, **spec.simulation)
+    assert plots.block_groups(done, done.theta) == [tuple(range(8))]
+    assert "the default run: all eight drums on one line" in text

@@ -8,7 +8,7 @@
   sets every run's simulated time (part of what identifies a run, so a resumed sweep never
   mixes durations); a resumed sweep says how many runs were already done, and the end
   counts the runs in words ("16 runs: 15 ok, 1 failed");
-* ``threshold SCENE.toml``: the smallest PGA (or other excitation parameter)
+* ``threshold [SCENE.toml]``: the smallest PGA (or other excitation parameter)
   that overturns the scene, or starts it rocking or sliding, by the search of
   :mod:`dem_core.analyses.thresholds` with its defaults (a scan in steps of 2%, ``--step``, capped
   at ``--absolute-step``, or ``--scan N`` evenly spaced values; each change refined to 0.5%,

@@ -11,7 +11,11 @@ from .single_run import movie_name_ok, simulated, write_animation
 
 
 def add(sub):
-    anim = sub.add_parser("animate", help="run a scene file and write an animation and snapshots")
+    anim = sub.add_parser("animate", help="run a scene file and write an animation and snapshots",
+                          description="Run the scene and draw it: an animation of the blocks on the moving ground "
+                          "(GIF or MP4, at most 5000 frames, --fps frames per second of --speed times real time) and "
+                          "a strip of snapshots beside it; --exaggerate K draws each block's motion on what it "
+                          "rests on K times larger, so that a small rocking shows.")
     anim.add_argument("scene", nargs="?", help=f"scene file; default the bundled {DEFAULT_SCENE}")
     anim.add_argument("--out", default="animation.gif", help="file to write (.gif or .mp4); snapshots go to "
                       "<name>_snapshots.png beside it.  Both are written whole or not at all")

@@ -14,7 +14,8 @@ from ..analyses.sweep import SceneFileBuild
 from ..analyses.thresholds import SCAN_STEP, TOLERANCE, onset_threshold, overturning_threshold, scan_grid
 from ..inputs.scene_file import SceneFileError, read_toml
 from ..output_files import output_folder, replacing
-from .arguments import FRACTION, POSITIVE, SCALES, SECONDS, add_integrator, with_integrator
+from .arguments import (DEFAULT_SCENE, FRACTION, POSITIVE, SCALES, SECONDS, add_integrator, default_scene_path,
+                        with_integrator)
 from .console import acceleration_text, percent
 from .progress import compile_first, progress_bar, simulate_options
 
@@ -29,7 +30,8 @@ def add(sub):
         "--absolute-step; or --scan evenly spaced values), then every change between neighbouring values "
         "(standing to overturned, and back: the response is not monotonic) is bisected until its bracket is "
         "narrower than --tolerance of its upper end.")
-    threshold.add_argument("scene", help="scene file whose [excitation] is scaled")
+    threshold.add_argument("scene", nargs="?", help=f"scene file whose [excitation] is scaled; default the bundled "
+                           f"{DEFAULT_SCENE}")
     threshold.add_argument("--parameter", default="pga", help="the [excitation] key that is varied (default: pga); the "
                            "scene file must not give a key that excludes it (amplitude for pga)")
     threshold.add_argument("--low", type=POSITIVE, required=True, help="lowest value scanned (> 0)")
@@ -208,6 +210,7 @@ def _threshold_scene(args):
     """(the scene file's tables, the scene file, ``motion_at(value)``) of the threshold command, or None after
     printing why the file, or its excitation with ``--parameter`` set to ``--low`` or ``--high``, cannot be
     built; an excitation that cannot be built names the key ``--parameter`` sets."""
+    args.scene = args.scene or default_scene_path()
     try:
         data = read_toml(args.scene)
         build = SceneFileBuild(data, str(args.scene))
