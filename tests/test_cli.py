@@ -3,6 +3,7 @@ with g in brackets, takes --duration wherever it runs a scene, shows progress on
 fails cleanly on bad input."""
 
 import json
+import math
 import os
 import re
 import subprocess
@@ -411,3 +412,15 @@ def test_the_stiffness_check_runs_the_explicit_integrator_and_says_so(tmp_path, 
 def test_threshold_runs_the_bundled_scene_when_given_none(capsys):
     assert main(["threshold", "--low", "1.5", "--high", "2", "--scan", "2", "--tolerance", "0.2"]) == 0
     assert "no overturning up to pga = 2 m/s^2" in capsys.readouterr().out
+
+
+def test_run_prints_the_peak_as_a_share_of_the_critical_angle(tmp_path, capsys):
+    """The printout's peak |theta|/alpha is the damage ratio a fragility study counts (its result's, written)."""
+    assert main(["run", "--out", str(tmp_path / "out"), "--no-plots", "--duration", "8"]) == 0
+    found = re.search(r"peak \|theta\| ([\d.e-]+) rad \(peak \|theta\|/alpha ([\d.e-]+), alpha the critical angle",
+                      capsys.readouterr().out)
+    peak, ratio = float(found.group(1)), float(found.group(2))
+    metrics = pd.read_csv(tmp_path / "out" / "metrics.csv")
+    assert peak == pytest.approx(metrics["peak_abs_theta_rad"].max(), rel=1e-3)
+    column_alpha = math.atan(1.0 / 6.0)  # the bundled 1 x 6 m column's critical angle
+    assert ratio == pytest.approx(peak / column_alpha, rel=2e-3)

@@ -7,11 +7,19 @@ from pathlib import Path
 
 import numpy as np
 
+from ..analyses.fragility_study import damage_ratio
 from ..output_files import output_file, output_folder
 from ..run_folder import RUN_FILES, run_summary, write_run, write_summary
 from ..simulation import SimulationUnstable
-from .arguments import (DEFAULT_SCENE, POSITIVE, SECONDS, add_integrator, default_scene_path, load_or_fail,
-                        with_integrator)
+from .arguments import (
+    DEFAULT_SCENE,
+    POSITIVE,
+    SECONDS,
+    add_integrator,
+    default_scene_path,
+    load_or_fail,
+    with_integrator,
+)
 from .console import Refused, motion_text, stopped_text
 from .interrupts import INTERRUPTS
 from .single_run import movie_name_ok, simulated, write_animation
@@ -80,7 +88,11 @@ def run(args) -> int:
         print(f"error: {path}: {exc}", file=sys.stderr)
         return 2
     INTERRUPTS.check()
-    print(f"peak |theta| {np.max(result.peak_theta):.4g} rad, total sliding {result.total_sliding:.4g} m, "
+    ratio = damage_ratio(result)
+    print(f"peak |theta| {np.max(result.peak_theta):.4g} rad"
+          + (f" (peak |theta|/alpha {ratio:.3g}, alpha the critical angle that governs the block)"
+             if np.isfinite(ratio) else "")
+          + f", total sliding {result.total_sliding:.4g} m, "
           f"overturned: {f'yes at t = {result.time_of_overturn:.3f} s' if result.overturned else 'no'}")
     args.on_interrupt = lambda: (f"writing the results into {out}/ was stopped: they are incomplete (summary.json "
                                  "says so); run the same command again")
