@@ -64,6 +64,24 @@ class Batch:
     wall_time_s: float = float("nan")
 
 
+class _Rows(dict):
+    """The members' rows by member, and the members whose rows came since :meth:`taken` was last called."""
+
+    def __init__(self):
+        super().__init__()
+        self._new = []
+
+    def __setitem__(self, member, row):
+        if member not in self:
+            self._new.append(member)
+        super().__setitem__(member, row)
+
+    def taken(self) -> list:
+        """The members whose rows came since the last call, in the order they came."""
+        new, self._new = self._new, []
+        return new
+
+
 class BatchInterrupted(KeyboardInterrupt):
     """Ctrl-C during a batch: the members that finished are in ``partial`` (a :class:`Batch`)."""
 
@@ -112,15 +130,13 @@ def simulate_batch(scene, motions, duration: float | None = None, *, device: str
         warn_caller(f"the strong motion is cut: {said}")
     gpu = _gpu_for(device, len(motions), threads)
     started = time.perf_counter()
-    rows, given, shared = {}, set(), {}
+    rows, given, shared = _Rows(), set(), {}
     first, built, said = _first_member(scenes, motions, duration, simulate_options, rows, shared)
     _give(said, given)
-    announced = set()
-
     def announce():
-        for m in sorted(set(rows) - announced) if finished is not None else ():
-            announced.add(m)
-            finished(m, rows[m])
+        for m in rows.taken():
+            if finished is not None:
+                finished(m, rows[m])
 
     def told(done, total):
         announce()

@@ -3,6 +3,9 @@
 
 import numpy as np
 
+from ..engine.model import compile_model, result_states
+from ..engine.state import interface_offsets
+
 
 def critical_angles(result) -> np.ndarray:
     """(n_blocks,) rad: the rotation at which each block of ``result`` is judged to overturn: for a column's
@@ -18,12 +21,13 @@ def critical_angles(result) -> np.ndarray:
 
 def residual_dislocation(scene, result) -> float:
     """m: the largest offset, at the run's end, of a block over the one it rested on at the start (or the base),
-    along their joint: the dislocation of drums a survey measures (``thresholds.interface_offsets``); 0 for a
-    scene without joints."""
-    from .thresholds import interface_offsets
-
-    offsets = interface_offsets(scene, result)
-    return float(np.max(np.abs(offsets[-1]))) if offsets.size else 0.0
+    along their joint: the dislocation of drums a survey measures.  The offset is a function of the two bodies'
+    positions (:mod:`dem_core.engine._interfaces`), so the first and last outputs give it; 0 for a scene without
+    joints."""
+    model = compile_model(scene)
+    first, last = result_states(model, result)[[0, -1]]
+    offsets = interface_offsets(model, last) - interface_offsets(model, first)
+    return float(np.max(np.abs(offsets))) if offsets.size else 0.0
 
 
 def residual_tilt(result) -> float:
