@@ -60,6 +60,10 @@ def run(engine: str, scene, excitation, duration, dt, output_dt, build) -> Resul
     if scene.contact.impact_restitution:
         raise ValueError(f"{engine}: the scene asks a restitution of {scene.contact.impact_restitution:g}; this "
                          f"adapter builds plastic impacts only (docs/validation.md), the native core gives any")
+    if scene.connectors:
+        raise ValueError(f"{engine}: the scene has {len(scene.connectors)} connector(s) ({scene.connectors[0].name}, "
+                         f"...); this adapter cannot model connectors, and a run without them would be another "
+                         f"monument: run the native core (engine 'dem')")
     n_steps = int(np.ceil(duration / dt - 1e-9))
     stride = max(1, round((0.01 if output_dt is None else output_dt) / dt))
     out_steps = np.arange(0, n_steps + 1, stride)

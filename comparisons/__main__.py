@@ -28,6 +28,7 @@ BENCHMARKS = {
     "restitution": "restitution",
     "gpu-check": "gpu_check",
     "fragility-suite": "fragility_suite",
+    "connector-cost": "connector_cost",
 }
 
 

@@ -26,7 +26,7 @@ import pandas as pd
 from . import batch_gpu
 from .batch_gpu import gpu_available
 from .engine.result import Result
-from .inputs.excitation import GroundMotion, strong_motion_cuts
+from .inputs.excitation import GroundMotion, MotionSequence, strong_motion_cuts
 from .simulation import Simulation, SimulationUnstable, check_run_arguments, set_up_scene, warn_caller
 
 #: where a batch can run: ``"auto"`` takes the GPU where numba-cuda finds one and the batch has at least
@@ -102,8 +102,10 @@ def simulate_batch(scene, motions, duration: float | None = None, *, device: str
     duration : s, as :func:`~dem_core.simulate` takes it (None: each motion's natural end).
     device : ``"cpu"`` (Python threads, each running the compiled kernel, which releases the GIL), ``"gpu"``
         (every member at once on an NVIDIA GPU, :mod:`dem_core.batch_gpu`, a kernel per integrator; refused
-        naming why where numba-cuda finds no GPU), or ``"auto"``: the GPU where there is one and there are at
-        least GPU_MEMBERS_PER_THREAD members per thread, else the CPU.
+        naming why where numba-cuda finds no GPU, or where a member's motion is a sequence of ground motions,
+        :func:`~dem_core.inputs.excitation.sequence`, whose events only the CPU's runs start at their own steps), or
+        ``"auto"``: the GPU where there is one, no member's motion is a sequence and there are at least
+        GPU_MEMBERS_PER_THREAD members per thread, else the CPU.
         :attr:`Batch.device` says which ran.
     threads : how many members run at once on the CPU (default ``numba.get_num_threads()``, all cores).
     histories : indices of the members whose :class:`Result` is kept (in :attr:`Batch.histories`).
@@ -128,7 +130,7 @@ def simulate_batch(scene, motions, duration: float | None = None, *, device: str
     threads, scenes, motions, keep = _checked(scene, motions, device, threads, histories, simulate_options)
     for said in strong_motion_cuts((motion, duration) for motion in motions):
         warn_caller(f"the strong motion is cut: {said}")
-    gpu = _gpu_for(device, len(motions), threads)
+    gpu = _gpu_for(device, motions, threads)
     started = time.perf_counter()
     rows, given, shared = _Rows(), set(), {}
     first, built, said = _first_member(scenes, motions, duration, simulate_options, rows, shared)
@@ -303,9 +305,19 @@ def check_device(device: str) -> None:
                          "members on the CPU's threads")
 
 
-def _gpu_for(device: str, members: int, threads: int) -> str:
-    """The GPU's name if the batch of ``members`` runs there, else ''."""
-    if device == "gpu" or (device == "auto" and members >= GPU_MEMBERS_PER_THREAD * threads):
+def _gpu_for(device: str, motions: list, threads: int) -> str:
+    """The GPU's name if the batch of members under ``motions`` runs there, else ''.  A member under a sequence of
+    ground motions runs on the CPU, whose runs start each event at its own step (``"auto"`` takes the CPU, ``"gpu"``
+    is refused naming the member)."""
+    sequences = [m for m, motion in enumerate(motions) if isinstance(motion, MotionSequence)]
+    if device == "gpu" and sequences:
+        first = sequences[0]
+        raise ValueError(f"device='gpu': member {first}'s motion '{motions[first].name}' is a sequence of ground "
+                         f"motions, whose events the GPU's kernel does not start at their own steps: run the batch "
+                         f"with device='cpu' (or 'auto'), whose threads run each member as simulate does")
+    if sequences:
+        return ""
+    if device == "gpu" or (device == "auto" and len(motions) >= GPU_MEMBERS_PER_THREAD * threads):
         return gpu_available()
     return ""
 
@@ -392,10 +404,16 @@ def _member_inputs(scene, motions) -> tuple:
 def member_row(member: int, motion: str, result: Result, status: str, error: str, wall_time: float) -> dict:
     """One member's row: ``member``, ``motion`` (its name), ``status`` (``"ok"``, ``"unstable"``, ``"refused"``),
     ``error`` (the message, or ''), the scene's measures (:meth:`Result.measures`), ``dt_s``, ``steps``,
-    ``wall_time_s`` (its set-up, run and measures), and for each block ``<measure>[<block>]`` of its measures
-    (:meth:`Result.metrics`, :data:`~dem_core.engine.result.BLOCK_MEASURES`)."""
+    ``wall_time_s`` (its set-up, run and measures), where the scene has connectors how many ``connectors_yielded``
+    and ``connectors_ruptured`` (``connectors_pulled_out`` of them in tension) and their ``peak_connector_shear_N``, and for each block ``<measure>[<block>]``
+    of its measures (:meth:`Result.metrics`, :data:`~dem_core.engine.result.BLOCK_MEASURES`)."""
     row = {"member": member, "motion": motion, "status": status, "error": error, **result.measures(),
            "dt_s": result.dt, "steps": int(result.info.get("steps", 0)), "wall_time_s": wall_time}
+    if result.connectors is not None:
+        row.update(connectors_yielded=int(result.connectors.yielded.sum()),
+                   connectors_ruptured=int(result.connectors.ruptured.sum()),
+                   connectors_pulled_out=int(result.connectors.pulled_out.sum()),
+                   peak_connector_shear_N=float(result.connectors.peak_shear_N.max()))
     for block in result.metrics().to_dict("records"):
         name = block.pop("block")
         row.update({f"{measure}[{name}]": value.item() if isinstance(value, np.generic) else value

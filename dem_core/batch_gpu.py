@@ -43,13 +43,13 @@ def gpu_available() -> str:
 
 def check_members(runs: list) -> None:
     """``ValueError`` naming the member a batch's kernel cannot take: members whose scenes differ in their numbers of
-    bodies, vertices, stacks or recorded interfaces from member 0's, or whose integrator differs from member 0's
-    (each integrator has a kernel of its own)."""
+    bodies, vertices, stacks, recorded interfaces or connectors from member 0's, or whose integrator differs from
+    member 0's (each integrator has a kernel of its own)."""
     shape0, integrator0 = _shape(runs[0]), runs[0].settings.integrator
     for m, run in enumerate(runs):
         if _shape(run) != shape0:
-            raise ValueError(f"member {m}'s scene has {_shape(run)} (bodies, vertices, stacks, interfaces), member "
-                             f"0's {shape0}: the members of a batch share their shape")
+            raise ValueError(f"member {m}'s scene has {_shape(run)} (bodies, vertices, stacks, interfaces, "
+                             f"connectors), member 0's {shape0}: the members of a batch share their shape")
         if run.settings.integrator != integrator0:
             raise ValueError(f"member {m} runs integrator {INTEGRATORS[run.settings.integrator]!r}, member 0 "
                              f"{INTEGRATORS[integrator0]!r}: the members of a batch share their integrator")
@@ -57,7 +57,8 @@ def check_members(runs: list) -> None:
 
 def _shape(run: Simulation) -> tuple:
     b = run.model.bodies
-    return len(b.mass), len(b.local_x), len(run.model.stacks.bottom), len(run.model.interface_keys)
+    return (len(b.mass), len(b.local_x), len(run.model.stacks.bottom), len(run.model.interface_keys),
+            len(run.model.connectors.law))
 
 
 @dataclass
@@ -143,7 +144,7 @@ def pack(runs: list, motions: _Motions) -> Members:
     retired = max(run.state.capacities[1] for run in runs)
     n_out = max(len(run.outputs.step) for run in runs)
     states = [with_capacities(run.state, pairs, retired) for run in runs]
-    outputs = empty_outputs(n_out, n_bodies, runs[0].outputs.slip.shape[1])
+    outputs = empty_outputs(n_out, n_bodies, runs[0].outputs.slip.shape[1], runs[0].outputs.connectors.shape[1])
     scratch = make_scratch(runs[0].arrays, pairs, {run.settings.integrator for run in runs},
                            {run.settings.contact_law for run in runs})
     return Members(

@@ -1,6 +1,9 @@
 """The folder of one run, as ``dem-core run`` writes it and a script can: the time history, a row of measures per
-block and per interface (:meth:`~dem_core.Result.metrics`, :meth:`~dem_core.Result.interface_metrics`), and
-summary.json, each file written whole or not at all (:func:`~dem_core.output_files.replacing`).
+block and per interface (:meth:`~dem_core.Result.metrics`, :meth:`~dem_core.Result.interface_metrics`), under a
+sequence of ground motions a row per event (:attr:`~dem_core.Result.events`), with connectors a row per connector
+and their forces over time (:attr:`~dem_core.Result.connectors`, :meth:`~dem_core.Result.connector_frame`), and
+summary.json, each file written
+whole or not at all (:func:`~dem_core.output_files.replacing`).
 
 summary.json says whether the folder is whole: ``status`` is "incomplete" from before the first file is written
 until the writer marks it "complete", or "stopped" (the run lost stability: the files hold it up to there, and
@@ -15,8 +18,8 @@ import numpy as np
 from .output_files import replacing
 
 #: the files a run writes into its folder (an animation's name is recorded in summary.json)
-RUN_FILES = ("summary.json", "time_history.csv", "time_history.parquet", "metrics.csv", "interfaces.csv",
-             "rotations.png", "displacements.png", "sliding.png", "epistyles.png", "snapshots.png")
+RUN_FILES = ("summary.json", "time_history.csv", "time_history.parquet", "metrics.csv", "interfaces.csv", "events.csv",
+             "connectors.csv", "connector_history.csv", "rotations.png", "displacements.png", "sliding.png", "epistyles.png", "snapshots.png")
 
 
 def run_summary(result, scene: Path, stopped: str, setup: float | None = None) -> dict:
@@ -40,8 +43,8 @@ def write_summary(out: Path, summary: dict) -> None:
 
 def write_run(result, out: Path, fmt: str, summary: dict) -> list:
     """summary.json (status "incomplete" until the caller marks it otherwise), the time history in ``fmt`` ("csv"
-    or "parquet"), metrics.csv and interfaces.csv into ``out``, each whole or not at all; returns the names
-    written."""
+    or "parquet"), metrics.csv, interfaces.csv and under a sequence of ground motions events.csv into ``out``, each
+    whole or not at all; returns the names written."""
     write_summary(out, {**summary, "files": []})
     history = f"time_history.{fmt}"
     with replacing(out / history) as tmp:
@@ -54,4 +57,15 @@ def write_run(result, out: Path, fmt: str, summary: dict) -> list:
         result.metrics().to_csv(tmp, index=False)
     with replacing(out / "interfaces.csv") as tmp:
         result.interface_metrics().to_csv(tmp, index=False)
-    return ["summary.json", history, "metrics.csv", "interfaces.csv"]
+    written = ["summary.json", history, "metrics.csv", "interfaces.csv"]
+    if result.events is not None:
+        with replacing(out / "events.csv") as tmp:
+            result.events.to_csv(tmp, index=False)
+        written.append("events.csv")
+    if result.connectors is not None:
+        with replacing(out / "connectors.csv") as tmp:
+            result.connectors.to_csv(tmp, index=False)
+        with replacing(out / "connector_history.csv") as tmp:
+            result.connector_frame().to_csv(tmp, index=False)
+        written += ["connectors.csv", "connector_history.csv"]
+    return written

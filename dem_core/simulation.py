@@ -9,7 +9,9 @@ compiled driver (:mod:`dem_core.engine._driver`) in chunks, and the outputs gath
 advanced a piece at a time, pickled and continued.  The scene is kept for the blocks' names.
 """
 
+import bisect
 import contextlib
+import hashlib
 import math
 import numbers
 import os
@@ -22,14 +24,16 @@ from typing import NamedTuple
 
 import numba
 import numpy as np
+import pandas as pd
 
 from .engine import _driver, stability
 from .engine._checks import mechanical_energy
-from .engine._ground import ground_samples
+from .engine._ground import ground_at, ground_samples
 from .engine.contact import LAWS
 from .engine.model import Model, compile_model, interface_pairs
 from .engine.model_arrays import ModelArrays, model_arrays
-from .engine.result import Result
+from .engine.residual import residual_state
+from .engine.result import EVENT_MEASURES, Result, connector_outputs, connector_table
 from .engine.scratch import make_scratch
 from .engine.settings import (EXPLICIT, INTEGRATORS, LOAD_CELL_LEAD, MOREAU, MOREAU_ACTIVE_GAP, MOREAU_DT,
                               MOREAU_MAX_SUBSTEPS, MOREAU_MAX_SWEEPS, MOREAU_PROJECTION_SWEEPS, MOREAU_RESCUE_SWEEPS,
@@ -53,10 +57,11 @@ from .engine.state import (
     UNCONVERGED,
     Outputs,
     State,
+    continued,
     empty_outputs,
     initial_state,
 )
-from .inputs.excitation import GroundMotion, refuse_extreme, still
+from .inputs.excitation import GroundMotion, MotionSequence, refuse_extreme, still
 from .inputs.scene import Scene
 
 #: largest fraction of the stability limit used when dt is not given (the scheme is stable up to the
@@ -207,6 +212,13 @@ class Simulation:
     ``scene_set_up``, the scene's :func:`set_up_scene` with the same step options, where runs of one scene share
     it; :meth:`advance` takes steps (all that remain by default), :meth:`result` gathers what was
     computed.  ``status`` is None while the run can go on, else why it ended.
+
+    Under a sequence of ground motions (:func:`~dem_core.inputs.excitation.sequence`) event ``e`` starts at step
+    ``event_starts[e]`` (:meth:`~dem_core.inputs.excitation.MotionSequence.event_steps`) and no call of the
+    compiled driver spans an event's start: a chunk within event ``e`` reads the samples a run of that event alone
+    (``event_motions[e]``, its motion followed by its rest) reads at its own steps, so that the run is, bit for bit,
+    the run of its first event followed by runs each going on from the one before (``start=``).  At each event's
+    end ``event_rows`` gains its residual state (:attr:`Result.events`).
     """
 
     def __init__(self, scene, excitation: GroundMotion | None = None, duration: float | None = None,
@@ -214,7 +226,7 @@ class Simulation:
                  safety: float = DEFAULT_SAFETY, steps_per_impact: float = DEFAULT_STEPS_PER_IMPACT,
                  step_fraction: float = 1.0, stop_at_overturn: bool = True, enforce_stability_limit: bool = True,
                  parallel: bool = False, integrator: str | None = None, theta: float = MOREAU_THETA,
-                 scene_set_up: SceneSetUp | None = None):
+                 scene_set_up: SceneSetUp | None = None, start: Result | None = None):
         excitation = check_run_arguments(scene, excitation)
         integrator = integrator_for(scene, integrator)
         if ground_motion not in GROUND_MOTION_MODES:
@@ -225,15 +237,17 @@ class Simulation:
         step_options = dict(dt=dt, safety=safety, steps_per_impact=steps_per_impact, step_fraction=step_fraction,
                             stop_at_overturn=stop_at_overturn, enforce_stability_limit=enforce_stability_limit,
                             integrator=integrator)
-        duration = run_duration(excitation, duration)
+        given_duration, duration = duration, run_duration(excitation, duration)
         output_dt = 0.01 if output_dt is None else seconds("output_dt", output_dt)
         refuse_extreme(excitation, duration)
         if scene_set_up is None:
             scene_set_up = set_up_scene(scene, **step_options)
         elif scene_set_up.scene is not scene or scene_set_up.options != step_options:
             raise ValueError("scene_set_up was made for another scene or other step options than this run's")
-        self.scene, self.excitation, self.ground_motion = scene, excitation, ground_motion
+        self.scene, self.ground_motion = scene, ground_motion
         self.model: Model = scene_set_up.model
+        if start is not None:
+            _check_start(start, scene, self.model, integrator)
         self.stacks = scene_set_up.stacks
         self.columns = scene_set_up.columns
         self.integrator = integrator
@@ -245,29 +259,47 @@ class Simulation:
             dt = moreau_time_step(self.model, excitation, dt, step_fraction)
         else:
             dt = scene_set_up.dt
-        n_steps = math.ceil(duration / dt - 1e-9)
+        self.excitation, self.event_starts, self.event_motions, end = _events_on_steps(excitation, dt)
+        n_steps = end if end is not None and given_duration is None else math.ceil(duration / dt - 1e-9)
         stride = max(1, round(output_dt / dt))
         n_out = n_steps // stride + 2
         _check_run_size(self.model, scene.block_names, duration, dt, auto_dt, n_steps, n_out, self.limit,
                         self.impact)
         self.arrays: ModelArrays = scene_set_up.arrays
-        self.state: State = initial_state(self.model)
-        b = self.model.bodies
-        if ground_motion == "moving_base":  # the blocks start at rest relative to the ground, at their velocities' time
-            at = -LOAD_CELL_LEAD[code] * dt
-            self.state.vel[1:, :2] = np.array(excitation.velocity(np.array([at])))[:, 0]
-        # the energy balance starts from the blocks' energy as they start, moving with the ground
-        self.state.ledger[0] = mechanical_energy(self.state.pos, self.state.vel, b.mass, b.inv_inertia,
-                                                 self.model.gravity)
         self.settings: Settings = run_settings(self.model, code, dt, n_steps, stride,
                                                _speed_limit(self.model, excitation, duration), stop_at_overturn,
                                                ground_motion == "inertial", substeps, theta)
+        self.state: State = self._first_state(start)
+        self.start_pos = self.state.pos.copy()
+        self.event_rows: list = []
         self.threaded = bool(parallel and code == EXPLICIT and numba.get_num_threads() > 1)
-        self.outputs: Outputs = empty_outputs(n_out, len(b.mass), len(self.model.interface_keys))
+        self.outputs: Outputs = empty_outputs(n_out, len(self.model.bodies.mass), len(self.model.interface_keys),
+                                              len(self.model.connectors.law))
         self.scratch = None
         self.status, self.stopped_by = None, None
         self.compile_time = _ensure_compiled(self)
         self.run_time = 0.0
+
+    def _first_state(self, start: Result | None) -> State:
+        """The state the run starts from, its energy ledger started from the blocks' energy then: the scene's, the
+        blocks at rest relative to the ground (moving with it under a moving base, at their velocities' time), or
+        ``start``'s final state with the bodies moved with the base to where this run's ground puts it
+        (:func:`move_with_base`)."""
+        if start is None:
+            state = initial_state(self.model)
+            if not self.inertial:
+                at = -self.ground_lead * self.dt
+                state.vel[1:, :2] = np.array(self.excitation.velocity(np.array([at])))[:, 0]
+        else:
+            state = continued(start.final_state)
+            move_with_base(state, self._samples(0, 0), self.settings)
+        state.ledger[0] = self._energy(state)
+        return state
+
+    def _energy(self, state: State) -> float:
+        """J, the mechanical energy of the blocks at ``state``."""
+        b = self.model.bodies
+        return mechanical_energy(state.pos, state.vel, b.mass, b.inv_inertia, self.model.gravity)
 
     def __getstate__(self) -> dict:
         # the scratch is made again where the run goes on
@@ -298,7 +330,7 @@ class Simulation:
         chunk = FIRST_CHUNK
         while self.status is None and self.step < goal:
             started = time.perf_counter()
-            self._take(min(chunk, goal - self.step))
+            self._take(min(chunk, goal - self.step, self._event_end() - self.step))
             if progress is not None:
                 progress(self.step, last)
             chunk = next_chunk(chunk, time.perf_counter() - started)
@@ -322,6 +354,7 @@ class Simulation:
             self.status, self.stopped_by = status, (i, j)
         elif self.step >= self.settings.last_step:
             self.status = STATUS_OK
+        self._pass_event_end()
         if interrupted:
             raise KeyboardInterrupt  # after the chunk: the state is whole and the run can go on
 
@@ -333,8 +366,47 @@ class Simulation:
 
     def _samples(self, first: int, steps: int) -> np.ndarray:
         """(4, steps + 2): the ground motion's samples for this run's steps ``first`` .. ``first + steps``
-        (:func:`dem_core.engine._ground.ground_samples`)."""
-        return ground_samples(self.excitation, self.dt, self.inertial, self.ground_lead, first, steps)
+        (:func:`dem_core.engine._ground.ground_samples`), all within the event that step ``first`` is in: that event's
+        motion at its own steps."""
+        event = self._event(first)
+        return ground_samples(self.event_motions[event], self.dt, self.inertial, self.ground_lead,
+                              first - int(self.event_starts[event]), steps)
+
+    def _event(self, step: int) -> int:
+        """The event that ``step`` is in (0 under a single motion)."""
+        return bisect.bisect_right(self.event_starts, step) - 1
+
+    def _event_end(self) -> int:
+        """The step at which the event of the present step ends: the next one's start, or the run's last step."""
+        following = self._event(self.step) + 1
+        return int(self.event_starts[following]) if following < len(self.event_starts) else self.settings.last_step
+
+    def _pass_event_end(self) -> None:
+        """Under a sequence, at the end of an event (the next one's start, or where the run ended within it): its row
+        of :attr:`event_rows`, and while the run goes on the bodies moved with the base to where the next event's
+        ground puts it (:func:`move_with_base`; nothing moves under the inertial load), the energy ledger following."""
+        if not isinstance(self.excitation, MotionSequence):
+            return
+        event, closed = self._event(self.step), len(self.event_rows)
+        if closed == event - 1 and self.step == self.event_starts[event]:
+            self.event_rows.append(self._event_row(event - 1))
+            if self.status is None:
+                before = self._energy(self.state)
+                move_with_base(self.state, self._samples(self.step, 0), self.settings)
+                self.state.ledger[0] += self._energy(self.state) - before
+        elif closed == event and self.status is not None and self.step > self.event_starts[event]:
+            self.event_rows.append(self._event_row(event))
+
+    def _event_row(self, event: int) -> dict:
+        """Event ``event``'s row of :attr:`Result.events`, at the present step."""
+        bodies = self.scene.bodies
+        dislocation, tilt = EVENT_MEASURES
+        found = residual_state(self.model, self.columns, self.scene.block_names, self.start_pos, self.state.pos)
+        return {"event": event + 1, "motion": self.excitation.events[event].motion.name,
+                "start_s": float(self.event_starts[event] * self.dt), "end_s": self.step * self.dt,
+                **{f"{dislocation}[{bodies[a].name}/{bodies[b].name}]": float(d)
+                   for (a, b), d in zip(interface_pairs(self.model), found.dislocation)},
+                **{f"{tilt}[{label}]": value for label, value in found.tilt.items()}}
 
     @property
     def inertial(self) -> bool:
@@ -354,13 +426,8 @@ class Simulation:
         written = int(counters[OUTPUTS])
         out_t = self.outputs.step[:written] * dt
         out = self.outputs.pos[:written]
-        x, y, theta = out[:, 1:, 0], out[:, 1:, 1], out[:, 1:, 2]
-        if self.ground_motion == "inertial":  # the kernel moved the blocks relative to the ground: add it back
-            ground_x, ground_y = self.excitation.displacement(out_t)
-            x, y = x + ground_x[:, None], y + ground_y[:, None]
-        else:
-            ground_x = out[:, 0, 0] - self.model.bodies.centroid0[0, 0]
-            ground_y = out[:, 0, 1] - self.model.bodies.centroid0[0, 1]
+        x, y, ground_x, ground_y = self._in_fixed_frame(out_t, out)
+        theta = out[:, 1:, 2]
         step = self.step
         bodies = scene.bodies
         info = {
@@ -410,15 +477,38 @@ class Simulation:
         overturn_step = state.overturn_step[1:]
         over_t = np.where(overturn_step >= 0, overturn_step * dt, np.nan)
         pairs = interface_pairs(self.model)
+        lost = self._stop_message(out_t) if self.status not in (None, STATUS_OK, STATUS_OVERTURNED) else ""
         result = Result(out_t, x, y, theta, ground_x, ground_y, tuple(scene.block_names),
                         state.peak_theta[1:].copy(), over_t, self._interface_slip(), dt, info,
                         interfaces=tuple((bodies[a].name, bodies[b].name) for a, b in pairs),
                         slip_history=self.outputs.slip[:written].copy(),
                         critical_angle=self.model.bodies.critical_angle[1:].copy(),
-                        columns=self.columns)
-        if self.status not in (None, STATUS_OK, STATUS_OVERTURNED):
-            raise SimulationUnstable(self._stop_message(out_t), result)
+                        columns=self.columns, final_state=state.copy(), model_digest=model_digest(self.model),
+                        lost_stability=lost,
+                        events=(pd.DataFrame(self.event_rows) if isinstance(self.excitation, MotionSequence)
+                                else None),
+                        connectors=connector_table(scene, self.model, state.connectors, dt),
+                        connector_history=(connector_outputs(self.model, self.outputs.connectors[:written])
+                                           if scene.connectors else None))
+        if lost:
+            raise SimulationUnstable(lost, result)
         return result
+
+    def _in_fixed_frame(self, out_t: np.ndarray, out: np.ndarray) -> tuple:
+        """``(x, y, ground_x, ground_y)`` (n, n_blocks) and (n,) m: the blocks' centres at the outputs ``out``
+        (n, nb, 3), times ``out_t`` (s), in the fixed frame, and the ground's displacement.  Under the inertial load
+        the kernel moves the blocks relative to the ground, whose displacement is added back; under a moving base the
+        base is where the motion puts it, or under a sequence where its event's own motion does (each event's base
+        starts where its motion starts, :func:`move_with_base`): the blocks are then placed relative to it on the
+        sequence's ground."""
+        x, y = out[:, 1:, 0], out[:, 1:, 1]
+        base = out[:, 0, :2] - self.model.bodies.centroid0[0]
+        if not self.inertial and not isinstance(self.excitation, MotionSequence):
+            return x, y, base[:, 0], base[:, 1]
+        ground_x, ground_y = self.excitation.displacement(out_t)
+        if not self.inertial:
+            x, y = x - base[:, :1], y - base[:, 1:]
+        return x + ground_x[:, None], y + ground_y[:, None], ground_x, ground_y
 
     def _interface_slip(self) -> dict:
         """{(name_a, name_b): m} of every pair that slid: recorded interfaces, pairs listed now, and
@@ -473,6 +563,76 @@ class Simulation:
                 f"The result up to t = {last:.6g} s is in this error's .partial")
 
 
+def _events_on_steps(excitation: GroundMotion, dt: float) -> tuple:
+    """``(the motion as the run takes it, (E,) int64 the step each event starts at, the E events' motions each with
+    its rest, the step the last event's rest ends at)``: a sequence with its events on whole steps of ``dt`` (s)
+    (:meth:`~dem_core.inputs.excitation.MotionSequence.on_steps`), or a single motion as one event and None."""
+    if not isinstance(excitation, MotionSequence):
+        return excitation, np.zeros(1, np.int64), (excitation,), None
+    steps = excitation.event_steps(dt)
+    on_steps = excitation.on_steps(dt)
+    return on_steps, steps[:-1], tuple(event.alone for event in on_steps.events), int(steps[-1])
+
+
+def move_with_base(state: State, samples: np.ndarray, settings: Settings) -> None:
+    """Move every body of ``state`` with the base, from where the base is to where the first column of ``samples``
+    (:func:`~dem_core.engine._ground.ground_samples` from a motion's first step) places it, and change their
+    velocities by the base's change of velocity: the blocks keep their places and motions relative to the base.  Under
+    the inertial load, whose base stays put, nothing changes."""
+    window = np.zeros((6, 2))
+    ground_at(samples, 0, settings.scale, settings.start_x, settings.start_y, settings.dt, settings.inertial == 1,
+              window, 0)
+    shift = window[2:4, 0] - state.pos[0, :2]
+    kick = window[4:6, 0] - state.vel[0, :2]
+    if np.any(shift != 0.0) or np.any(kick != 0.0):
+        state.pos[:, :2] += shift
+        state.built_at[:, :2] += shift
+        state.vel[:, :2] += kick
+
+
+def _check_start(start, scene, model: Model, integrator: str) -> None:
+    """``TypeError``/``ValueError`` in one line where a run of ``scene`` (compiled to ``model``) under ``integrator``
+    cannot go on from ``start``: not a result, a result without the native engine's final state, of a run that lost
+    stability or stopped at an overturn, of another scene or another integrator."""
+    if not isinstance(start, Result):
+        raise TypeError(f"start must be a Result of dem_core.simulate, got {type(start).__name__} {start!r:.60}")
+    if start.final_state is None:
+        raise ValueError(f"start: the result carries no final state (engine {start.info.get('engine', '?')!r}): only "
+                         f"the native engine's results (dem_core.simulate) can be gone on from")
+    if start.lost_stability:
+        raise ValueError(f"start: the result's run lost stability, so its final state is not one to go on from: "
+                         f"{start.lost_stability}")
+    if "stopped" in start.info:
+        raise ValueError(f"start: the result's run stopped when {start.info['stopped']}: run it with "
+                         f"stop_at_overturn=False to go on through the collapse")
+    if tuple(start.names) != tuple(scene.block_names):
+        raise ValueError(f"start: the result is of a scene with blocks {', '.join(start.names)}, this scene's are "
+                         f"{', '.join(scene.block_names)}")
+    if start.model_digest != model_digest(model):
+        raise ValueError("start: the result is of another scene with the same block names (its compiled model, "
+                         "geometry, masses, contact or friction, differs from this scene's)")
+    if start.info.get("integrator") != integrator:
+        raise ValueError(f"start: the result ran integrator {start.info.get('integrator')!r}, this run "
+                         f"{integrator!r}: a run goes on from a state of its own integrator")
+
+
+def model_digest(model: Model) -> str:
+    """Hex digest of every array and number of a compiled ``model``: equal for the models of scenes that step alike."""
+    digest = hashlib.sha256()
+    parts = [model]
+    while parts:
+        part = parts.pop()
+        if isinstance(part, tuple):
+            parts.extend(reversed(part))
+        elif part is None or isinstance(part, str):
+            digest.update(repr(part).encode())
+        else:
+            array = np.ascontiguousarray(part)
+            digest.update(f"{array.dtype.str}{array.shape}".encode())
+            digest.update(array.tobytes())
+    return digest.hexdigest()[:16]
+
+
 def next_chunk(steps: int, seconds: float) -> int:
     """The steps of the next chunk after one of ``steps`` that took ``seconds``: about ``CHUNK_SECONDS`` of wall time
     at that pace, at least 100 steps and at most 50 times the last chunk."""
@@ -484,12 +644,15 @@ def simulate(scene, excitation: GroundMotion | None = None, duration: float | No
              ground_motion: str = "inertial", safety: float = DEFAULT_SAFETY,
              steps_per_impact: float = DEFAULT_STEPS_PER_IMPACT, step_fraction: float = 1.0,
              stop_at_overturn: bool = True, enforce_stability_limit: bool = True, progress=None,
-             parallel: bool = False, integrator: str | None = None, theta: float = MOREAU_THETA) -> Result:
+             parallel: bool = False, integrator: str | None = None, theta: float = MOREAU_THETA,
+             start: Result | None = None) -> Result:
     """Simulate ``scene`` under ``excitation`` with the native DEM.
 
     scene : :class:`~dem_core.inputs.scene.Scene` (its ``contact.law`` chooses the contact law).
-    excitation : :class:`~dem_core.inputs.excitation.GroundMotion` (None: no ground motion).
-    duration : s; default the excitation's natural end (records, pulses).
+    excitation : :class:`~dem_core.inputs.excitation.GroundMotion` (None: no ground motion); a sequence of motions
+        (:func:`~dem_core.inputs.excitation.sequence`) runs event by event, each event's residual state in the
+        result's ``events`` (:class:`Simulation`).
+    duration : s; default the excitation's natural end (records, pulses; a sequence's last rest).
     dt : s; None picks the integrator's: Moreau-Jean's :func:`moreau_time_step` (1e-3 s unless the motion or the
         scene is faster), and for the explicit core the smaller of ``safety`` x the stability limit
         (:func:`dem_core.engine.stability.stability_limit`) and the shortest impact
@@ -525,6 +688,13 @@ def simulate(scene, excitation: GroundMotion | None = None, duration: float | No
         unless the scene's law is the overlap-area law.  With ``"moreau"`` ``safety``, ``steps_per_impact`` and
         ``enforce_stability_limit`` do not apply, and the contact law must be the corner law.
     theta : Moreau-Jean's weight of the new velocity in the position update, in [0.5, 1] (``MOREAU_THETA``).
+    start : a :class:`Result` of this scene under the same integrator to go on from: the run starts from its final
+        state (:attr:`Result.final_state`: positions, velocities, the listed pairs with their contact memory and
+        impulses), the blocks moved with the base to where this run's ground puts it (under a moving base), and
+        reports its own time from 0 and its own measures.  Under the inertial load a run going on from a run of a
+        motion and its rest is, bit for bit, the rest of a run of the two as a sequence.  Refused in one line: a
+        result without a final state (another engine's), of another scene (its block names or its compiled model
+        differ) or integrator, or of a run that lost stability or stopped at an overturn.
 
     Raises ``ValueError`` for bad arguments (a dt above the stability limit, a ground motion peaking
     above :data:`~dem_core.inputs.excitation.EXTREME_PGA_G` among them) and :class:`SimulationUnstable`,
@@ -533,7 +703,7 @@ def simulate(scene, excitation: GroundMotion | None = None, duration: float | No
     run = Simulation(scene, excitation, duration, dt, output_dt, ground_motion=ground_motion, safety=safety,
                      steps_per_impact=steps_per_impact, step_fraction=step_fraction, stop_at_overturn=stop_at_overturn,
                      enforce_stability_limit=enforce_stability_limit, parallel=parallel, integrator=integrator,
-                     theta=theta)
+                     theta=theta, start=start)
     run.advance(progress=progress)
     return run.result()
 
@@ -726,7 +896,7 @@ def _physical_memory() -> float:
 def _ensure_compiled(run: Simulation) -> float:
     """Compile the kernel (or load it from numba's cache) with a zero-step call; returns the seconds it took."""
     started = time.perf_counter()
-    nb, n_if = run.outputs.pos.shape[1], run.outputs.slip.shape[1]
-    run.kernel(run.arrays, run.settings, run.state.copy(), empty_outputs(1, nb, n_if), run._scratch(),
+    nb, n_if, n_c = run.outputs.pos.shape[1], run.outputs.slip.shape[1], run.outputs.connectors.shape[1]
+    run.kernel(run.arrays, run.settings, run.state.copy(), empty_outputs(1, nb, n_if, n_c), run._scratch(),
                run._samples(0, 0), 0)
     return time.perf_counter() - started

@@ -8,7 +8,8 @@ import dem_core
 from dem_core import excitation, scenes
 from dem_core.engine._active_set import (BLOCK_REACH, OPEN, REGULARISATION, SLIDE_UP, STICK, first_coupled, half_band,
                                          responses, solve_blocks, statuses_matrix)
-from dem_core.engine._points import FRICTION, INC, N_COLUMNS, NX, NY, REF, RIX, RIY, RRX, RRY, WNN, WNT, WTT
+from dem_core.engine._points import (CONNECTOR, FRICTION, INC, N_COLUMNS, N_INTS, NX, NY, REF, RIX, RIY, RRX, RRY, WNN,
+                                     WNT, WTT)
 
 
 def block_system(rng, n, reach, symmetric):
@@ -64,7 +65,8 @@ def column_points(rng, n_blocks, n):
     inv_mass = np.r_[0.0, 1.0 / rng.uniform(500.0, 2000.0, n_blocks - 1)]
     inv_inertia = np.r_[0.0, 1.0 / rng.uniform(100.0, 900.0, n_blocks - 1)]
     rows = np.zeros((n, N_COLUMNS))
-    ints = np.zeros((n, 6), np.int64)
+    ints = np.zeros((n, N_INTS), np.int64)
+    ints[:, CONNECTOR] = -1
     for c in range(n):
         below, above = c // 2, c // 2 + 1
         ints[c, INC], ints[c, REF] = (above, below) if c % 4 < 2 else (below, above)

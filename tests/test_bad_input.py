@@ -16,6 +16,7 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 import dem_core
+from dem_core.inputs.connectors import ConnectorKind
 from dem_core.engine.model import compile_model
 from dem_core.simulation import RunTooLarge, Simulation
 from dem_core import excitation, scenes
@@ -236,8 +237,9 @@ def test_scene_file_may_allow_free_blocks(tmp_path):
 def test_every_key_a_scene_file_accepts_has_a_type():
     """The type tables cover every keyword of the builders, excitations, contact and simulation."""
     for builder in scene_file.BUILDERS.values():
-        keywords = set(inspect.signature(builder).parameters) - {"contact", "interface_friction"}
+        keywords = set(inspect.signature(builder).parameters) - scene_file.BUILDER_TABLE_KEYWORDS
         assert keywords <= set(scene_file.SCENE_TYPES)
+    assert {f.name for f in fields(ConnectorKind)} <= set(scene_file.CONNECTOR_TYPES)
     for function in scene_file.EXCITATIONS.values():
         assert set(inspect.signature(function).parameters) <= set(scene_file.EXCITATION_TYPES)
     assert {f.name for f in fields(dem_core.ContactParameters)} == set(scene_file.CONTACT_TYPES)

@@ -16,6 +16,7 @@ import pytest
 import dem_core
 from dem_core import ContactParameters, scenes, simulate_batch
 from dem_core.batch_gpu import check_members, gpu_available, run_members, serial_launcher
+from dem_core.inputs.connectors import OAK_POLOS, titanium_bar
 from dem_core.inputs.excitation import record, scaled, sine_pulse
 from dem_core.simulation import Simulation
 
@@ -32,6 +33,10 @@ def _assert_same_run(cpu, gpu):
     assert cpu.interface_slip == gpu.interface_slip
     for key in ("steps", "stopped", "substepped_steps", "tipped_stacks", "pair_lists", "narrow_phase_per_step"):
         assert cpu.info.get(key) == gpu.info.get(key), key
+    assert np.array_equal(cpu.connector_history, gpu.connector_history)
+    assert (cpu.connectors is None) == (gpu.connectors is None)
+    if cpu.connectors is not None:
+        pd.testing.assert_frame_equal(cpu.connectors, gpu.connectors)
 
 
 CASES = {
@@ -57,6 +62,12 @@ CASES = {
     "Moreau-Jean, 8-drum column": (scenes.column(), [scaled(EL_CENTRO, 2.0)], 6.0, {"integrator": "moreau"}),
     "Moreau-Jean, colonnade to its collapse": (scenes.colonnade(), [scaled(EL_CENTRO, 5.0)], 10.0,
                                                {"integrator": "moreau", "stop_at_overturn": False}),
+    # connectors: titanium bars at every joint of the column (they yield), oak poles with their clearance
+    "8-drum column with titanium bars": (scenes.column(connectors=[(titanium_bar(), "all")]),
+                                         [scaled(EL_CENTRO, 3.0)], 6.0, {"integrator": "explicit"}),
+    "Moreau-Jean, 8-drum column with titanium bars and oak poles": (
+        scenes.column(connectors=[(titanium_bar(), "capital"), (OAK_POLOS, "all")]), [scaled(EL_CENTRO, 3.0)], 6.0,
+        {"integrator": "moreau"}),
 }
 #: members of one batch under either contact law (each law's buffers beside the other's)
 BOTH_LAWS = [scenes.stack([(0.8, 1.0), (0.6, 0.8)], contact=ContactParameters(law=law))
@@ -139,6 +150,7 @@ from dem_core.inputs.excitation import sine_pulse
 MOREAU_MOTIONS = [sine_pulse(6.0, 0.1), sine_pulse(9.0, 0.08)]
 import dem_core
 from dem_core import scenes, simulate_batch
+from dem_core.inputs.connectors import OAK_POLOS, titanium_bar
 from dem_core.inputs.excitation import record, scaled, sine_pulse
 from dem_core.batch import GPU_MEMBERS_PER_THREAD
 assert GPU_MEMBERS_PER_THREAD > 1

@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from dem_core import excitation, scenes, simulate
-from dem_core.analyses.fragility_study import damage_ratio, exceeds, fragility_study, intensity, stripes
+from dem_core.analyses.fragility_study import exceeds, fragility_study, intensity, stripes
 
 
 def test_pgv_of_a_sine_pulse_is_its_closed_form():
@@ -41,9 +41,9 @@ def test_a_drums_damage_is_measured_against_its_columns_critical_angle():
     result = simulate(column, excitation.sine_pulse(3.0, 0.6), 1.5, integrator="moreau")
     (only,) = result.columns
     assert only.critical_angle < result.critical_angle.min(), "the column tips before any drum alone would"
-    assert damage_ratio(result) == pytest.approx(result.peak_theta.max() / only.critical_angle, rel=1e-12)
+    assert result.damage_ratio == pytest.approx(result.peak_theta.max() / only.critical_angle, rel=1e-12)
     block = simulate(scenes.block(0.6, 3.0), excitation.sine_pulse(3.0, 0.6), 1.5, integrator="moreau")
-    assert damage_ratio(block) == pytest.approx(block.peak_theta[0] / math.atan(0.6 / 3.0), rel=1e-12)
+    assert block.damage_ratio == pytest.approx(block.peak_theta[0] / math.atan(0.6 / 3.0), rel=1e-12)
 
 
 def test_states_from_one_up_are_overturning_and_an_overturn_exceeds_every_state():
@@ -107,7 +107,7 @@ def test_a_colonnades_drums_answer_to_their_columns_and_its_epistyle_to_itself()
             governing[result.index(name)] = column.critical_angle
     assert len(result.columns) == 2 and np.any(governing != result.critical_angle)
     assert np.any(governing == result.critical_angle), "the epistyle is on no column: its own angle governs"
-    assert damage_ratio(result) == pytest.approx(np.max(result.peak_theta / governing), rel=1e-12)
+    assert result.damage_ratio == pytest.approx(np.max(result.peak_theta / governing), rel=1e-12)
 
 
 def test_bad_studies_are_refused_naming_the_fault():

@@ -102,6 +102,7 @@ class Case:
     quick : part of the reduced set of ``--quick`` and CI.
     primary : the metric the report ranks engines by (default: the first one measured).
     note : a caution the report prints with the verdict.
+    engines : the engines that can run it (a scene with connectors: the native core's alone).
     """
 
     name: str
@@ -121,6 +122,7 @@ class Case:
     quick: bool = False
     primary: str | None = None
     note: str = ""
+    engines: tuple = ENGINES
 
     def __post_init__(self):
         if self.reference_kind not in REFERENCE_KINDS:
@@ -130,7 +132,7 @@ class Case:
         if (self.reference_kind == "consensus") != (self.measures is not None):
             raise ValueError(f"{self.name}: a consensus case gives measures, every other case errors")
         for metric, per_engine in [*self.bands.items(), *self.converged_bands.items()]:
-            unknown = set(per_engine) - set(ENGINES)
+            unknown = set(per_engine) - set(self.engines)
             if unknown:
                 raise ValueError(f"{self.name}: bands for unknown engines {sorted(unknown)} on {metric}")
 

@@ -10,6 +10,7 @@ version-to-version changes; a band is never widened to make a run pass.
 import numpy as np
 
 from comparisons.cases.case import CLOSED_FORM, ENGINES, ODE_SOLVER, ROCKING_EQUATION, Case, by_name
+from comparisons.cases.connectors import connector_cases
 from comparisons.cases.measures import (
     first_exceedance,
     first_zero_crossing,
@@ -352,7 +353,7 @@ NO_SLIP_BANDS = {"joint_slip_m": {"dem": 1e-6, "dem-overlap": 5e-6, "dem-moreau"
 
 def all_cases() -> list:
     """Every benchmark case, quick ones first."""
-    return [*_quick_cases(), *_rocking_cases(), *_sliding_cases(), *_stack_cases()]
+    return [*_quick_cases(), *_rocking_cases(), *_sliding_cases(), *_stack_cases(), *connector_cases()]
 
 
 def _quick_cases() -> list:

@@ -44,7 +44,7 @@ def plan(quick: bool, cases=None, engine_names=ENGINES) -> list:
     mode = "quick" if quick else "full"
     runs = []
     for case in cases or [c for c in all_cases() if c.quick or not quick]:
-        for engine in engine_names:
+        for engine in (e for e in engine_names if e in case.engines):
             mine = [(step, {}) for step in LADDER[engine][mode]]
             if not quick and not case.by_consensus:
                 mine += [(1e-3, dict(s)) for s in SETTINGS.get(engine, ())]

@@ -4,47 +4,33 @@
 import numpy as np
 
 from ..engine.model import compile_model, result_states
-from ..engine.state import interface_offsets
+from ..engine.residual import dislocations, leans
 
 
 def critical_angles(result) -> np.ndarray:
     """(n_blocks,) rad: the rotation at which each block of ``result`` is judged to overturn: for a column's
-    drums the column's critical angle, for every other block its own."""
-    if result.critical_angle is None:
-        raise ValueError("the result carries no critical angles (an engine that does not report them)")
-    alpha = np.array(result.critical_angle, dtype=float)
-    for column in result.columns:
-        for name in column.blocks:
-            alpha[result.index(name)] = column.critical_angle
-    return alpha
+    drums the column's critical angle, for every other block its own (:meth:`~dem_core.Result.governing_angles`)."""
+    return result.governing_angles()
 
 
 def residual_dislocation(scene, result) -> float:
     """m: the largest offset, at the run's end, of a block over the one it rested on at the start (or the base),
-    along their joint: the dislocation of drums a survey measures.  The offset is a function of the two bodies'
-    positions (:mod:`dem_core.engine._interfaces`), so the first and last outputs give it; 0 for a scene without
-    joints."""
+    along their joint (:func:`~dem_core.engine.residual.dislocations`): the dislocation of drums a survey measures.
+    The offset is a function of the two bodies' positions, so the first and last outputs give it; 0 for a scene
+    without joints."""
     model = compile_model(scene)
     first, last = result_states(model, result)[[0, -1]]
-    offsets = interface_offsets(model, last) - interface_offsets(model, first)
+    offsets = dislocations(model, first, last)
     return float(np.max(np.abs(offsets))) if offsets.size else 0.0
 
 
 def residual_tilt(result) -> float:
-    """rad: the largest lean, at the run's end, that the run added: for each column the change in the angle
-    between the line through its bottom and top blocks' centres of mass and its bottom block's axis (the lean that
-    dislocated drums leave; a column still rocking as one body adds nothing), for every other block the change in
-    its own rotation."""
-    x, y, theta = (np.asarray(a, dtype=float) for a in (result.x, result.y, result.theta))
-    leans, in_columns = [], set()
-    for column in result.columns:
-        bottom, top = result.index(column.blocks[0]), result.index(column.blocks[-1])
-        in_columns.update(result.index(name) for name in column.blocks)
-        if bottom != top:
-            lean = np.arctan2(x[:, top] - x[:, bottom], y[:, top] - y[:, bottom]) + theta[:, bottom]
-            leans.append(abs(lean[-1] - lean[0]))
-    leans += [abs(theta[-1, k] - theta[0, k]) for k in range(theta.shape[1]) if k not in in_columns]
-    return float(max(leans, default=0.0))
+    """rad: the largest lean, at the run's end, that the run added (:func:`~dem_core.engine.residual.leans`): for
+    each column the change in the angle between the line through its bottom and top blocks' centres of mass and its
+    bottom block's axis (a column still rocking as one body adds nothing), for every other block the change in its
+    own rotation."""
+    first, last = np.stack([result.x, result.y, result.theta], axis=-1).astype(float)[[0, -1]]
+    return float(max(leans(result.columns, result.names, first, last).values(), default=0.0))
 
 
 def still_at_end(result, speed: float, window: float = 0.25) -> bool:

@@ -24,7 +24,7 @@ from ..inputs.excitation import GroundMotion, extended, record_name, scaled, uns
 from ..inputs.records import G_STANDARD
 from ..output_files import replacing
 from ..simulation import integrator_for, warn_caller
-from .damage import critical_angles, residual_dislocation, residual_tilt, still_at_end
+from .damage import residual_dislocation, residual_tilt, still_at_end
 from .fragility import fragility_figure
 from .nested_fragility import ADVISED_RECORDS, fit_nested, fit_states, ida_estimate
 from .spectra import response_spectrum
@@ -249,8 +249,8 @@ def check_period(motion: GroundMotion, period) -> None:
 
 
 def damage_measures(result) -> dict:
-    """A run's measures for a study: ``{"damage_ratio": damage_ratio(result)}``."""
-    return {"damage_ratio": damage_ratio(result)}
+    """A run's measures for a study: ``{"damage_ratio": result.damage_ratio}`` (:attr:`~dem_core.Result.damage_ratio`)."""
+    return {"damage_ratio": result.damage_ratio}
 
 
 def residual_measures(scene, result) -> dict:
@@ -262,14 +262,6 @@ def residual_measures(scene, result) -> dict:
             "residual_dislocation_mm": math.nan if fell else 1e3 * residual_dislocation(scene, result),
             "residual_tilt_rad": math.nan if fell else residual_tilt(result),
             "at_rest": still_at_end(result, STILL_SPEED)}
-
-
-def damage_ratio(result) -> float:
-    """The largest over the blocks of peak |theta| / the governing critical angle (:func:`.damage.critical_angles`:
-    the column's for a block in a column, else the block's own); nan for a result without critical angles."""
-    if result.critical_angle is None:
-        return float("nan")
-    return float(np.max(result.peak_theta / critical_angles(result)))
 
 
 def exceeds(value, overturned, state) -> np.ndarray:

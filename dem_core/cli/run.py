@@ -7,7 +7,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..analyses.fragility_study import damage_ratio
+from ..engine.result import EVENT_MEASURES
 from ..output_files import output_file, output_folder
 from ..run_folder import RUN_FILES, run_summary, write_run, write_summary
 from ..simulation import SimulationUnstable
@@ -37,7 +37,9 @@ def add(sub):
                              "Files: time_history.csv (or .parquet); metrics.csv, one row per block, whose "
                              "sliding_at_its_joints_m adds the slip of the block's interfaces below and above it (so "
                              "its sum over the blocks counts every joint twice); interfaces.csv, the slip of each "
-                             "interface (sliding_m, adding up to the total sliding); summary.json; the figures.")
+                             "interface (sliding_m, adding up to the total sliding); under a sequence of records "
+                             "(source = [...]) events.csv, one row per event with the residual dislocation of each "
+                             "joint and the residual tilt of each column it left; summary.json; the figures.")
     command.add_argument("scene", nargs="?", help=f"scene file (TOML); default: the bundled {DEFAULT_SCENE}")
     command.add_argument("--out", help="output folder (default: results/<scene name>), created if need be")
     command.add_argument("--overwrite", action="store_true", help="replace the results of another scene's run in "
@@ -88,12 +90,16 @@ def run(args) -> int:
         print(f"error: {path}: {exc}", file=sys.stderr)
         return 2
     INTERRUPTS.check()
-    ratio = damage_ratio(result)
+    ratio = result.damage_ratio
     print(f"peak |theta| {np.max(result.peak_theta):.4g} rad"
           + (f" (peak |theta|/alpha {ratio:.3g}, alpha the critical angle that governs the block)"
              if np.isfinite(ratio) else "")
           + f", total sliding {result.total_sliding:.4g} m, "
           f"overturned: {f'yes at t = {result.time_of_overturn:.3f} s' if result.overturned else 'no'}")
+    for line in _connector_lines(result):
+        print(line)
+    for line in _event_lines(result):
+        print(line)
     args.on_interrupt = lambda: (f"writing the results into {out}/ was stopped: they are incomplete (summary.json "
                                  "says so); run the same command again")
     args.after_write_error = lambda: f"the results in {out}/ are incomplete"
@@ -120,6 +126,32 @@ def run(args) -> int:
     print(f"error: {stopped}; the results up to t = {result.t[-1]:.6g} s are written to {out}/, marked \"stopped\" "
           "in summary.json", file=sys.stderr)
     return 3
+
+
+def _connector_lines(result) -> list:
+    """A line on the scene's connectors (none without): how many yielded and ruptured, and the largest shear."""
+    table = result.connectors
+    if table is None:
+        return []
+    worst = table.loc[table.peak_shear_N.idxmax()]
+    return [f"connectors: {len(table)}, {int(table.yielded.sum())} yielded, {int(table.ruptured.sum())} ruptured; "
+            f"largest shear {worst.peak_shear_N / 1e3:.3g} kN ({worst['name']}, {worst.kind}); connectors.csv"]
+
+
+def _event_lines(result) -> list:
+    """A line per event of a sequence of ground motions (:attr:`~dem_core.Result.events`; none under one motion): its
+    motion, when it ran and what it left against the run's start, the largest residual tilt and dislocation."""
+    if result.events is None:
+        return []
+    lines = []
+    for row in result.events.to_dict("records"):
+        dislocations, tilts = ({key[len(measure) + 1:-1]: abs(value) for key, value in row.items()
+                                if key.startswith(measure + "[")} for measure in EVENT_MEASURES)
+        joint = max(dislocations, key=dislocations.get, default=None)
+        lines.append(f"event {row['event']}, {row['motion']} ({row['start_s']:.4g} to {row['end_s']:.4g} s): residual "
+                     f"tilt {max(tilts.values(), default=0.0):.3g} rad, largest dislocation "
+                     + (f"{1e3 * dislocations[joint]:.3g} mm ({joint})" if joint else "none (no joints)"))
+    return lines
 
 
 def _previous_run(out: Path, scene: Path, overwrite: bool) -> list:

@@ -22,13 +22,19 @@ Two points of one flush interface have the same tangential velocity, so their ta
 every constrained row ``u`` gets a compliance, ``u_u + REGULARISATION W_uu P_u = target``, which makes the
 solution the one of least impulse (two sticking points of a face share its friction equally) and moves a
 velocity by that fraction of its own impulse's effect.
+
+A connector's row (:mod:`._connectors`) has a status of its own: both unknowns compliant (CONNECTOR_BOTH, its
+compliances on the diagonal), one of them (CONNECTOR_TENSION, CONNECTOR_SHEAR: the other's row replaced by its
+fixed impulse), or neither (OPEN, both known).  Its statuses follow its branches, revised as the points' are.
 """
 
 import numba as nb
 import numpy as np
 
-from ._points import (FRICTION, GAP, INC, NX, NY, PN, PT, REF, RIX, RIY, RRX, RRY, SLID, TARGET, TRAVEL, WNN, WNT,
-                      WTT, apply_impulse, relative_velocity)
+from ._connectors import connector_error, free_unknowns, update_branches
+from ._points import (COMPLIANCE_N, COMPLIANCE_T, CONNECTOR, FIXED_N, FIXED_T, FRICTION, GAP, INC, NX, NY, PN, PT, REF,
+                      RIX, RIY, RRX, RRY, SLID, TARGET, TARGET_T, TRAVEL, WNN, WNT, WTT, apply_impulse,
+                      relative_velocity)
 
 #: widest half-band (unknowns) solved directly: a column's interfaces couple points up to 3 apart (7 unknowns), an
 #: epistyle on N columns up to 2N - 1 (4N - 1 unknowns: 11 on three columns, 27 on seven), so 63 takes an epistyle
@@ -40,7 +46,7 @@ BLOCK_REACH = (HALF_BAND - 1) // 2
 REGULARISATION = 1e-9
 #: relative slack on the friction cone: an impulse this close to its edge counts as on it
 CONE_SLACK = 1e-9
-OPEN, STICK, SLIDE_UP, SLIDE_DOWN = 0, 1, 2, 3
+OPEN, STICK, SLIDE_UP, SLIDE_DOWN, CONNECTOR_BOTH, CONNECTOR_TENSION, CONNECTOR_SHEAR = range(7)
 
 
 @nb.njit(cache=True, inline="always")
@@ -171,16 +177,37 @@ def first_coupled(c, end):
 
 
 @nb.njit(cache=True, inline="always")
-def put_block(band, c, d, a00, a01, a10, a11, sticks, slope):
-    """Block ``(c, d)`` of ``W`` into point ``c``'s rows of a statuses' matrix: as it is if the point ``sticks``,
-    else its tangential row replaced by the sliding law's ``P_t - slope P_n`` (``slope`` on the diagonal block,
-    nothing elsewhere)."""
-    if sticks:
-        set_block(band, c, d, a00, a01, a10, a11)
-    elif c == d:
-        set_block(band, c, d, a00, a01, slope, 1.0)
-    else:
-        set_block(band, c, d, a00, a01, 0.0, 0.0)
+def put_block(band, c, d, a00, a01, a10, a11, normal_row, tangential_row, slope):
+    """Block ``(c, d)`` of ``W`` into point ``c``'s rows of a statuses' matrix: each row as it is where it is an
+    equation in the velocities (``normal_row``, ``tangential_row``), else replaced by one in the impulses alone:
+    the normal row by ``P_n`` (a connector's fixed tension), the tangential row by the sliding law's
+    ``P_t - slope P_n`` (a fixed shear: slope 0), on the diagonal block, nothing elsewhere."""
+    if not normal_row:
+        a00, a01 = (1.0, 0.0) if c == d else (0.0, 0.0)
+    if not tangential_row:
+        a10, a11 = (slope, 1.0) if c == d else (0.0, 0.0)
+    set_block(band, c, d, a00, a01, a10, a11)
+
+
+@nb.njit(cache=True, inline="always")
+def equation_rows(status):
+    """``(normal, tangential)``: which of a row's two equations, under ``status``, are in the velocities."""
+    if status == CONNECTOR_TENSION:
+        return True, False
+    if status == CONNECTOR_SHEAR:
+        return False, True
+    return True, status == STICK or status == CONNECTOR_BOTH
+
+
+@nb.njit(cache=True, inline="always")
+def connector_status(rows, c):
+    """The status of connector row ``c`` from which of its unknowns are compliant."""
+    tension, shear = free_unknowns(rows, c)
+    if tension and shear:
+        return CONNECTOR_BOTH
+    if tension:
+        return CONNECTOR_TENSION
+    return CONNECTOR_SHEAR if shear else OPEN
 
 
 @nb.njit(cache=True, inline="always")
@@ -191,8 +218,8 @@ def statuses_matrix(status, rows, ints, inv_mass, n, end, friction, jac, resp, b
     ``sum_b jac_c M_b^-1 jac_d^T`` over the movable blocks ``b`` the two points share (jac, resp:
     :func:`responses`).  A closed point's normal row is ``W``'s, its tangential row ``W``'s if it sticks, else the
     sliding law's (:func:`put_block`, slope ``-sign friction mu``); every diagonal kept is made compliant by
-    ``REGULARISATION``; an open point has no rows.  Each point's own block, uncompliant, into its row's WNN, WNT,
-    WTT."""
+    ``REGULARISATION``, a connector's compliant unknowns by their compliance; an open point has no rows.  Each
+    point's own block, uncompliant, into its row's WNN, WNT, WTT."""
     for c in range(n):
         u = 2 * c
         closed_c = status[c] != OPEN
@@ -219,30 +246,46 @@ def statuses_matrix(status, rows, ints, inv_mass, n, end, friction, jac, resp, b
                 rows[c, WNN] = w00
                 rows[c, WNT] = w01
                 rows[c, WTT] = w11
-                slope = -friction * rows[c, FRICTION] * (1.0 if status[c] == SLIDE_UP else -1.0)
-                put_block(band, c, c, w00 * (1.0 + REGULARISATION), w01, w10, w11 * (1.0 + REGULARISATION),
-                          status[c] == STICK, slope)
+                normal, tangential = equation_rows(status[c])
+                if ints[c, CONNECTOR] >= 0:
+                    slope = 0.0
+                    w00 += rows[c, COMPLIANCE_N] if normal else 0.0
+                    w11 += rows[c, COMPLIANCE_T] if tangential else 0.0
+                else:
+                    slope = -friction * rows[c, FRICTION] * (1.0 if status[c] == SLIDE_UP else -1.0)
+                    w00 *= 1.0 + REGULARISATION
+                    w11 *= 1.0 + REGULARISATION
+                put_block(band, c, c, w00, w01, w10, w11, normal, tangential, slope)
                 continue
             if closed_c:
-                put_block(band, c, d, w00, w01, w10, w11, status[c] == STICK, 0.0)
+                normal, tangential = equation_rows(status[c])
+                put_block(band, c, d, w00, w01, w10, w11, normal, tangential, 0.0)
             if closed_d:
-                put_block(band, d, c, w00, w10, w01, w11, status[d] == STICK, 0.0)
+                normal, tangential = equation_rows(status[d])
+                put_block(band, d, c, w00, w10, w01, w11, normal, tangential, 0.0)
 
 
 @nb.njit(cache=True, inline="always")
 def statuses_rhs(status, rows, velocity, n, rhs):
     """The right-hand side of the statuses' linear system in the impulses' increments from the present impulses
     ``P0`` (the rows' ``PN``, ``PT``), with the matrix of :func:`statuses_matrix` (friction 1, which fills the
-    rows' WNN, WTT): an open point's rows are its known increments ``-P0``.  status (n,) per point; velocity (2n,)
-    the present ``(u_n, u_t)`` per point (m/s)."""
+    rows' WNN, WTT): an open point's rows are its known increments ``-P0`` (a connector's, to its fixed impulses).
+    status (n,) per point; velocity (2n,) the present ``(u_n, u_t)`` per point (m/s)."""
     for c in range(n):
         row = rows[c]
         s = status[c]
         un = 2 * c
         ut = un + 1
         if s == OPEN:
-            rhs[un] = -row[PN]
-            rhs[ut] = -row[PT]
+            rhs[un] = row[FIXED_N] - row[PN]
+            rhs[ut] = row[FIXED_T] - row[PT]
+            continue
+        if s >= CONNECTOR_BOTH:
+            normal, tangential = equation_rows(s)
+            rhs[un] = (row[TARGET] - velocity[un] - row[COMPLIANCE_N] * row[PN] if normal
+                       else row[FIXED_N] - row[PN])
+            rhs[ut] = (row[TARGET_T] - velocity[ut] - row[COMPLIANCE_T] * row[PT] if tangential
+                       else row[FIXED_T] - row[PT])
             continue
         rhs[un] = row[TARGET] - velocity[un] - REGULARISATION * row[WNN] * row[PN]
         if s == STICK:
@@ -325,13 +368,19 @@ def solve_blocks(status, band, rhs, n, end, symmetric):
 
 
 @nb.njit(cache=True, inline="always")
-def revise(status, rows, velocity, n, tolerance):
+def revise(status, rows, ints, velocity, n, tolerance, connector_law, connectors):
     """Each point's status checked against its impulses and velocities (m/s, ``tolerance`` m/s of slack) and
     changed where it breaks Signorini's or Coulomb's law: an open point approaching faster than its target
     closes (sticks), a point pulling (``P_n < 0``) opens, a sticking point outside the cone slides along its
-    impulse, a sliding point whose slip runs with its friction sticks.  Returns how many changed."""
+    impulse, a sliding point whose slip runs with its friction sticks; a connector takes the branches its
+    velocities lead to (:func:`~._connectors.update_branches`).  Returns how many changed."""
     changed = 0
     for c in range(n):
+        if ints[c, CONNECTOR] >= 0:
+            if update_branches(rows, ints, c, velocity[2 * c], velocity[2 * c + 1], connector_law, connectors):
+                status[c] = connector_status(rows, c)
+                changed += 1
+            continue
         s = status[c]
         pn = rows[c, PN]
         pt = rows[c, PT]
@@ -355,11 +404,14 @@ def revise(status, rows, velocity, n, tolerance):
 
 
 @nb.njit(cache=True, inline="always")
-def equation_error(status, rows, velocity, n):
+def equation_error(status, rows, ints, velocity, n):
     """The largest residual (m/s) of the statuses' velocity equations at ``velocity``: ``u_n - target`` of every
-    closed point and ``u_t`` of every sticking one."""
+    closed point, ``u_t`` of every sticking one and a connector's compliant equations."""
     error = 0.0
     for c in range(n):
+        if ints[c, CONNECTOR] >= 0:
+            error = max(error, connector_error(rows, c, velocity[2 * c], velocity[2 * c + 1]))
+            continue
         if status[c] != OPEN:
             error = max(error, abs(velocity[2 * c] - rows[c, TARGET]))
         if status[c] == STICK:
@@ -378,14 +430,15 @@ def point_velocities(vel, rows, ints, n, velocity):
 
 @nb.njit(cache=True, inline="always")
 def solve_statuses(vel, inv_mass, inv_inertia, rows, ints, n, tolerance, passes, status, velocity, jac, resp, band,
-                   rhs, first, last, end):
+                   rhs, first, last, end, connector_law, connectors):
     """Stage 4 of :mod:`._moreau` (Gauss-Seidel follows only where the statuses do not hold): the ``n`` points'
     impulses (their rows' ``PN``, ``PT``, already applied to ``vel``) replaced by the solution of their statuses'
     linear system, the statuses revised (:func:`revise`, ``tolerance`` m/s) and the system solved again, up to
     ``passes`` times.  The statuses hold when a pass changes none and its solution meets their equations to
     ``tolerance`` (:func:`equation_error`).  The first statuses
     come from the present impulses (a point pushing sticks, or slides if its impulse is on the cone's edge) and
-    else from the geometry (a point touching or approaching faster than its target sticks).  Returns ``(whether the
+    else from the geometry (a point touching or approaching faster than its target sticks); a connector's from its
+    branches (connector_law, connectors: the model's and the state's rows).  Returns ``(whether the
     statuses held, passes taken)``: not held also where the points' band is wider than ``HALF_BAND`` or a pivot
     vanished, with ``vel`` and the rows consistent either way.  Statuses that hold mark the sliding points
     (``ints[:, SLID]``)."""
@@ -398,7 +451,9 @@ def solve_statuses(vel, inv_mass, inv_inertia, rows, ints, n, tolerance, passes,
     for c in range(n):
         pn = rows[c, PN]
         pt = rows[c, PT]
-        if rows[c, TARGET] == -np.inf:
+        if ints[c, CONNECTOR] >= 0:
+            status[c] = connector_status(rows, c)
+        elif rows[c, TARGET] == -np.inf:
             status[c] = OPEN
         elif pn > 0.0:
             status[c] = STICK
@@ -412,7 +467,7 @@ def solve_statuses(vel, inv_mass, inv_inertia, rows, ints, n, tolerance, passes,
     for done in range(1, passes + 1):
         symmetric = True
         for c in range(n):
-            symmetric = symmetric and status[c] < SLIDE_UP
+            symmetric = symmetric and (status[c] <= STICK or status[c] == CONNECTOR_BOTH)
         statuses_matrix(status, rows, ints, inv_mass, n, end, 1.0, jac, resp, band)
         statuses_rhs(status, rows, velocity, n, rhs)
         if not solve_blocks(status, band, rhs, n, end, symmetric):
@@ -426,11 +481,11 @@ def solve_statuses(vel, inv_mass, inv_inertia, rows, ints, n, tolerance, passes,
             row[PN] += dn
             row[PT] += dt_
         point_velocities(vel, rows, ints, n, velocity)
-        if revise(status, rows, velocity, n, tolerance) == 0:
-            if equation_error(status, rows, velocity, n) > tolerance:
+        if revise(status, rows, ints, velocity, n, tolerance, connector_law, connectors) == 0:
+            if equation_error(status, rows, ints, velocity, n) > tolerance:
                 return False, done
             for c in range(n):
-                ints[c, SLID] = 1 if status[c] >= SLIDE_UP else 0
+                ints[c, SLID] = 1 if status[c] == SLIDE_UP or status[c] == SLIDE_DOWN else 0
             return True, done
     return False, passes
 
@@ -447,7 +502,7 @@ def solve_positions(rows, ints, inv_mass, n, slop, end, status, jac, resp, band,
     symmetric = True
     for c in range(n):
         row = rows[c]
-        pushed = row[PN] > 0.0
+        pushed = row[PN] > 0.0 and ints[c, CONNECTOR] < 0
         sticks = pushed and ints[c, SLID] == 0
         status[c] = STICK if sticks else (SLIDE_UP if pushed or row[GAP] < -slop else OPEN)
         symmetric = symmetric and status[c] != SLIDE_UP

@@ -6,7 +6,8 @@ a step (:func:`explicit_part`, the driver's integrator stage under ``EXPLICIT``)
 
 1. per listed pair whose boxes touch (:func:`pair_forces`): the corner manifold (:mod:`._manifold`) or the overlap
    polygon (:mod:`._polygon`), then the contact law (:mod:`._contact_law`) (:func:`corner_pair`,
-   :func:`overlap_pair`); each pair writes only its own rows, so the pairs may run in parallel;
+   :func:`overlap_pair`); then, touching or not, its connectors' forces (:func:`~._connectors.connector_forces`);
+   each pair writes only its own rows, so the pairs may run in parallel;
 2. per body the sum of its pairs' forces, in one order (:func:`gather_forces`); a contact past the penetration
    limit stops the run (:func:`deepest_pair`);
 3. the ground's work (:func:`~._checks.ground_work`), then velocities and positions advance (:func:`move`).
@@ -24,6 +25,7 @@ import numba as nb
 from ._broadphase import forget_pair
 from ._build import kernel
 from ._checks import any_block_overturned, ground_work
+from ._connectors import connector_forces
 from ._contact_law import CORNER, dashpot, effective_mass, normal_force, tangential_force
 from ._ground import place_base_within
 from ._manifold import FACE_BITS, corner_manifold
@@ -33,7 +35,8 @@ from ._world import boxes_apart
 from .model_arrays import (CONTACT_LIMIT, CRITICAL_ANGLE, DROP_LIMIT, INV_INERTIA, INV_MASS, LAW_ZETA_N, LAW_ZETA_T,
                            MASS, Y_START)
 from .settings import CONTACT_LAW, DT, GRAVITY, STATUS_DEEP_OVERLAP, STATUS_OK, SUBSTEPS
-from .state import C_N, C_R, C_T, K_N, K_T, LAST_SUBSTEPS, LISTED, MU, NARROW, PAIR_I, PAIR_J, POINT_KEY, REFERENCE
+from .state import (C_N, C_R, C_T, K_N, K_T, LAST_SUBSTEPS, LISTED, MU, NARROW, PAIR_I, PAIR_J, POINT_KEY, REFERENCE,
+                    STEP)
 
 #: the loops over pairs and bodies: ``range``, made numba's ``prange`` in the threaded build
 prange = range
@@ -273,11 +276,14 @@ def explicit_part(model, settings, state, scratch, part, parts, h, kick, load_x,
     vstart, body, law, boxes, force = model.vstart, model.body, model.law, scratch.boxes, scratch.force
     points, keys, ox, oy = scratch.points, scratch.point_keys, scratch.clip_x, scratch.clip_y
     clip_work, start, entries = scratch.clip_work, scratch.pair_start, scratch.pair_entries
+    connector_law, connector_bodies, connector_start = model.connector_law, model.connector_bodies, model.connector_start
+    connectors, step = state.connectors, counters[STEP]
     listed = counters[LISTED]
     for p in prange(listed):
         pair_forces(p, corner, ids, constants, memory, spring_force, normal_impulse, tangential_impulse, pair_slip,
                     pos, vel, pair_force, pair_touching, pair_excess, wx, wy, wnx, wny, vstart, body,
                     law, h, boxes, points, keys, ox, oy, clip_work)
+        connector_forces(p, ids, pos, pair_force, connector_law, connector_bodies, connector_start, connectors, step)
     for b in prange(pos.shape[0]):
         gather_forces(b, start, entries, pair_force, force)
     deep = deepest_pair(pair_touching, pair_excess, listed, counters)

@@ -29,10 +29,11 @@ correction adds no kinetic energy and moves no block along a face it sticks to.
 A part of a step, in order (the pairs in the order of :func:`~._active_set.pair_order`, made with each list):
 
 1. per listed pair, its corner manifold and the points of the index set (:func:`collect_points`; a pair whose
-   boxes are apart forgets its contact), and the part's length: the step, or split where a point apart meets its
-   face (:func:`first_meeting`);
+   boxes are apart forgets its contact), then its connectors' rows (:func:`~._connectors.connector_rows`), and
+   the part's length: the step, or split where a point apart meets its face (:func:`first_meeting`);
 2. the smooth impulse (:func:`free_velocities`);
-3. the contact impulses: warm start (:func:`warm_start`), the direct solve by statuses
+3. the contact impulses: warm start (:func:`warm_start`), the connectors' branches for the part
+   (:func:`~._connectors.connector_coefficients`), the direct solve by statuses
    (:func:`~._active_set.solve_statuses`), and where its statuses did not hold Gauss-Seidel
    (:func:`point_blocks`, :func:`solve_points`), which sweeps on where it is far from a solution; where that
    fails too, steps 2 and 3 again from the part's start, cold, at half its length, with more passes by statuses
@@ -40,8 +41,9 @@ A part of a step, in order (the pairs in the order of :func:`~._active_set.pair_
 4. the positions (:func:`integrate`);
 5. the points left inside their faces pushed out, and the sticking points put back where they stuck
    (:func:`project_positions`);
-6. the impulses kept for the next step's warm start and the slips tallied (:func:`keep_impulses`), then the
-   ground's work (:func:`~._checks.ground_work`).
+6. the impulses kept for the next step's warm start and the slips tallied (:func:`keep_impulses`), the
+   connectors' states moved (:func:`~._connectors.commit_connectors`), then the ground's work
+   (:func:`~._checks.ground_work`).
 """
 
 import math
@@ -52,19 +54,20 @@ from ._active_set import HALF_BAND, half_band, responses, solve_positions, solve
 from ._broadphase import forget_pair
 from ._build import kernel
 from ._checks import ground_work
+from ._connectors import commit_connectors, connector_coefficients, connector_rows, connector_sweep
 from ._manifold import FACE_BITS, corner_manifold
-from ._points import (FRICTION, GAP, INC, KEY, NX, NY, PAIR, PN, POSITION_IMPULSE, PT, REF, RIX,
-                      RIY, RRX, RRY, SLID, SLOT, TARGET, TRAVEL, U0, WNN, WNT, WTT, apply_impulse, delassus,
+from ._points import (CONNECTOR, FIXED_N, FIXED_T, FRICTION, GAP, INC, KEY, NX, NY, PAIR, PN, POSITION_IMPULSE, PT,
+                      REF, RIX, RIY, RRX, RRY, SLID, SLOT, TARGET, TRAVEL, U0, WNN, WNT, WTT, apply_impulse, delassus,
                       block_turns, point_travel, relative_velocity)
 from ._tally import tally_slip
 from ._world import boxes_apart
 from .model_arrays import INV_INERTIA, INV_MASS, MASS
-from .settings import (ACTIVE_GAP, DT, GRAVITY, HALF_SKIN, MAX_SUBSTEPS, MAX_SWEEPS, MOREAU_MAX_PARTS,
+from .settings import (ACTIVE_GAP, DT, GRAVITY, THETA, HALF_SKIN, MAX_SUBSTEPS, MAX_SWEEPS, MOREAU_MAX_PARTS,
                        MOREAU_RELAXATION, MOREAU_RETRIES, MOREAU_RETRY_PASSES, PROJECTION_SWEEPS, RESCUE_SWEEPS,
                        RESTITUTION, SHORTEST_SUBSTEP, SLOP, SOLVER_FAILURE, SOLVER_TOLERANCE, STATUS_OK, STATUS_PASSES,
-                       STATUS_UNCONVERGED, THETA)
+                       STATUS_UNCONVERGED)
 from .state import (LISTED, MU, NARROW, PAIR_I, PAIR_J, POINT_KEY, REFERENCE, SHORTENED, SOLVER_SWEEPS,
-                    STATUS_FALLBACKS, UNCONVERGED)
+                    STATUS_FALLBACKS, STEP, UNCONVERGED)
 from .state import STATUS_PASSES as PASSES_DONE
 
 
@@ -144,6 +147,9 @@ def collect_points(p, ids, constants, memory, normal_impulse, tangential_impulse
             row[TARGET] = -restitution * min(u_n, 0.0)
         row[PN] = old_impulses[slot] if slot >= 0 else 0.0
         row[PT] = old_impulses[2 + slot] if slot >= 0 else 0.0
+        row[FIXED_N] = 0.0
+        row[FIXED_T] = 0.0
+        ints[n, CONNECTOR] = -1
         ints[n, INC] = inc
         ints[n, REF] = ref
         ints[n, PAIR] = p
@@ -212,9 +218,11 @@ def warm_start(vel, inv_mass, inv_inertia, rows, ints, n):
 
 
 @nb.njit(cache=True, inline="always")
-def solve_points(vel, inv_mass, inv_inertia, rows, ints, n, tolerance, max_sweeps, relaxation):
+def solve_points(vel, inv_mass, inv_inertia, rows, ints, n, tolerance, max_sweeps, relaxation, connector_law,
+                 connectors):
     """Step 3: projected Gauss-Seidel over the ``n`` points from their present impulses (already in ``vel``).  A
-    sweep, forward and backward in turn, solves each point exactly with the others fixed (:func:`point_impulse`)
+    sweep, forward and backward in turn, solves each point exactly with the others fixed (:func:`point_impulse`;
+    a connector's unknowns by :func:`~._connectors.connector_sweep`)
     and moves its impulses by ``relaxation`` (at most 1) of the way there, which keeps them in the cone; the solve
     ends when no point's velocity moved by more than ``tolerance`` m/s in a sweep.  Returns ``(sweeps,
     largest change in the last sweep (m/s; infinite if ``max_sweeps`` is 0 and there are points), the incident
@@ -230,6 +238,13 @@ def solve_points(vel, inv_mass, inv_inertia, rows, ints, n, tolerance, max_sweep
             row = rows[c]
             i = ints[c, INC]
             r = ints[c, REF]
+            if ints[c, CONNECTOR] >= 0:
+                moved = connector_sweep(vel, inv_mass, inv_inertia, rows, ints, c, relaxation, connector_law,
+                                        connectors)
+                if moved > change:
+                    change = moved
+                    worst = i
+                continue
             nx = row[NX]
             ny = row[NY]
             u_n, u_t = relative_velocity(vel, i, r, row[RIX], row[RIY], row[RRX], row[RRY], nx, ny)
@@ -293,6 +308,8 @@ def project_positions(pos, mid, turn, inv_mass, inv_inertia, rows, ints, n, h, s
     block_turns(mid, h, turn)
     for c in range(n):
         row = rows[c]
+        if ints[c, CONNECTOR] >= 0:
+            continue
         d_n, d_t = point_travel(mid, h, turn, ints[c, INC], ints[c, REF], row[RIX], row[RIY], row[RRX], row[RRY],
                                 row[NX], row[NY])
         row[GAP] += d_n
@@ -323,6 +340,8 @@ def project_positions(pos, mid, turn, inv_mass, inv_inertia, rows, ints, n, h, s
         for _ in range(sweeps):
             for c in range(n):
                 row = rows[c]
+                if ints[c, CONNECTOR] >= 0:
+                    continue
                 i = ints[c, INC]
                 r = ints[c, REF]
                 s_n, s_t = relative_velocity(shift, i, r, row[RIX], row[RIY], row[RRX], row[RRY], row[NX], row[NY])
@@ -355,7 +374,7 @@ def project_positions(pos, mid, turn, inv_mass, inv_inertia, rows, ints, n, h, s
 def keep_impulses(rows, ints, n, normal_impulse, tangential_impulse, pair_slip, ids, base_impulse, vel, h):
     """Step 6: each point's impulses into its pair's contact memory (the next step's warm start), the slip of the
     points that slid (|u_t+| h, the largest of a pair's) into the pair's tally (:func:`~._tally.tally_slip`), and
-    the total impulse on the base into ``base_impulse`` (2,)."""
+    the total impulse on the base, the connectors' too, into ``base_impulse`` (2,)."""
     base_impulse[0] = 0.0
     base_impulse[1] = 0.0
     last = -1
@@ -369,8 +388,9 @@ def keep_impulses(rows, ints, n, normal_impulse, tangential_impulse, pair_slip, 
             last = p
             slipped = 0.0
         q = ints[c, SLOT]
-        normal_impulse[p, q] = row[PN]
-        tangential_impulse[p, q] = row[PT]
+        if q >= 0:
+            normal_impulse[p, q] = row[PN]
+            tangential_impulse[p, q] = row[PT]
         px = row[PN] * row[NX] - row[PT] * row[NY]
         py = row[PN] * row[NY] + row[PT] * row[NX]
         if ints[c, INC] == 0:
@@ -389,8 +409,9 @@ def keep_impulses(rows, ints, n, normal_impulse, tangential_impulse, pair_slip, 
 
 @nb.njit(cache=True, inline="always")
 def contact_impulses(settings, scratch, counters, vel, inv_mass, inv_inertia, n, tau, load_x, load_y, relaxation,
-                     passes):
-    """Steps 2 and 3 over a part of ``tau`` s: the smooth impulse, the warm start, the direct solve by statuses
+                     passes, connector_law, connectors):
+    """Steps 2 and 3 over a part of ``tau`` s: the smooth impulse, the warm start, the connectors' coefficients
+    for the part (:func:`~._connectors.connector_coefficients`), the direct solve by statuses
     (``passes`` at most) and, where its statuses did not hold, Gauss-Seidel (``relaxation`` of each update), which
     sweeps on where it is far from a solution.  Returns ``(whether the statuses held, whether the solve failed, the
     block where it changed most)``; the counters count passes, fallbacks, sweeps and unconverged solves."""
@@ -399,23 +420,25 @@ def contact_impulses(settings, scratch, counters, vel, inv_mass, inv_inertia, n,
     tolerance = real[SOLVER_TOLERANCE] * tau / real[DT]
     free_velocities(vel, inv_mass, load_x, load_y - real[GRAVITY], scratch.window[4, 1], scratch.window[5, 1], tau)
     warm_start(vel, inv_mass, inv_inertia, rows, ints, n)
+    connector_coefficients(vel, rows, ints, n, tau, real[THETA], connector_law, connectors)
     held, done = solve_statuses(vel, inv_mass, inv_inertia, rows, ints, n, tolerance, passes, scratch.point_status,
                                 scratch.point_velocity, scratch.jacobian, scratch.response, scratch.band,
-                                scratch.rhs, scratch.band_first, scratch.band_last, scratch.band_end)
+                                scratch.rhs, scratch.band_first, scratch.band_last, scratch.band_end, connector_law,
+                                connectors)
     counters[PASSES_DONE] += done
     counters[STATUS_FALLBACKS] += n > 0 and integer[STATUS_PASSES] > 0 and not held
     sweeps, change, worst = 0, 0.0, 0
     if not held and n > 0:
         point_blocks(rows, ints, inv_mass, inv_inertia, n)
         sweeps, change, worst = solve_points(vel, inv_mass, inv_inertia, rows, ints, n, tolerance,
-                                             integer[MAX_SWEEPS], relaxation)
+                                             integer[MAX_SWEEPS], relaxation, connector_law, connectors)
     failed = False
     if change > tolerance:
         counters[UNCONVERGED] += 1
         failure = real[SOLVER_FAILURE] * real[GRAVITY] * tau
         if change > failure:  # far from a solution: sweep on; a try that does not get there has failed
             more, change, worst = solve_points(vel, inv_mass, inv_inertia, rows, ints, n, failure,
-                                               integer[RESCUE_SWEEPS], relaxation)
+                                               integer[RESCUE_SWEEPS], relaxation, connector_law, connectors)
             sweeps += more
             failed = change > failure
     counters[SOLVER_SWEEPS] += sweeps
@@ -436,15 +459,18 @@ def moreau_part(model, settings, state, scratch, part, remaining, load_x, load_y
     h = real[DT]
     half_skin = real[HALF_SKIN]
     n = 0
+    connector_law, connectors = model.connector_law, state.connectors
     for e in range(counters[LISTED]):
         p = order[e]
         if boxes_apart(scratch.boxes, ids[p, PAIR_I], ids[p, PAIR_J], half_skin):
             forget_pair(p, state.pair_memory, state.spring_force, state.normal_impulse, state.tangential_impulse)
-            continue
-        n = collect_points(p, ids, state.pair_constants, state.pair_memory, state.normal_impulse,
-                           state.tangential_impulse, pos, vel, wx, wy, wnx, wny, model.vstart, half_skin,
-                           real[ACTIVE_GAP], real[RESTITUTION], remaining, scratch.points, scratch.point_keys, rows,
-                           ints, n)
+        else:
+            n = collect_points(p, ids, state.pair_constants, state.pair_memory, state.normal_impulse,
+                               state.tangential_impulse, pos, vel, wx, wy, wnx, wny, model.vstart, half_skin,
+                               real[ACTIVE_GAP], real[RESTITUTION], remaining, scratch.points, scratch.point_keys,
+                               rows, ints, n)
+        n = connector_rows(p, ids, pos, vel, connector_law, model.connector_bodies, model.connector_start, connectors,
+                           rows, ints, n)
     counters[NARROW] += n
     tau = remaining
     if part + 1 < integer[MAX_SUBSTEPS]:
@@ -469,7 +495,7 @@ def moreau_part(model, settings, state, scratch, part, remaining, load_x, load_y
                 rows[c, PN] = 0.0
                 rows[c, PT] = 0.0
         held, failed, worst = contact_impulses(settings, scratch, counters, vel, inv_mass, inv_inertia, n, tau,
-                                               load_x, load_y, relaxation, passes_allowed)
+                                               load_x, load_y, relaxation, passes_allowed, connector_law, connectors)
         if not failed:
             break
         if attempt + 1 == tries:
@@ -482,6 +508,7 @@ def moreau_part(model, settings, state, scratch, part, remaining, load_x, load_y
                       scratch.band_first, scratch.band_last, scratch.band_end)
     keep_impulses(rows, ints, n, state.normal_impulse, state.tangential_impulse, state.pair_slip, ids,
                   scratch.base_impulse, vel, tau)
+    commit_connectors(rows, ints, n, vel, connector_law, connectors, counters[STEP])
     reaction = scratch.reaction
     reaction[0, 0] = scratch.base_impulse[0] / tau
     reaction[0, 1] = scratch.base_impulse[1] / tau

@@ -6,13 +6,15 @@ written (a chunk that starts where the last one ended, or a chunk taken again, w
 
 import numba as nb
 
+from ._connector_law import SHEAR_FORCE
 from .settings import LAST_STEP, STRIDE
 from .state import OUTPUTS, STEP
 
 
 @nb.njit(cache=True, inline="always")
 def write_output(state, outputs):
-    """The state's positions and the interfaces' slips into the next output row (:class:`~.state.Outputs`)."""
+    """The state's positions, the interfaces' slips and the connectors' forces and deformations into the next output
+    row (:class:`~.state.Outputs`)."""
     counters = state.counters
     k = counters[OUTPUTS]
     for b in range(state.pos.shape[0]):
@@ -20,6 +22,9 @@ def write_output(state, outputs):
             outputs.pos[k, b, d] = state.pos[b, d]
     for m in range(state.interface_slip.shape[0]):
         outputs.slip[k, m] = state.interface_slip[m]
+    for c in range(outputs.connectors.shape[1]):
+        for d in range(outputs.connectors.shape[2]):
+            outputs.connectors[k, c, d] = state.connectors[c, SHEAR_FORCE + d]
     outputs.step[k] = counters[STEP]
     counters[OUTPUTS] = k + 1
 

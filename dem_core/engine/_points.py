@@ -1,9 +1,12 @@
-"""The contact points of Moreau-Jean's index set: their row layout and their kinematics.
+"""The rows of Moreau-Jean's problem, contact points and connectors: their layout and their kinematics.
 
-Private module shared by the stages of :mod:`._moreau` and :mod:`._active_set`.  Each point of the index set is a
-row of floats (``rows``, N_COLUMNS) and a row of integers (``ints``, 6); the incident body is the one whose corner
-the point is, the reference body the one whose face it meets, and the normal is the reference face's, into the
-incident body.  Impulses act positively on the incident body and negatively on the reference.
+Private module shared by the stages of :mod:`._moreau`, :mod:`._active_set` and :mod:`._connectors`.  Each point of
+the index set is a row of floats (``rows``, N_COLUMNS) and a row of integers (``ints``, N_INTS); the incident body
+is the one whose corner the point is, the reference body the one whose face it meets, and the normal is the
+reference face's, into the incident body.  Impulses act positively on the incident body and negatively on the
+reference.  A connector (:mod:`._connectors`) is a row of the same kind: its incident body the second of its joint,
+its reference the first, its normal the joint's; its two unknowns, the tension and the shear impulse, are each
+either compliant (``u + C P = target``) or fixed (``P = fixed``).
 """
 
 import numba as nb
@@ -14,12 +17,21 @@ from ._angles import sine
 #: incident and reference bodies' centres of mass, the point's own Delassus block (1/kg; filled only where
 #: Gauss-Seidel or the position sweeps need it), mu, the gap (m), the normal target velocity (m/s), the normal
 #: velocity at the step's start (m/s), the impulses (N s), the tangential travel of the point over the step (m) and
-#: the position projection's normal impulse (kg m)
-NX, NY, RIX, RIY, RRX, RRY, WNN, WNT, WTT, FRICTION, GAP, TARGET, U0, PN, PT, TRAVEL, POSITION_IMPULSE = range(17)
-N_COLUMNS = 17
+#: the position projection's normal impulse (kg m); then a connector's: the tangential velocity at the step's start
+#: (m/s), its opening and slip then (m), where the step takes them at that velocity alone (m, :func:`~._connectors.
+#: connector_coefficients`), each unknown's compliance (s/kg; FIXED where its impulse is fixed), the tangential
+#: target (m/s), the fixed impulses (N s; 0 for a point), the part's length and that times theta (s)
+(NX, NY, RIX, RIY, RRX, RRY, WNN, WNT, WTT, FRICTION, GAP, TARGET, U0, PN, PT, TRAVEL, POSITION_IMPULSE, U0_T,
+ OPENING0, SLIP0, REACH_N, REACH_T, COMPLIANCE_N, COMPLIANCE_T, TARGET_T, FIXED_N, FIXED_T, PART,
+ PART_THETA) = range(29)
+N_COLUMNS = 29
+#: a connector unknown's compliance where its impulse is fixed
+FIXED = -1.0
 #: columns of the per-point integers: incident body, reference body, pair, slot (0 or 1) within the pair,
-#: feature key, whether the point slid (its status in the direct solve, or the last sweep)
-INC, REF, PAIR, SLOT, KEY, SLID = range(6)
+#: feature key, whether the point slid (its status in the direct solve, or the last sweep), the connector (-1: a
+#: contact point) and its branches (:func:`~._connectors.branches`)
+INC, REF, PAIR, SLOT, KEY, SLID, CONNECTOR, BRANCH = range(8)
+N_INTS = 8
 
 
 @nb.njit(cache=True, inline="always")

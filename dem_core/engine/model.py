@@ -11,9 +11,11 @@ from typing import NamedTuple
 import numpy as np
 
 from . import geometry
+from ._connector_law import (ANCHOR_AX, ANCHOR_AY, ANCHOR_BX, ANCHOR_BY, AXIAL_K, AXIAL_STRENGTH, AXIS_X, AXIS_Y,
+                             BACK_LIMIT, CLEARANCE, HARDENING, N_LAW, SHEAR_K, SLIP_CAPACITY, YIELD_FORCE)
 from ._interfaces import A_X, A_Y, B_X, B_Y, HALF_WIDTH, N_GEOMETRY, T_X, T_Y, TURN0, follow_interfaces
 from .contact import LAWS, rocking_damping_ratio
-from .stacks import find_stacks
+from .stacks import find_stacks, top_face
 from .state import interface_offsets
 
 #: a corner-law contact deeper than this fraction of the smaller block's smaller extent stops the run
@@ -121,12 +123,28 @@ class Faces(NamedTuple):
     extent: np.ndarray
 
 
+class Connectors(NamedTuple):
+    """The scene's connectors (:mod:`dem_core.inputs.connectors`), ``n_c`` of them, in the order of the interfaces
+    they cross.
+
+    law : (n_c, N_LAW) their rows of :mod:`._connector_law`.  bodies : (n_c, 2) int64 the two bodies of each, in
+    the order of its interface's key.  start : (n_if + 1,) int64, interface k's connectors are ``start[k]`` to
+    ``start[k + 1]``.  order : (n_c,) int64, each one's place in ``scene.connectors``.
+    """
+
+    law: np.ndarray
+    bodies: np.ndarray
+    start: np.ndarray
+    order: np.ndarray
+
+
 class Model(NamedTuple):
     """A compiled scene: ``bodies``, ``law``, ``stacks``, the ``faces`` touching at the start;
     ``interface_keys`` (n_if,) int64 sorted ``i * nb + j`` of those faces' pairs, whose slip is recorded
     over time, and ``interface_geometry`` (n_if, 8) their rows in that order (:mod:`._interfaces`); ``gravity``
-    m/s^2; ``floor`` m, top of the base relative to its centre of mass; ``top`` m, the highest block vertex above
-    the top of the base at the start."""
+    m/s^2; ``floor`` m, the lower end of the base's top face (:func:`~.stacks.top_face`; its top, on a level base)
+    relative to its centre of mass; ``top`` m, the highest block vertex above that end at the start; ``connectors``
+    across the interfaces."""
 
     bodies: Bodies
     law: Law
@@ -137,6 +155,7 @@ class Model(NamedTuple):
     gravity: float
     floor: float
     top: float
+    connectors: Connectors
 
 
 def _edge_normals(vertices: np.ndarray, vstart: np.ndarray) -> np.ndarray:
@@ -272,15 +291,59 @@ def interface_geometry(scene, bodies: Bodies, faces: Faces, keys: np.ndarray) ->
     return rows
 
 
+def connector_terms(kind) -> np.ndarray:
+    """(N_LAW,) a connector's row of :mod:`._connector_law` with the terms of its
+    :class:`~dem_core.inputs.connectors.ConnectorKind` ``kind`` (the anchors and the axis zero)."""
+    row = np.zeros(N_LAW)
+    row[SHEAR_K] = kind.shear_stiffness
+    row[YIELD_FORCE] = np.inf if kind.yield_force is None else kind.yield_force
+    row[HARDENING] = kind.hardening
+    ultimate = kind.ultimate_force if kind.ultimate_force is not None else row[YIELD_FORCE]
+    row[BACK_LIMIT] = ultimate - row[YIELD_FORCE] if np.isfinite(ultimate) else 0.0
+    row[CLEARANCE] = kind.clearance
+    row[SLIP_CAPACITY] = kind.slip_capacity
+    row[AXIAL_K] = kind.axial_stiffness
+    row[AXIAL_STRENGTH] = np.inf if kind.axial_strength is None else kind.axial_strength
+    return row
+
+
+def compile_connectors(scene, bodies: Bodies, keys: np.ndarray, rows: np.ndarray) -> Connectors:
+    """The :class:`Connectors` of ``scene`` across its interfaces ``keys`` (sorted ``i * nb + j``), whose geometry
+    ``rows`` (:func:`interface_geometry`) place them: each anchor ``position`` along its interface's tangent from
+    the point where the two bodies touch, in the first body's frame, and the same point in the second's."""
+    n = len(bodies.mass)
+    index = {b.name: k for k, b in enumerate(scene.bodies)}
+    placed = []
+    for k, connector in enumerate(scene.connectors):
+        a, b = sorted(index[name] for name in connector.between)
+        placed.append((int(np.searchsorted(keys, a * n + b)), k, a, b))
+    placed.sort()
+    law = np.zeros((len(placed), N_LAW))
+    for row, (f, k, a, b) in zip(law, placed):
+        connector = scene.connectors[k]
+        kind = connector.kind
+        tangent = rows[f, [T_X, T_Y]]
+        anchor_a = rows[f, [A_X, A_Y]] + connector.position * tangent
+        world = bodies.centroid0[a] + geometry.transform(anchor_a[None, :], bodies.angle0[a])[0]
+        row[[ANCHOR_AX, ANCHOR_AY]] = anchor_a
+        row[[ANCHOR_BX, ANCHOR_BY]] = geometry.transform((world - bodies.centroid0[b])[None, :], -bodies.angle0[b])[0]
+        row[[AXIS_X, AXIS_Y]] = -tangent[1], tangent[0]
+        row[SHEAR_K:] = connector_terms(kind)[SHEAR_K:]
+    start = np.searchsorted(np.array([f for f, *_ in placed], np.int64), np.arange(len(keys) + 1)).astype(np.int64)
+    return Connectors(law=law, bodies=np.array([(a, b) for _, _, a, b in placed], np.int64).reshape(-1, 2),
+                      start=start, order=np.array([k for _, k, _, _ in placed], np.int64))
+
+
 def compile_model(scene, stacks=None) -> Model:
     """The :class:`Model` of ``scene`` (``stacks``: its stacks, if already found)."""
     bodies = compile_bodies(scene)
     faces = compile_faces(scene)
     n = len(scene.bodies)
-    base_top = scene.base.vertices[:, 1].max()
+    base_top = top_face(scene.base)[0][:, 1].min()
     keys = np.array(sorted(faces.i * n + faces.j), np.int64)
+    rows = interface_geometry(scene, bodies, faces, keys)
     return Model(bodies=bodies, law=compile_law(scene, bodies), stacks=compile_stacks(scene, stacks), faces=faces,
-                 interface_keys=keys, interface_geometry=interface_geometry(scene, bodies, faces, keys),
+                 interface_keys=keys, interface_geometry=rows, connectors=compile_connectors(scene, bodies, keys, rows),
                  gravity=float(scene.gravity), floor=float(base_top - scene.base.centroid[1]),
                  top=float(max(b.vertices[:, 1].max() for b in scene.blocks) - base_top))
 

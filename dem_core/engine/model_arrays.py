@@ -31,7 +31,8 @@ class ModelArrays(NamedTuple):
     stack_mass : (ns,) kg.  stack_foot : (ns, 2, 2) m.  law : (9,) columns LAW_KN ... LAW_CT.
     friction_keys, friction_values : the interfaces with a coefficient of their own, keys sorted (NO_KEY pads).
     interface_keys : (n_if,) int64 sorted keys of the recorded interfaces.  interface_geometry : (n_if, 8) their
-    rows of :mod:`._interfaces`.
+    rows of :mod:`._interfaces`.  connector_law (n_c, N_LAW), connector_bodies (n_c, 2) int64, connector_start
+    (n_if + 1,) int64: the connectors (:class:`~dem_core.engine.model.Connectors`).
     """
 
     vertices: np.ndarray
@@ -46,6 +47,9 @@ class ModelArrays(NamedTuple):
     friction_values: np.ndarray
     interface_keys: np.ndarray
     interface_geometry: np.ndarray
+    connector_law: np.ndarray
+    connector_bodies: np.ndarray
+    connector_start: np.ndarray
 
 
 def model_arrays(model) -> ModelArrays:
@@ -66,4 +70,7 @@ def model_arrays(model) -> ModelArrays:
         friction_keys=np.ascontiguousarray(friction_keys, np.int64),
         friction_values=np.ascontiguousarray(friction_values, float),
         interface_keys=np.ascontiguousarray(model.interface_keys, np.int64),
-        interface_geometry=np.ascontiguousarray(model.interface_geometry, float).reshape(-1, 8))
+        interface_geometry=np.ascontiguousarray(model.interface_geometry, float).reshape(-1, 8),
+        connector_law=np.ascontiguousarray(model.connectors.law, float),
+        connector_bodies=np.ascontiguousarray(model.connectors.bodies, np.int64),
+        connector_start=np.ascontiguousarray(model.connectors.start, np.int64))

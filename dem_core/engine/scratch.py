@@ -11,7 +11,7 @@ import numpy as np
 
 from ._active_set import BLOCK_REACH
 from ._contact_law import CORNER
-from ._points import N_COLUMNS
+from ._points import N_COLUMNS, N_INTS
 from .settings import MOREAU
 
 
@@ -30,9 +30,10 @@ class Scratch(NamedTuple):
     pair_order, pair_degree, pair_reached : (Cm,) int64: Moreau-Jean's order of the pairs and its scratch.
     start_vel, mid, shift, reaction : (nb, 3).  turn : (nb, 2) (:func:`~._points.block_turns`).
     base_impulse : (2,).
-    point_rows : (2 Cm, N_COLUMNS), point_ints : (2 Cm, 6) int64: the index set's points (:mod:`._points`).
-    point_status (2 Cm,) int64, point_velocity (4 Cm,), jacobian, response (4 Cm, 6), band
-    (2 Cm, 2 BLOCK_REACH + 1, 4), rhs (4 Cm,), band_first, band_last (nb,) int64, band_end (4 Cm,) int64: the direct solve's
+    point_rows : (R, N_COLUMNS), point_ints : (R, N_INTS) int64: the index set's points and the connectors' rows,
+    ``R = 2 Cm + n_c`` (:mod:`._points`).
+    point_status (R,) int64, point_velocity (2 R,), jacobian, response (2 R, 6), band (R, 2 BLOCK_REACH + 1, 4),
+    rhs (2 R,), band_first, band_last (nb,) int64, band_end (2 R,) int64: the direct solve's
     (:func:`~._active_set.solve_statuses`).
     """
 
@@ -87,6 +88,7 @@ def make_scratch(model, pairs: int, integrators, contact_laws) -> Scratch:
     corner = pairs if CORNER in contact_laws else 1
     overlap = pairs if any(law != CORNER for law in contact_laws) else 1
     moreau = pairs if MOREAU in integrators else 1
+    rows = 2 * moreau + (model.connector_law.shape[0] if MOREAU in integrators else 0)
     return Scratch(
         world=np.zeros((4, nv)), boxes=np.zeros((4, nb)), window=np.zeros((6, 2)), force=np.zeros((nb, 3)),
         stack_moment=np.zeros(ns), sweep_order=np.arange(nb, dtype=np.int64), candidates=np.zeros(pairs, np.int64),
@@ -97,8 +99,8 @@ def make_scratch(model, pairs: int, integrators, contact_laws) -> Scratch:
         pair_order=np.zeros(moreau, np.int64), pair_degree=np.zeros(moreau, np.int64),
         pair_reached=np.zeros(moreau, np.int64), start_vel=np.zeros((nb, 3)), mid=np.zeros((nb, 3)),
         shift=np.zeros((nb, 3)), reaction=np.zeros((nb, 3)), turn=np.zeros((nb, 2)), base_impulse=np.zeros(2),
-        point_rows=np.zeros((2 * moreau, N_COLUMNS)), point_ints=np.zeros((2 * moreau, 6), np.int64),
-        point_status=np.zeros(2 * moreau, np.int64), point_velocity=np.zeros(4 * moreau),
-        jacobian=np.zeros((4 * moreau, 6)), response=np.zeros((4 * moreau, 6)),
-        band=np.zeros((2 * moreau, 2 * BLOCK_REACH + 1, 4)), rhs=np.zeros(4 * moreau), band_first=np.zeros(nb, np.int64),
-        band_last=np.zeros(nb, np.int64), band_end=np.zeros(4 * moreau, np.int64))
+        point_rows=np.zeros((rows, N_COLUMNS)), point_ints=np.zeros((rows, N_INTS), np.int64),
+        point_status=np.zeros(rows, np.int64), point_velocity=np.zeros(2 * rows),
+        jacobian=np.zeros((2 * rows, 6)), response=np.zeros((2 * rows, 6)),
+        band=np.zeros((rows, 2 * BLOCK_REACH + 1, 4)), rhs=np.zeros(2 * rows), band_first=np.zeros(nb, np.int64),
+        band_last=np.zeros(nb, np.int64), band_end=np.zeros(2 * rows, np.int64))

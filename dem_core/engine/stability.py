@@ -11,6 +11,7 @@ from typing import NamedTuple
 import numpy as np
 from scipy.linalg import eigh
 
+from ._connector_law import ANCHOR_AX, ANCHOR_AY, AXIAL_K, AXIS_X, AXIS_Y, SHEAR_K
 from ._contact_law import CORNER, dashpot, pair_parameters
 from .model import Model
 
@@ -277,7 +278,29 @@ def linearised_springs(model: Model, shift_n: float, shift_t: float) -> Springs:
         rows.append(row)
         ks.append(k_n * extent**3 / 12.0)
         cs.append(c_r * extent**2 / 12.0)
+    for point, direction, k in _connector_springs(model):
+        dof, row = _rows(b, model.connectors.bodies[:, 0], model.connectors.bodies[:, 1], point, direction)
+        dofs.append(dof)
+        rows.append(row)
+        ks.append(k)
+        cs.append(np.zeros_like(k))
     return Springs(np.concatenate(dofs), np.concatenate(rows), np.concatenate(ks), np.concatenate(cs))
+
+
+def _connector_springs(model: Model) -> list:
+    """``(point, direction, k)`` of the connectors' shear and tension springs (each (n_c, 2), (n_c, 2), (n_c,)) at
+    their anchors at the start, the tension's as if the joint were open."""
+    law, first = model.connectors.law, model.connectors.bodies[:, 0]
+    if not len(law):
+        return []
+    angle = model.bodies.angle0[first]
+    c, s = np.cos(angle), np.sin(angle)
+    anchor, axis = law[:, [ANCHOR_AX, ANCHOR_AY]], law[:, [AXIS_X, AXIS_Y]]
+    point = model.bodies.centroid0[first] + np.column_stack([c * anchor[:, 0] - s * anchor[:, 1],
+                                                             s * anchor[:, 0] + c * anchor[:, 1]])
+    normal = np.column_stack([c * axis[:, 0] - s * axis[:, 1], s * axis[:, 0] + c * axis[:, 1]])
+    tangent = np.column_stack([-normal[:, 1], normal[:, 0]])
+    return [(point, tangent, law[:, SHEAR_K]), (point, normal, law[:, AXIAL_K])]
 
 
 def _inverse_effective_mass(b, i, j, point, direction):

@@ -20,7 +20,7 @@ import numpy as np
 from . import geometry
 from ._checks import first_overturns as _first_overturns
 
-#: a contact counts as "resting on" when its normal is within ~25 degrees of vertical
+#: a contact counts as "resting on" when its normal is within ~25 degrees of the base top's normal
 VERTICAL_NORMAL = 0.9
 
 
@@ -35,15 +35,17 @@ class Stack:
 
 
 def find_stacks(scene) -> tuple:
-    """The stacks of two or more blocks standing on the base of ``scene``."""
+    """The stacks of two or more blocks standing on the base of ``scene``; which block rests on which is
+    judged along the normal of the base's top (:func:`top_face`), vertical on a level base."""
     below = {b: [] for b in range(len(scene.bodies))}
     above = {b: [] for b in range(len(scene.bodies))}
     on_base = set()
     bodies = scene.bodies
+    up = top_face(scene.base)[1]
     for i, j, contact in scene.touching_pairs():
-        if abs(contact.normal[1]) < VERTICAL_NORMAL:
+        if abs(contact.normal @ up) < VERTICAL_NORMAL:
             continue
-        low, high = (i, j) if bodies[i].centroid[1] < bodies[j].centroid[1] else (j, i)
+        low, high = (i, j) if bodies[i].centroid @ up < bodies[j].centroid @ up else (j, i)
         below[high].append(low)
         above[low].append(high)
         if low == 0:
@@ -86,6 +88,17 @@ def columns(scene, stacks=None) -> tuple:
         found.append(Column(tuple(b.name for b in members),
                             float(min(np.arctan2(abs(a[0]), a[1]) for a in arms))))
     return tuple(found)
+
+
+def top_face(base) -> tuple:
+    """The face of ``base`` (a :class:`~dem_core.Block`) that blocks stand on: ``(ends, normal)``, its ends (2, 2) m
+    and its outward unit normal (2,), the edge whose normal points most upwards ((0, 1) on a level base)."""
+    v = base.vertices
+    following = np.roll(v, -1, axis=0)
+    edges = following - v
+    normals = np.column_stack([edges[:, 1], -edges[:, 0]]) / np.hypot(edges[:, 0], edges[:, 1])[:, None]
+    k = int(np.argmax(normals[:, 1]))
+    return np.array([v[k], following[k]]), normals[k]
 
 
 def base_ends(block) -> np.ndarray:

@@ -12,9 +12,12 @@ from typing import NamedTuple
 
 import numpy as np
 
+from ._connector_law import N_STATE, OPENING, PEAK_SHEAR, PEAK_TENSION, RUPTURE_STEP, SHEAR_FORCE, YIELD_STEP
 from ._interfaces import follow_interfaces
 from .settings import PAIR_STORE
 
+#: the columns of a connector's state its outputs copy, SHEAR_FORCE to OPENING
+CONNECTOR_OUTPUTS = OPENING + 1 - SHEAR_FORCE
 #: columns of State.pair_ids
 PAIR_I, PAIR_J, PAIR_KEY, PAIR_INTERFACE = range(4)
 #: columns of State.pair_constants
@@ -63,6 +66,7 @@ class State(NamedTuple):
     interface_offset : (n_if,) m, each recorded interface's offset at the last step (:mod:`._interfaces`).
     built_at : (nb, 3) positions when the pairs were last listed.
     ledger : (3,) J, the mechanical energy at the start, the ground's net work and its gross work.
+    connectors : (n_c, N_STATE) each connector's state (:mod:`._connector_law`).
     counters : (N_COUNTERS,) int64: steps done, narrow-phase pairs (central differences) or contact points
         (Moreau-Jean), lists made, outputs written, Moreau-Jean's Gauss-Seidel sweeps, unconverged solves, direct
         passes and direct solves left to Gauss-Seidel, the parts the last step was taken in and the steps taken
@@ -87,6 +91,7 @@ class State(NamedTuple):
     interface_offset: np.ndarray
     built_at: np.ndarray
     ledger: np.ndarray
+    connectors: np.ndarray
     counters: np.ndarray
 
     @property
@@ -126,11 +131,14 @@ def with_capacities(state: State, pairs: int, retired: int) -> State:
 
 class Outputs(NamedTuple):
     """The outputs of a run, ``n_out`` rows of which ``counters[OUTPUTS]`` are written: ``pos`` (n_out, nb, 3) the
-    state, ``slip`` (n_out, n_if) m the recorded interfaces' slips, ``step`` (n_out,) int64 the step of each."""
+    state, ``slip`` (n_out, n_if) m the recorded interfaces' slips, ``step`` (n_out,) int64 the step of each,
+    ``connectors`` (n_out, n_c, CONNECTOR_OUTPUTS) each connector's shear force and tension (N), slip and opening
+    (m) (:mod:`._connector_law`'s SHEAR_FORCE .. OPENING)."""
 
     pos: np.ndarray
     slip: np.ndarray
     step: np.ndarray
+    connectors: np.ndarray
 
 
 def interface_offsets(model, pos: np.ndarray) -> np.ndarray:
@@ -158,9 +166,38 @@ def initial_state(model) -> State:
         stack_step=np.full(len(model.stacks.bottom), -1, np.int64),
         interface_slip=np.zeros(len(model.interface_keys)), interface_offset=interface_offsets(model, pos),
         built_at=np.full((nb, 3), np.inf),
-        ledger=np.zeros(3), counters=np.zeros(N_COUNTERS, np.int64))
+        ledger=np.zeros(3), connectors=initial_connectors(len(model.connectors.law)),
+        counters=np.zeros(N_COUNTERS, np.int64))
 
 
-def empty_outputs(n_out: int, n_bodies: int, n_interfaces: int) -> Outputs:
+def initial_connectors(count: int) -> np.ndarray:
+    """(count, N_STATE): connectors as set, unloaded, not yielded, not ruptured."""
+    connectors = np.zeros((count, N_STATE))
+    connectors[:, [YIELD_STEP, RUPTURE_STEP]] = -1.0
+    return connectors
+
+
+def continued(state: State) -> State:
+    """A copy of ``state`` for a new run to start from: the bodies where they are and as they move, the listed pairs
+    with their contact memory, springs and impulses, where the pairs were listed, the parts of the last step and the
+    stores' capacities kept; the step, the outputs, the counts, the slips, the overturns and the energy ledger as a
+    run that has not begun has them, and each body's peak |theta| its |theta| now; each connector as it is, its peak
+    forces those of the new run, and where it yielded or ruptured before, at the new run's start (step 0)."""
+    fresh = state.copy()
+    kept = fresh.counters[[LISTED, LAST_SUBSTEPS]]
+    fresh.counters[:] = 0
+    fresh.counters[[LISTED, LAST_SUBSTEPS]] = kept
+    for name in ("pair_slip", "retired_slip", "interface_slip", "ledger"):
+        getattr(fresh, name)[:] = 0.0
+    for name in ("retired_key", "overturn_step", "stack_step"):
+        getattr(fresh, name)[:] = -1
+    fresh.peak_theta[:] = np.abs(fresh.pos[:, 2])
+    fresh.connectors[:, [PEAK_SHEAR, PEAK_TENSION]] = 0.0
+    for column in (YIELD_STEP, RUPTURE_STEP):
+        fresh.connectors[:, column] = np.minimum(fresh.connectors[:, column], 0.0)
+    return fresh
+
+
+def empty_outputs(n_out: int, n_bodies: int, n_interfaces: int, n_connectors: int = 0) -> Outputs:
     return Outputs(np.full((n_out, n_bodies, 3), np.nan), np.full((n_out, n_interfaces), np.nan),
-                   np.zeros(n_out, np.int64))
+                   np.zeros(n_out, np.int64), np.full((n_out, n_connectors, CONNECTOR_OUTPUTS), np.nan))

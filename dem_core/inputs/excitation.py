@@ -12,7 +12,7 @@ at ``A omega`` (the blocks then start at rest relative to the ground).
 import math
 import re
 import numbers
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 
 import numpy as np
@@ -465,22 +465,233 @@ class Extended(Component):
 
 def extended(motion: GroundMotion, extra: float) -> GroundMotion:
     """``motion`` with both components run ``extra`` s (finite, at least 0) past its natural end, under its own
-    name: a record followed by the ground at rest, for what a run leaves once the shaking is over."""
+    name: a record followed by the ground at rest, for what a run leaves once the shaking is over (a
+    :class:`MotionSequence`'s last rest lengthened)."""
     if isinstance(extra, bool) or not isinstance(extra, numbers.Real) or not (math.isfinite(extra) and extra >= 0):
         raise ValueError(f"{motion.name}: the time past the motion's end must be a finite number of seconds, at least "
                          f"0, got {extra!r}")
     if extra == 0:
         return motion
+    if isinstance(motion, MotionSequence):
+        last = motion.events[-1]
+        return _joined(motion.events[:-1] + (replace(last, rest=last.rest + float(extra)),), motion.name)
     return GroundMotion(Extended(motion.horizontal, float(extra)), Extended(motion.vertical, float(extra)),
                         name=motion.name)
 
 
 def scaled(motion: GroundMotion, factor: float) -> GroundMotion:
     """``motion`` with both components multiplied by ``factor`` (finite, positive), named ``"<name> x<factor>"``:
-    a record loaded once and run at many amplitudes."""
+    a record loaded once and run at many amplitudes (a :class:`MotionSequence` event by event)."""
     factor = _positive_factor(factor, "factor", motion.name)
-    return GroundMotion(Scaled(motion.horizontal, factor), Scaled(motion.vertical, factor),
-                        name=f"{motion.name} x{factor:.4g}")
+    name = f"{motion.name} x{factor:.4g}"
+    if isinstance(motion, MotionSequence):
+        return _joined(tuple(replace(event, motion=scaled(event.motion, factor)) for event in motion.events), name)
+    return GroundMotion(Scaled(motion.horizontal, factor), Scaled(motion.vertical, factor), name=name)
+
+
+@dataclass(frozen=True, eq=False)
+class Joined(Component):
+    """Components one after another: ``parts[e]`` from ``starts[e]`` s, its own time 0 there, until the next one
+    starts, the last on past ``end`` (s).  Each part takes the ground on from the velocity and displacement the
+    parts before it left, so that the ground's velocity and displacement run on where a part starts at rest."""
+
+    parts: tuple
+    starts: tuple
+    end: float
+    _carried_velocity: tuple = field(init=False, repr=False)
+    _carried_displacement: tuple = field(init=False, repr=False)
+
+    def __post_init__(self):
+        velocity, displacement = [0.0], [0.0]
+        for part, start, following in zip(self.parts, self.starts, self.starts[1:]):
+            span = following - start
+            displacement.append(displacement[-1] + velocity[-1] * span + float(part.displacement(span)))
+            velocity.append(velocity[-1] + float(part.velocity(span)))
+        object.__setattr__(self, "_carried_velocity", tuple(velocity))
+        object.__setattr__(self, "_carried_displacement", tuple(displacement))
+
+    @property
+    def end_time(self):
+        return self.end
+
+    @property
+    def time_scale(self):
+        return min(part.time_scale for part in self.parts)
+
+    def _pieced(self, t, piece):
+        """``piece(e, local times)`` of the part each of the times ``t`` (s) falls in (the first before 0)."""
+        t = np.asarray(t, dtype=float)
+        flat = np.atleast_1d(t)
+        part = np.maximum(np.searchsorted(self.starts, flat, side="right") - 1, 0)
+        out = np.zeros(flat.shape)
+        for e, start in enumerate(self.starts):
+            here = part == e
+            if np.any(here):
+                out[here] = piece(e, flat[here] - start)
+        return out.reshape(t.shape)
+
+    def acceleration(self, t):
+        return self._pieced(t, lambda e, tau: self.parts[e].acceleration(tau))
+
+    def velocity(self, t):
+        return self._pieced(t, lambda e, tau: self._carried_velocity[e] + self.parts[e].velocity(tau))
+
+    def displacement(self, t):
+        return self._pieced(t, lambda e, tau: self._carried_displacement[e] + self._carried_velocity[e] * tau
+                            + self.parts[e].displacement(tau))
+
+    @property
+    def peak_acceleration(self):
+        return max(part.peak_acceleration for part in self.parts)
+
+
+@dataclass(frozen=True)
+class Event:
+    """One event of a :class:`MotionSequence`: ``motion`` from ``start`` s of the sequence, then ``rest`` s of the
+    ground at rest before the next event starts."""
+
+    motion: GroundMotion
+    start: float
+    rest: float
+
+    @property
+    def alone(self) -> GroundMotion:
+        """The event's motion followed by its rest, as a run of it alone takes it (:func:`extended`)."""
+        return extended(self.motion, self.rest)
+
+
+@dataclass(frozen=True, eq=False)
+class MotionSequence(GroundMotion):
+    """Ground motions one after another, each followed by the ground at rest (:func:`sequence`): ``events``
+    (:class:`Event`, ...), whose motions the components join (:class:`Joined`)."""
+
+    events: tuple = ()
+
+    def event_steps(self, dt: float) -> np.ndarray:
+        """(n_events + 1,) int64: the step of ``dt`` (s) at which each event starts in a run, the first at 0 and each
+        next one at the first whole step at or past the end of the rest before it, then the step the last rest
+        ends at."""
+        steps = [0]
+        for event in self.events:
+            steps.append(steps[-1] + math.ceil((event.motion.end_time + event.rest) / dt - 1e-9))
+        return np.array(steps, dtype=np.int64)
+
+    def on_steps(self, dt: float) -> "MotionSequence":
+        """This sequence with each event starting at its step of :meth:`event_steps` (its rest before lengthened by
+        less than a step), as a run of step ``dt`` (s) takes it."""
+        starts = self.event_steps(dt) * dt
+        events = tuple(replace(event, start=float(start), rest=float(following - start - event.motion.end_time))
+                       for event, start, following in zip(self.events[:-1], starts, starts[1:]))
+        return _joined(events + (replace(self.events[-1], start=float(starts[-2])),), self.name)
+
+
+def _joined(events: tuple, name: str) -> MotionSequence:
+    """The :class:`MotionSequence` of ``events``, which hold their starts."""
+    starts = tuple(event.start for event in events)
+    end = events[-1].start + events[-1].motion.end_time + events[-1].rest
+    return MotionSequence(Joined(tuple(event.motion.horizontal for event in events), starts, end),
+                          Joined(tuple(event.motion.vertical for event in events), starts, end), name=name,
+                          events=events)
+
+
+def sequence(motions, rest=0.0, resample=False) -> MotionSequence:
+    """Ground motions one after another, each followed by ``rest`` s of the ground at rest: an earthquake and its
+    aftershocks, or two earthquakes years apart, on one structure.
+
+    motions : ground motions that end (records, pulses: a finite ``end_time``), at least one, none a sequence.
+    rest : s, at least 0: one number for every motion or one per motion.
+    resample : records of different sampling intervals are refused (:class:`ExcitationError` naming the record and
+        both intervals) unless ``resample`` is true (one value, or one per motion) for each record not on the
+        finest interval: such a record is then put on the finest interval by linear interpolation, which leaves a
+        piecewise-linear record unchanged where its samples fall on the finer grid.
+
+    Event ``e`` starts at the end of the rest before it; a run starts it at the first whole step from there
+    (:meth:`MotionSequence.event_steps`) and gives it the ground's input a run of it alone would get
+    (docs/method.md section 2).  The name joins the motions' names with " + "."""
+    motions = list(motions) if isinstance(motions, (list, tuple)) else motions
+    if not isinstance(motions, list):
+        raise TypeError(f"sequence: motions must be a list of ground motions, got {type(motions).__name__}")
+    if not motions:
+        raise ExcitationError("sequence: no motions: give at least one ground motion", keys=("source",))
+    for k, motion in enumerate(motions):
+        if not isinstance(motion, GroundMotion):
+            raise TypeError(f"sequence: motion {k + 1} must be a ground motion (record(...), sine_pulse(...), ...), "
+                            f"got {type(motion).__name__} {motion!r:.60}")
+        if isinstance(motion, MotionSequence):
+            raise ExcitationError(f"sequence: motion {k + 1} '{motion.name}' is a sequence itself: give its motions "
+                                  f"one by one", keys=("source",))
+        if not math.isfinite(motion.end_time):
+            raise ExcitationError(f"sequence: motion {k + 1} '{motion.name}' has no natural end (a harmonic, a ramp): "
+                                  f"only motions that end (records, pulses) can follow one another", keys=("source",))
+    rests = _per_motion(rest, motions, "rest")
+    for motion, value in zip(motions, rests):
+        if isinstance(value, bool) or not isinstance(value, numbers.Real) or not (math.isfinite(value) and value >= 0):
+            raise ExcitationError(f"sequence: the rest after '{motion.name}' must be a finite number of seconds, at "
+                                  f"least 0, got {value!r}", keys=("rest",))
+    resamples = _per_motion(resample, motions, "resample")
+    if not all(isinstance(value, bool) for value in resamples):
+        raise ExcitationError(f"sequence: resample must be true or false, for every motion or for each, got "
+                              f"{resample!r}", keys=("resample",))
+    motions = _on_finest_interval(motions, resamples)
+    events, start = [], 0.0
+    for motion, value in zip(motions, rests):
+        events.append(Event(motion, start, float(value)))
+        start += motion.end_time + float(value)
+    return _joined(tuple(events), " + ".join(motion.name for motion in motions))
+
+
+def _per_motion(value, motions: list, what: str) -> list:
+    """``value`` for each of ``motions``: one value for all, or a list or tuple of one per motion
+    (:class:`ExcitationError` naming ``what`` and both lengths otherwise)."""
+    if not isinstance(value, (list, tuple)):
+        return [value] * len(motions)
+    if len(value) != len(motions):
+        raise ExcitationError(f"sequence: {len(value)} value(s) of {what} for {len(motions)} motions: give one value "
+                              f"for every motion or one per motion", keys=(what,))
+    return list(value)
+
+
+def sampling_interval(motion: GroundMotion) -> float | None:
+    """The sampling interval (s) of the record ``motion`` scales or extends, or None for a motion that is not a
+    record."""
+    for component in (motion.horizontal, motion.vertical):
+        if isinstance(unscaled(component), Sampled):
+            return unscaled(component).dt
+    return None
+
+
+def _on_finest_interval(motions: list, resample: list) -> list:
+    """``motions`` with each record not on the finest sampling interval among them resampled onto it where
+    ``resample`` says so for it, and refused naming it and both intervals where not."""
+    intervals = [sampling_interval(motion) for motion in motions]
+    sampled = [k for k, interval in enumerate(intervals) if interval is not None]
+    if not sampled:
+        return motions
+    finest = min(sampled, key=lambda k: intervals[k])
+    step = intervals[finest]
+    motions = list(motions)
+    for k in sampled:
+        if abs(intervals[k] - step) <= records.TIME_STEP_TOLERANCE * step:
+            continue
+        if not resample[k]:
+            raise ExcitationError(f"sequence: '{motions[k].name}' is sampled every {intervals[k]:g} s and "
+                                  f"'{motions[finest].name}' every {step:g} s: give resample=True to put the records "
+                                  f"on the finest interval, {step:g} s, by linear interpolation", keys=("resample",))
+        motions[k] = GroundMotion(_resampled(motions[k].horizontal, step), _resampled(motions[k].vertical, step),
+                                  name=motions[k].name)
+    return motions
+
+
+def _resampled(component: Component, dt: float) -> Component:
+    """``component`` with the record it scales or extends sampled every ``dt`` s, linear between its samples (the
+    last held to the end of the new grid's last step)."""
+    if isinstance(component, (Scaled, Extended)):
+        return replace(component, component=_resampled(component.component, dt))
+    if not isinstance(component, Sampled):
+        return component
+    count = math.ceil(component.end_time / dt - 1e-6) + 1
+    own = np.arange(len(component.samples)) * component.dt
+    return Sampled(np.interp(np.arange(count) * dt, own, component.samples), dt, name=component.name)
 
 
 def still() -> GroundMotion:

@@ -13,6 +13,9 @@ import numpy as np
 
 from ..engine import geometry
 from ..engine.contact import ContactParameters
+from .connectors import Connector
+from .errors import SceneError
+from .text_files import did_you_mean
 
 #: relative gap within which two blocks count as touching at the start (of the smaller block's size)
 TOUCHING_GAP = 1e-6
@@ -24,10 +27,6 @@ OVERLAP_ROUNDOFF = 1e-12
 #: a block rests on another when the gap between them is at most this fraction of the smaller extent
 #: of the two: what a block is dropped from within it is a settling, not a fall
 SUPPORT_GAP = 0.01
-
-
-class SceneError(ValueError):
-    """A scene that cannot be simulated; the message names the block at fault."""
 
 
 @dataclass(frozen=True, eq=False)
@@ -149,6 +148,8 @@ class Scene:
         with every block resting on it (they fall from t = 0).  By default such a
         scene is refused, naming the blocks: a free fall is rarely meant and ends
         in results that read as an overturn.
+    connectors : (:class:`~dem_core.inputs.connectors.Connector`, ...) bars or pins across joints, each between
+        two blocks that touch at the start and within their joint.
     """
 
     blocks: tuple
@@ -159,6 +160,7 @@ class Scene:
     overlap_tolerance: float = 1e-4
     slenderness: float | None = None
     allow_free_blocks: bool = False
+    connectors: tuple = ()
 
     def __post_init__(self):
         blocks = tuple(self.blocks)
@@ -192,6 +194,7 @@ class Scene:
         if self.slenderness is not None and not 0 < self.slenderness < np.pi / 2:
             raise SceneError(f"slenderness must be an angle in (0, pi/2) rad, got {self.slenderness}")
         self._check_start()
+        self._check_connectors()
 
     @property
     def free_bodies(self) -> tuple:
@@ -295,6 +298,32 @@ class Scene:
                 neighbours[i].add(j)
                 neighbours[j].add(i)
         self._check_supported(neighbours)
+
+    def _check_connectors(self):
+        """Refuse a connector between blocks that do not exist, that do not touch at the start, or off its joint."""
+        connectors = tuple(self.connectors)
+        object.__setattr__(self, "connectors", connectors)
+        if not connectors:
+            return
+        index = {b.name: k for k, b in enumerate(self.bodies)}
+        joints = {}
+        for i, j, touch in self.touching_pairs():
+            joints[(i, j)] = touch
+        for c in connectors:
+            if not isinstance(c, Connector):
+                raise SceneError(f"scene connectors must be Connector objects, got {type(c).__name__}")
+            for n in c.between:
+                if n not in index:
+                    raise SceneError(f"connector {c.name}: no block named '{n}'{did_you_mean(n, list(index))}")
+            i, j = sorted(index[n] for n in c.between)
+            touch = joints.get((i, j))
+            if touch is None:
+                near = [f"{self.bodies[a].name}/{self.bodies[b].name}" for a, b in joints if i in (a, b) or j in (a, b)]
+                raise SceneError(f"connector {c.name}: '{c.between[0]}' and '{c.between[1]}' do not touch at the "
+                                 f"start, so there is no joint between them (their joints: {', '.join(near) or 'none'})")
+            if abs(c.position) >= 0.5 * touch.length:
+                raise SceneError(f"connector {c.name}: position {c.position:g} m is off its joint, "
+                                 f"{touch.length:.4g} m long (|position| < {0.5 * touch.length:.4g} m)")
 
     def _check_supported(self, neighbours):
         supported, frontier = {0}, [0]

@@ -27,6 +27,15 @@
     format = "csv"                # csv | parquet
     plots = true
 
+Connectors across joints are ``[[connector]]`` tables: a ``preset`` (``oak_polos``, ``titanium_bar`` with its
+``diameter``) or the keys of :class:`~dem_core.inputs.connectors.ConnectorKind` (``name``, ``shear_stiffness``,
+...), ``at`` (``"all"``, ``"capital"`` or a list of ``["first", "second"]`` block pairs) and ``position`` (m)::
+
+    [[connector]]
+    preset = "titanium_bar"
+    diameter = 0.016
+    at = "capital"
+
 With ``builder = "blocks"`` the scene is given block by block: ``[[block]]``
 tables with ``name``, ``vertices`` (list of [x, y] in m) and optionally
 ``density``, ``friction``, ``depth``, ``angle``, and a ``[base]`` table with
@@ -52,6 +61,7 @@ from typing import Any, Callable, NamedTuple
 from . import excitation as excitation_module
 from . import scenes
 from ..engine.contact import ContactParameters
+from .connectors import PRESETS, ConnectorKind, Placement
 from .scene import Block, Scene
 from .text_files import did_you_mean, file_errors
 
@@ -108,6 +118,8 @@ def _as_points(value):
 def _as_record_source(value):
     if isinstance(value, str):
         return value
+    if _lists_records(value):
+        return list(value)
     if isinstance(value, list) and value:
         samples = [_as_number(v) for v in value]
         return MISMATCH if MISMATCH in samples else samples
@@ -126,8 +138,26 @@ STRING = ValueType("a string", lambda v: v if isinstance(v, str) else MISMATCH)
 BOOLEAN = ValueType("true or false", lambda v: v if isinstance(v, bool) else MISMATCH)
 PAIR = ValueType("a pair of numbers [a, b]", _as_pair)
 POINTS = ValueType("a list of [x, y] points (numbers, m)", _as_points)
-RECORD_SOURCE = ValueType("a bundled record name, a file path or a list of accelerations", _as_record_source)
+RECORD_SOURCE = ValueType("a bundled record name, a file path, a list of accelerations or a list of record names "
+                          "and paths (a sequence)", _as_record_source)
 VERTICAL = ValueType("true, false, a component number, or a record name or path", _as_vertical)
+
+
+def _as_table_of(entry: ValueType):
+    """How a table of block names to values of ``entry`` converts: a dict of the converted values, or MISMATCH."""
+    def convert(value):
+        if not isinstance(value, dict):
+            return MISMATCH
+        table = {name: entry.convert(v) for name, v in value.items()}
+        return MISMATCH if any(v is MISMATCH for v in table.values()) else table
+    return convert
+
+
+OFFSETS = ValueType("a table of block names to offsets in m ({drum3 = 0.01})", _as_table_of(NUMBER))
+OUTLINES = ValueType("a table of block names to outlines ({drum3 = [[-0.5, 0], [0.5, 0], ...]})",
+                     _as_table_of(POINTS))
+#: the type of each entry of a table type, for errors that name the entry at fault
+TABLE_ENTRIES = {OFFSETS: NUMBER, OUTLINES: POINTS}
 
 BUILDERS = {
     "block": scenes.block,
@@ -151,24 +181,37 @@ SCENE_TYPES = {
     "epistyle_density": NUMBER, "epistyle_height": NUMBER, "lower_height": NUMBER, "lower_width": NUMBER,
     "upper_height": NUMBER, "upper_width": NUMBER, "density": NUMBER, "friction": NUMBER, "depth": NUMBER,
     "base_width": NUMBER, "capital": PAIR, "slenderness": NUMBER, "allow_free_blocks": BOOLEAN,
+    "foundation_tilt": NUMBER, "offsets": OFFSETS, "outlines": OUTLINES,
 }
 EXPLICIT_BLOCKS_KEYS = {"builder", "interface_friction", "slenderness", "allow_free_blocks"}
+#: the builders' keywords a scene file gives elsewhere than as [scene] keys: [contact], and [[connector]] tables
+BUILDER_TABLE_KEYWORDS = {"contact", "interface_friction", "connectors"}
 CONTACT_TYPES = {**{f.name: NUMBER for f in fields(ContactParameters)}, "law": STRING}
 EXCITATION_TYPES = {
     "kind": STRING, "source": RECORD_SOURCE, "vertical": VERTICAL, "units": STRING, "component": INTEGER,
     "baseline": BOOLEAN, "resample": BOOLEAN, "dt": NUMBER, "scale": NUMBER, "pga": NUMBER, "amplitude": NUMBER,
     "frequency": NUMBER, "vertical_amplitude": NUMBER, "duration": NUMBER, "rate": NUMBER, "peak": NUMBER,
+    "rest": NUMBER,
 }
+#: [excitation] keys of kind "record" beyond record()'s own: the rest after each record, which makes a sequence
+SEQUENCE_KEYS = {"rest"}
 SIMULATION_TYPES = {"duration": NUMBER, "dt": NUMBER, "output_dt": NUMBER, "ground_motion": STRING,
                     "safety": NUMBER, "stop_at_overturn": BOOLEAN, "integrator": STRING, "theta": NUMBER}
 OUTPUT_TYPES = {"format": STRING, "plots": BOOLEAN}
+CONNECTOR_PLACES = ValueType("\"all\", \"capital\" or a list of [block, block] pairs",
+                             lambda v: v if isinstance(v, str) else (
+                                 [tuple(p) for p in v] if isinstance(v, list) and all(
+                                     isinstance(p, list) and len(p) == 2 and all(isinstance(n, str) for n in p)
+                                     for p in v) else MISMATCH))
+CONNECTOR_TYPES = {"preset": STRING, "diameter": NUMBER, "at": CONNECTOR_PLACES, "position": NUMBER,
+                   **{f.name: (STRING if f.name in ("name", "source") else NUMBER) for f in fields(ConnectorKind)}}
 BLOCK_TYPES = {"name": STRING, "vertices": POINTS, "density": NUMBER, "friction": NUMBER, "depth": NUMBER,
                "angle": NUMBER}
 BASE_TYPES = {"vertices": POINTS, "friction": NUMBER, "depth": NUMBER}
 SIMULATION_KEYS = set(SIMULATION_TYPES)
 OUTPUT_KEYS = set(OUTPUT_TYPES)
 TABLES = ("scene", "contact", "excitation", "simulation", "output", "base")
-TOP_LEVEL = {*TABLES, "block"}
+TOP_LEVEL = {*TABLES, "block", "connector"}
 
 
 @dataclass(frozen=True)
@@ -232,6 +275,10 @@ def check(data: dict, path=Path("<scene>")) -> dict:
     blocks = data.get("block", [])
     if not isinstance(blocks, list) or not all(isinstance(b, dict) for b in blocks):
         raise SceneFileError(f"{path}: block must be an array of tables ([[block]] headers), got {_given(blocks)}")
+    connectors = data.get("connector", [])
+    if not isinstance(connectors, list) or not all(isinstance(c, dict) for c in connectors):
+        raise SceneFileError(f"{path}: connector must be an array of tables ([[connector]] headers), got "
+                             f"{_given(connectors)}")
     scene = data.get("scene", {})
     builder = _typed(path, "[scene]", "builder", scene["builder"], STRING) if "builder" in scene else None
     if builder is None:
@@ -243,7 +290,7 @@ def check(data: dict, path=Path("<scene>")) -> dict:
                              f"builder = \"blocks\"; builder {builder!r} makes its own blocks")
     elif builder in BUILDERS:
         scene_keys = {"builder", "interface_friction",
-                      *(set(inspect.signature(BUILDERS[builder]).parameters) - {"contact", "interface_friction"})}
+                      *(set(inspect.signature(BUILDERS[builder]).parameters) - BUILDER_TABLE_KEYWORDS)}
     else:
         names = [*BUILDERS, "blocks"]
         raise SceneFileError(f"{path}: [scene] unknown builder {builder!r}{did_you_mean(builder, names)}; "
@@ -267,6 +314,8 @@ def check(data: dict, path=Path("<scene>")) -> dict:
         "block": [_checked(entry, f"[[block]] number {k} ({entry.get('name', '?')!s})", path, BLOCK_TYPES)
                   for k, entry in enumerate(blocks, start=1)],
         "base": _checked(data["base"], "[base]", path, BASE_TYPES) if "base" in data else None,
+        "connector": [_checked(entry, f"[[connector]] number {k}", path, CONNECTOR_TYPES)
+                      for k, entry in enumerate(connectors, start=1)],
     }
     return tables
 
@@ -283,6 +332,9 @@ def _checked(table: dict, where: str, path, types: dict, allowed=None) -> dict:
 
 def _typed(path, where: str, key: str, value, expected: ValueType):
     converted = expected.convert(value)
+    if converted is MISMATCH and expected in TABLE_ENTRIES and isinstance(value, dict):
+        for name, entry in value.items():
+            _typed(path, f"{where} {key}", name, entry, TABLE_ENTRIES[expected])
     if converted is MISMATCH:
         raise SceneFileError(f"{path}: {where} {key}: expected {expected.description}, got {_given(value)}"
                              f"{_quoting_hint(value, expected)}")
@@ -361,25 +413,93 @@ def _checked_excitation(table: dict, path) -> dict:
     if function is None:
         raise SceneFileError(f"{path}: [excitation] unknown kind {kind!r}{did_you_mean(kind, [*EXCITATIONS, 'none'])}"
                              f"; use one of {', '.join(EXCITATIONS)} or none")
-    allowed = set(inspect.signature(function).parameters)
+    allowed = set(inspect.signature(function).parameters) | (SEQUENCE_KEYS if kind == "record" else set())
     unknown = set(table) - allowed - {"kind"}
     if unknown:
         raise SceneFileError(f"{path}: [excitation] kind {kind!r} has no parameter(s) {sorted(unknown)}"
                              f"{did_you_mean(unknown, allowed)}; its parameters: {sorted(allowed)}", keys=unknown)
     _required(function, table, f"[excitation] kind {kind!r}", path)
-    return _checked(table, "[excitation]", path, EXCITATION_TYPES, allowed | {"kind"})
+    per_record = {key: value for key, value in table.items() if kind == "record" and _per_record(key, value)}
+    checked = _checked({key: value for key, value in table.items() if key not in per_record}, "[excitation]", path,
+                       EXCITATION_TYPES, allowed | {"kind"})
+    count = len(_record_sources(checked))
+    for key, values in per_record.items():
+        if len(values) != count:
+            raise SceneFileError(f"{path}: [excitation] {key}: {len(values)} value(s) for {count} record(s) in source: "
+                                 f"give one value for every record or one per record", keys=(key,))
+        checked[key] = [_typed(path, "[excitation]", f"{key} entry {k}", value, EXCITATION_TYPES[key])
+                        for k, value in enumerate(values, start=1)]
+    return checked
+
+
+def _per_record(key: str, value) -> bool:
+    """Whether ``value`` of [excitation] ``key`` is a list of one value per record of a sequence (a ``source`` list
+    is the records themselves)."""
+    return key not in ("kind", "source") and isinstance(value, list)
+
+
+def _lists_records(source) -> bool:
+    """Whether an [excitation] ``source`` lists records by name or path (a sequence), not one record or its
+    accelerations."""
+    return isinstance(source, list) and bool(source) and all(isinstance(v, str) for v in source)
+
+
+def _record_sources(spec: dict) -> list:
+    """The record sources of a checked [excitation]: those ``source`` lists by name or path, else its one source."""
+    source = spec.get("source")
+    return source if _lists_records(source) else [source]
+
+
+def _is_sequence(spec: dict) -> bool:
+    """Whether a checked [excitation] of kind "record" is a sequence: records listed by name or path in ``source``,
+    a ``rest`` after the record, or a key given per record."""
+    return (_lists_records(spec.get("source")) or "rest" in spec
+            or any(_per_record(key, value) for key, value in spec.items()))
 
 
 def _scene(tables, path, contact) -> Scene:
     spec = dict(tables["scene"])
     builder_name = spec.pop("builder")
     friction = spec.pop("interface_friction")
+    placements = [_placement(entry, k, path) for k, entry in enumerate(tables["connector"], start=1)]
     if builder_name == "blocks":
-        return _explicit_blocks(tables, spec, path, contact, friction)
+        scene = _explicit_blocks(tables, spec, path, contact, friction)
+        try:
+            return scene.replace(connectors=tuple(c for p in placements for c in p.connectors(scene)))
+        except ValueError as exc:
+            raise SceneFileError(f"{path}: [[connector]]: {exc}") from None
     try:
-        return BUILDERS[builder_name](**spec, contact=contact, interface_friction=friction)
+        return BUILDERS[builder_name](**spec, contact=contact, interface_friction=friction, connectors=placements)
     except ValueError as exc:
         raise SceneFileError(f"{path}: [scene]: {exc}") from None
+
+
+def _placement(entry: dict, number: int, path) -> Placement:
+    """The :class:`~dem_core.inputs.connectors.Placement` of ``[[connector]]`` table ``number``: a preset's kind or
+    one of its own keys, at its joints."""
+    entry = dict(entry)
+    where = f"{path}: [[connector]] number {number}"
+    at, position, preset = entry.pop("at", "all"), entry.pop("position", 0.0), entry.pop("preset", None)
+    try:
+        if preset is None:
+            if "diameter" in entry:
+                raise SceneFileError(f"{where}: diameter belongs to the titanium_bar preset; give preset = "
+                                     f"\"titanium_bar\" or the kind's own keys")
+            kind = ConnectorKind(**{"name": "connector", **entry})
+        elif preset not in PRESETS:
+            raise SceneFileError(f"{where}: unknown preset {preset!r}{did_you_mean(preset, PRESETS)}; use one of "
+                                 f"{', '.join(PRESETS)} or give the kind's own keys")
+        elif set(entry) - ({"diameter"} if preset == "titanium_bar" else set()):
+            extra = sorted(set(entry) - {"diameter"})
+            raise SceneFileError(f"{where}: preset {preset!r} takes no {', '.join(extra)}; give the kind's own keys "
+                                 f"without a preset to change them")
+        else:
+            kind = PRESETS[preset](**entry)
+        return Placement(kind, at, position)
+    except SceneFileError:
+        raise
+    except ValueError as exc:
+        raise SceneFileError(f"{where}: {exc}") from None
 
 
 def _explicit_blocks(tables, spec, path, contact, friction) -> Scene:
@@ -409,15 +529,37 @@ def _excitation(spec, path) -> excitation_module.GroundMotion:
     kind = spec.pop("kind")
     if kind == "none":
         return excitation_module.still()
-    if kind == "record":
-        for key in ("source", "vertical"):
-            value = spec.get(key)
-            if isinstance(value, str) and value not in excitation_module.records.BUNDLED:
-                spec[key] = str((path.parent / value).resolve())
     try:
+        if kind == "record" and _is_sequence(spec):
+            return _record_sequence(spec, path)
+        if kind == "record":
+            spec = _sources_found(spec, path)
         return EXCITATIONS[kind](**spec)
     except ValueError as exc:
         raise SceneFileError(f"{path}: [excitation]: {exc}", keys=getattr(exc, "keys", ())) from None
+
+
+def _sources_found(spec: dict, path) -> dict:
+    """A record's [excitation] keys with its ``source`` and ``vertical`` paths (not bundled names) found relative to
+    the scene file at ``path``."""
+    found = dict(spec)
+    for key in ("source", "vertical"):
+        value = found.get(key)
+        if isinstance(value, str) and value not in excitation_module.records.BUNDLED:
+            found[key] = str((path.parent / value).resolve())
+    return found
+
+
+def _record_sequence(spec: dict, path) -> excitation_module.MotionSequence:
+    """The sequence of the records of a checked [excitation] (:func:`_is_sequence`), each read with its own values of
+    the keys given per record and the one value of the others, followed by its ``rest``."""
+    spec = dict(spec)
+    rest, sources = spec.pop("rest", 0.0), _record_sources(spec)
+    motions = []
+    for k, source in enumerate(sources):
+        one = {key: (value[k] if _per_record(key, value) else value) for key, value in spec.items()}
+        motions.append(excitation_module.record(**_sources_found({**one, "source": source}, path)))
+    return excitation_module.sequence(motions, rest=rest, resample=spec.get("resample", False))
 
 
 #: [excitation] keys that set the size of a ground motion, as an extreme one names them
