@@ -35,8 +35,9 @@ After the step:
 Every stage takes scalars and arrays, or the named tuples of arrays above, and allocates nothing, so that the loop
 compiles for numba's CPU and CUDA targets alike.  The serial build is compiled without numba's reference counting
 (``_nrt=False``): it could not compile if a stage allocated, and an array passed from stage to stage costs no
-atomic count (counting the named tuples' arrays took most of a step's time).  Its integrator stages and the
-broad phase are compiled as functions of their own rather than inlined, which halves the time it takes to compile.
+atomic count (counting the named tuples' arrays took most of a step's time).  Moreau-Jean's stage and the broad
+phase are compiled as functions of their own rather than inlined, which halves the time it takes to compile; the
+explicit stage is inlined, since a compiled call passing the run's arrays costs more than a block's whole step.
 """
 
 import numba as nb

@@ -23,7 +23,6 @@ import math
 import numba as nb
 
 from ._broadphase import forget_pair
-from ._build import kernel
 from ._checks import any_block_overturned, ground_work
 from ._connectors import connector_forces
 from ._contact_law import CORNER, dashpot, effective_mass, normal_force, tangential_force
@@ -259,7 +258,7 @@ def explicit_parts(model, settings, state):
     return parts, h, kick
 
 
-@kernel(_nrt=False)
+@nb.njit(cache=True, inline="always")  # a compiled call, passing the run's arrays, costs more than a block's step
 def explicit_part(model, settings, state, scratch, part, parts, h, kick, load_x, load_y):
     """The explicit integrator's stage: part ``part`` of ``parts`` of a step, ``h`` (s) long, its first part's
     velocity update spanning ``kick`` (s) (:func:`explicit_parts`), under the ground's inertial load (load_x,
