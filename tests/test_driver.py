@@ -42,11 +42,11 @@ def test_every_stage_of_a_step_is_called_by_the_one_loop(stage):
 
 
 def test_the_serial_driver_allocates_nothing_and_counts_no_references():
-    """Compiled without numba's runtime, the driver (and its stages compiled apart) could not allocate an array:
-    what a GPU thread cannot do, no build does."""
-    from dem_core.engine import _broadphase, _driver, _explicit, _moreau
+    """Compiled without numba's runtime, the driver (the explicit stage inlined in it) and its stages compiled apart
+    could not allocate an array: what a GPU thread cannot do, no build does."""
+    from dem_core.engine import _broadphase, _driver, _moreau
 
-    for compiled in (_driver.drive_serial, _explicit.explicit_part, _moreau.moreau_part, _broadphase.list_pairs):
+    for compiled in (_driver.drive_serial, _moreau.moreau_part, _broadphase.list_pairs):
         assert compiled.targetoptions.get("_nrt") is False, compiled
 
 
