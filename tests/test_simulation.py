@@ -233,8 +233,8 @@ def test_ctrl_c_stops_a_run_between_chunks_and_it_can_go_on():
     import threading
 
     scene, motion = scenes.column(2), excitation.harmonic(pga=2.0, frequency=1.0)
-    whole = dem_core.simulate(scene, motion, duration=60.0, integrator="explicit")
-    run = dem_core.Simulation(scene, motion, duration=60.0, integrator="explicit")
+    whole = dem_core.simulate(scene, motion, duration=240.0, integrator="explicit")
+    run = dem_core.Simulation(scene, motion, duration=240.0, integrator="explicit")
     timer = threading.Timer(0.4, lambda: os.kill(os.getpid(), signal.SIGINT))
     timer.start()
     with pytest.raises(KeyboardInterrupt):
