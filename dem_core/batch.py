@@ -25,6 +25,7 @@ import pandas as pd
 
 from . import batch_gpu
 from .batch_gpu import gpu_available
+from .gpu_kernels import load_named_kernels
 from .engine.result import Result
 from .inputs.excitation import GroundMotion, MotionSequence, strong_motion_cuts
 from .simulation import Simulation, SimulationUnstable, check_run_arguments, set_up_scene, warn_caller
@@ -327,6 +328,7 @@ def _on_gpu(gpu: str, scenes, motions, duration, simulate_options, keep, measure
     """The batch's members set up on this thread and stepped together on the GPU (:func:`batch_gpu.run_members`);
     the members before ``first`` are refused in ``rows``, ``built`` is member ``first`` set up, ``shared`` the
     scenes' set-ups (:func:`_set_up`)."""
+    load_named_kernels()
     runs, set_up = {first: built}, {first: 0.0}
     for m in range(first + 1, len(motions)):
         began = time.perf_counter()

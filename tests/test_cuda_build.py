@@ -1,8 +1,9 @@
-"""The GPU kernels build for the H100 (compute capability 9.0) on a machine without a GPU: numba-cuda compiles
-``engine/_members.KERNELS`` (the one step driver, built for each integrator) to PTX, and the CUDA wheels' ``ptxas``
-assembles them for sm_90; the run's summary prints each kernel's registers, stack and spills.  It runs where the ``gpu`` extra
-is installed (``bash .ci/run`` installs it); the kernel's behaviour is tested under numba's CUDA simulator and on
-one CPU thread in tests/test_batch_gpu.py."""
+"""The GPU kernels build for the H100 and H200 (compute capability 9.0) on a machine without a GPU:
+``python -m dem_core.gpu_kernels`` compiles ``engine/_members.KERNELS`` (the one step driver, built for each
+integrator) to PTX and writes them; a new process loads that file into the kernels' dispatchers, as the GPU's
+machine does, and the CUDA wheels' ``ptxas`` assembles the loaded PTX for sm_90a; the run's summary prints each
+kernel's registers, stack and spills.  It runs where the ``gpu`` extra is installed (``bash .ci/run`` installs it);
+the kernel's behaviour is tested under numba's CUDA simulator and on one CPU thread in tests/test_batch_gpu.py."""
 
 import re
 import subprocess
@@ -17,39 +18,33 @@ nvcc = pytest.importorskip("nvidia.cuda_nvcc", reason="the gpu extra (pip instal
 pytest.importorskip("numba_cuda", reason="the gpu extra (pip install -e '.[gpu]') is not installed")
 
 REPOSITORY = Path(__file__).resolve().parents[1]
-#: compiled in a process of its own: numba-cuda asks the current device for its compute capability when it compiles
-#: the driver's stages as device functions, and here there is none, so a stand-in answers 9.0 for that process
-COMPILE = """
-import sys, types
-import numba.cuda.dispatcher
-numba.cuda.dispatcher.get_current_device = lambda: types.SimpleNamespace(compute_capability=(9, 0))
-import numpy as np
-from numba import cuda, typeof
-from dem_core import scenes
-from dem_core.batch_gpu import _motions, pack
+#: in a process of its own, as on the GPU's machine: the kernels loaded from the file, their argument types those
+#: of a batch's arrays, and the PTX they carry for Hopper (compute capability 9.0, numba-cuda's arch sm_90a)
+LOAD = """
+import sys
+from numba import typeof
 from dem_core.engine._members import KERNELS
 from dem_core.engine.settings import INTEGRATORS
-from dem_core.inputs.excitation import sine_pulse
-from dem_core.simulation import Simulation
-for name, kernel in zip(INTEGRATORS, KERNELS):
-    runs = [Simulation(scenes.column(), sine_pulse(2.0, 0.5), 0.1, integrator=name)]
-    m = pack(runs, _motions(runs))
-    arguments = (m.model, m.settings, m.state, m.outputs, m.scratch, np.zeros((1, 4, 12)), m.motion, 10, m.status)
-    ptx, _ = cuda.compile_ptx(kernel.py_func, tuple(typeof(a) for a in arguments), cc=(9, 0))
-    open(f"{sys.argv[1]}/{name}.ptx", "w").write(ptx)
+from dem_core.gpu_kernels import kernel_arguments, load_kernels
+assert load_kernels(sys.argv[1]) == list(INTEGRATORS)
+for name, dispatcher in zip(INTEGRATORS, KERNELS):
+    (kernel,) = dispatcher.overloads.values()
+    assert kernel.argument_types == tuple(typeof(a) for a in kernel_arguments(name)), name
+    open(f"{sys.argv[1]}/{name}.ptx", "w").write(kernel.inspect_asm((9, 0, "a")))
 """
 
 
 def test_the_gpu_kernels_build_for_sm_90_without_a_gpu(tmp_path, request):
-    done = subprocess.run([sys.executable, "-c", COMPILE, str(tmp_path)], capture_output=True, text=True, timeout=900,
-                          cwd=REPOSITORY)
-    assert done.returncode == 0, done.stderr[-3000:]
+    for command in ([sys.executable, "-m", "dem_core.gpu_kernels", str(tmp_path)],
+                    [sys.executable, "-c", LOAD, str(tmp_path)]):
+        done = subprocess.run(command, capture_output=True, text=True, timeout=900, cwd=REPOSITORY)
+        assert done.returncode == 0, done.stderr[-3000:]
     ptxas = Path(nvcc.__path__[0]) / "bin" / "ptxas"
     said = []
     for name in ("explicit", "moreau"):
         ptx, cubin = tmp_path / f"{name}.ptx", tmp_path / f"{name}.cubin"
-        assert ".target sm_90" in ptx.read_text()
-        built = subprocess.run([str(ptxas), "-arch=sm_90", "-v", str(ptx), "-o", str(cubin)], capture_output=True,
+        assert ".target sm_90a" in ptx.read_text()
+        built = subprocess.run([str(ptxas), "-arch=sm_90a", "-v", str(ptx), "-o", str(cubin)], capture_output=True,
                                text=True, timeout=300)
         assert built.returncode == 0, built.stderr[-3000:]
         assert cubin.stat().st_size > 0
@@ -57,7 +52,23 @@ def test_the_gpu_kernels_build_for_sm_90_without_a_gpu(tmp_path, request):
                              r"(\d+) bytes spill loads\n.*?Used (\d+) registers", built.stderr)
         entry = f"advance_members_{name}"
         assert any(entry in found for found, *_ in kernels), built.stderr[-3000:]
-        said += [f"sm_90 {entry if entry in found else found}: {registers} registers, {stack}-byte stack frame, "
+        said += [f"sm_90a {entry if entry in found else found}: {registers} registers, {stack}-byte stack frame, "
                   f"{stores} bytes of spill stores, {loads} of spill loads"
                   for found, stack, stores, loads, registers in kernels]
     request.config.cache.set(KERNEL_RESOURCES, said)  # the run's summary prints them (tests/conftest.py)
+
+
+def test_kernels_made_under_another_python_or_numba_cuda_are_refused_by_name(tmp_path):
+    """A file of kernels is read only where it was made for: numba-cuda pickles some of its own functions by value,
+    as code objects of one Python, so a file from Python 3.11 broke on the GPU's Python 3.12 inside numba-cuda."""
+    import lzma
+    import pickle
+
+    from dem_core import gpu_kernels
+
+    stamp = {**gpu_kernels._stamp(), "python": "2.7", "numba-cuda": "0.0.1", "cc": (9, 0)}
+    (tmp_path / gpu_kernels.FILE_NAME).write_bytes(lzma.compress(pickle.dumps((stamp, b"never read"))))
+    with pytest.raises(ValueError, match=r"made for numba-cuda 0\.0\.1 .*python 2\.7 \(here 3\.\d+\)"):
+        gpu_kernels.load_kernels(tmp_path)
+    with pytest.raises(ValueError, match="no compiled kernels there"):
+        gpu_kernels.load_kernels(tmp_path / "elsewhere")

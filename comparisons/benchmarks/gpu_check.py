@@ -32,6 +32,7 @@ members by Moreau-Jean in at most 10 s; the fragility study in at most 60 s; the
 
 import argparse
 import importlib
+import os
 import sys
 import time
 import traceback
@@ -46,6 +47,7 @@ import dem_core
 from dem_core import excitation, scenes
 from dem_core.batch import BatchInterrupted, simulate_batch
 from dem_core.batch_gpu import gpu_available, run_members
+from dem_core.gpu_kernels import ENVIRONMENT, load_named_kernels
 from dem_core.engine.settings import INTEGRATORS
 from dem_core.inputs.records import G_STANDARD
 from dem_core.engine.state import STEP
@@ -75,7 +77,7 @@ def arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--sample", type=int, default=64, help="members of each agreement check (default 64)")
     parser.add_argument("--block-members", type=int, default=65536)
     parser.add_argument("--column-members", type=int, default=4096)
-    parser.add_argument("--cpu-members", type=int, default=64, help="members of the CPU's throughput (default 64)")
+    parser.add_argument("--cpu-members", type=int, default=64, help="members of the CPU's throughput (default 64; 0: none)")
     parser.add_argument("--duration", type=float, default=20.0, help="s of El Centro (default 20)")
     parser.add_argument("--stripes", type=int, default=None, help="the fragility study's stripes (default its own)")
     parser.add_argument("--systems", type=int, default=None, help="the fine scan's first N systems (default all)")
@@ -131,11 +133,17 @@ def device_section(args, clock: Clock) -> None:
         _line("device", "CUDA driver", ".".join(str(v) for v in driver))
     except Exception as error:  # noqa: BLE001 (the simulator has no driver)
         _line("device", "CUDA driver", type(error).__name__)
+    ahead = load_named_kernels()
+    _line("device", "kernels", f"{', '.join(ahead)} compiled ahead, from {os.environ[ENVIRONMENT]}" if ahead
+          else "compiled here, at the first batch")
     for name, kernel in zip(INTEGRATORS, KERNELS):
+        began = time.perf_counter()
         simulate_batch(scenes.block(1.0, 6.0), motions(1.0 / 6.0, 1), 0.01, device="gpu", integrator=name)
+        _line("device", f"{name} kernel: first batch (its build), s", f"{time.perf_counter() - began:.1f}")
         try:
-            registers, local = kernel.get_regs_per_thread(), kernel.get_local_mem_per_thread()
-            _line("device", f"{name} kernel, per thread", f"{registers} registers, {local} B local memory")
+            built = next(iter(kernel.overloads.values()))
+            _line("device", f"{name} kernel, per thread",
+                  f"{built.regs_per_thread} registers, {built.local_mem_per_thread} B local memory")
         except Exception as error:  # noqa: BLE001 (the simulator compiles nothing)
             _line("device", f"{name} kernel, per thread", type(error).__name__)
 
@@ -206,9 +214,12 @@ def throughput_section(args, clock: Clock, cases=MARKED_CASES) -> list:
             kernel, cut = time.perf_counter() - began - set_up, " (cut at the budget)"
         steps = sum(int(run.state.counters[STEP]) for run in runs)
         rate = steps / kernel
-        cpu = simulate_batch(scene, motions(tan_alpha, args.cpu_members), args.duration, device="cpu",
-                             integrator=integrator)
-        cpu_rate = cpu.table["steps"].sum() / cpu.wall_time_s
+        cpu_rate, versus = np.nan, "the CPU not run (--cpu-members 0)"
+        if args.cpu_members:
+            cpu = simulate_batch(scene, motions(tan_alpha, args.cpu_members), args.duration, device="cpu",
+                                 integrator=integrator)
+            cpu_rate = cpu.table["steps"].sum() / cpu.wall_time_s
+            versus = f"{rate / cpu_rate:.2f} of {cpu.device}"
         mark = ""
         if name == "block" and integrator == "explicit":
             mark = _marked("block explicit member-steps/s", rate, higher_is_better=True)
@@ -217,7 +228,7 @@ def throughput_section(args, clock: Clock, cases=MARKED_CASES) -> list:
         _line("throughput", f"{name}, {integrator}, M={members}: member-steps/s",
               f"{rate:.3g}{cut}", mark)
         _line("throughput", f"{name}, {integrator}: set-up s, kernel s; GPU/CPU",
-              f"{set_up:.1f}, {kernel:.1f}; {rate / cpu_rate:.2f} of {cpu.device}")
+              f"{set_up:.1f}, {kernel:.1f}; {versus}")
         rows.append({"scene": name, "integrator": integrator, "members": members, "member_steps": steps,
                      "set_up_s": set_up, "kernel_s": kernel, "cut": bool(cut), "cpu_member_steps_per_s": cpu_rate})
     return rows
@@ -296,6 +307,7 @@ def run(args: argparse.Namespace) -> None:
         args.sample = args.block_members = args.column_members = args.cpu_members = args.stripes = 2
         args.duration, args.systems, args.fine_step = SMOKE_DURATION, 1, 1.0
     Path(args.out).mkdir(parents=True, exist_ok=True)
+    load_named_kernels()  # before any section: the throughput's batches are launched without simulate_batch
     clock = Clock(args.budget)
     # the measures run 20 s of El Centro, short of its strong motion's end (26.3 s), by design
     warnings.filterwarnings("ignore", message="the strong motion is cut")

@@ -1,0 +1,157 @@
+"""The GPU kernels compiled ahead: built where there is no GPU, loaded where one runs.
+
+numba-cuda compiles a kernel of :data:`~dem_core.engine._members.KERNELS` the first time a batch of its integrator
+runs on a GPU, and for the one step driver that takes minutes (docs/performance.md).  :func:`compile_kernels` does
+that work on any machine with the ``gpu`` extra, for a compute capability named, and writes each integrator's
+kernel (numba-cuda's own serialised form: its PTX, argument types and entry) to one compressed file; :func:`load_kernels`
+hands them to the kernels' dispatchers where the GPU is, so that a batch's first launch only assembles the PTX
+(seconds).  A file serves the engine's code of the same :data:`~dem_core.engine._build.ENGINE_DIGEST` under the
+same numba-cuda version and Python minor version as made it; any other is refused by name.  The file is a pickle: load only files you made.
+
+    python -m dem_core.gpu_kernels build/kernels            (here: compiles for sm_90, the H100 and H200)
+    DEM_CORE_GPU_KERNELS=build/kernels dem-core fragility --device gpu   (there)
+"""
+
+from __future__ import annotations
+
+import contextlib
+import lzma
+import os
+import pickle
+import sys
+import types
+from importlib import metadata
+from pathlib import Path
+
+import numpy as np
+
+#: the file :func:`compile_kernels` writes in its folder
+FILE_NAME = "kernels.pickle.xz"
+#: the variable naming the folder of kernels that :func:`load_named_kernels` loads
+ENVIRONMENT = "DEM_CORE_GPU_KERNELS"
+#: the H100's and H200's compute capability
+HOPPER = (9, 0)
+#: the files :func:`load_kernels` gave to the dispatchers in this process, and their integrators
+_LOADED: dict = {}
+
+
+@contextlib.contextmanager
+def _compute_capability(cc: tuple):
+    """numba-cuda asking for the current device's compute capability (to compile the driver's stages as device
+    functions and the kernel's PTX) answered with ``cc``: there may be no GPU here."""
+    from numba.cuda import codegen, dispatcher
+
+    device = types.SimpleNamespace(compute_capability=cc)
+    saved = dispatcher.get_current_device, codegen.devices
+    dispatcher.get_current_device = lambda: device
+    codegen.devices = types.SimpleNamespace(get_context=lambda: types.SimpleNamespace(device=device))
+    try:
+        yield
+    finally:
+        dispatcher.get_current_device, codegen.devices = saved
+
+
+def kernel_arguments(integrator: str) -> tuple:
+    """The kernel's arguments for a member of the bundled column under ``integrator``: every batch's arrays have
+    these types (the shapes differ, not the dtypes, dimensions or layouts)."""
+    from . import scenes
+    from .batch_gpu import _motions, pack
+    from .inputs.excitation import sine_pulse
+    from .simulation import Simulation
+
+    runs = [Simulation(scenes.column(), sine_pulse(2.0, 0.5), 0.1, integrator=integrator)]
+    m = pack(runs, _motions(runs))
+    return m.model, m.settings, m.state, m.outputs, m.scratch, np.zeros((1, 4, 12)), m.motion, 10, m.status
+
+
+def _stamp() -> dict:
+    """What a file of kernels must have been made under: the engine's code, numba-cuda, and Python's minor version
+    (numba-cuda pickles some of its functions by value, as code objects of that Python)."""
+    from .engine._build import ENGINE_DIGEST
+
+    return {"engine": ENGINE_DIGEST, "numba-cuda": metadata.version("numba-cuda"),
+            "python": ".".join(str(v) for v in sys.version_info[:2])}
+
+
+def compile_kernels(folder: str | Path, cc: tuple = HOPPER, integrators=None) -> Path:
+    """Compile the kernel of each of ``integrators`` (default both) for compute capability ``cc`` and write them to
+    ``folder``/kernels.pickle; returns its path.  Needs no GPU; takes minutes (the compile a first batch would)."""
+    from numba import typeof
+    from numba.cuda.dispatcher import _Kernel
+
+    from .engine._members import KERNELS
+    from .engine.settings import INTEGRATORS
+
+    chosen = list(integrators or INTEGRATORS)
+    unknown = [name for name in chosen if name not in INTEGRATORS]
+    if unknown:
+        raise ValueError(f"compile_kernels: unknown integrator(s) {unknown}; choose from {list(INTEGRATORS)}")
+    built = {}
+    with _compute_capability(tuple(cc)):
+        for name in chosen:
+            dispatcher = KERNELS[INTEGRATORS.index(name)]
+            argument_types = tuple(typeof(a) for a in kernel_arguments(name))
+            built[name] = _Kernel(dispatcher.py_func, argument_types, **dispatcher.targetoptions)
+    path = Path(folder) / FILE_NAME
+    path.parent.mkdir(parents=True, exist_ok=True)
+    path.write_bytes(lzma.compress(pickle.dumps(({**_stamp(), "cc": tuple(cc)}, pickle.dumps(built)))))
+    return path
+
+
+def load_kernels(folder: str | Path) -> list:
+    """Give the kernels in ``folder``/kernels.pickle to :data:`~dem_core.engine._members.KERNELS`; returns the
+    integrators loaded.  ``ValueError`` naming the file where it was made for other code or another numba-cuda."""
+    from .engine._members import KERNELS
+    from .engine.settings import INTEGRATORS
+
+    path = Path(folder) / FILE_NAME
+    if path.resolve() in _LOADED:
+        return _LOADED[path.resolve()]
+    if not path.is_file():
+        raise ValueError(f"{path}: no compiled kernels there (python -m dem_core.gpu_kernels {folder} writes them)")
+    # a file this module wrote (the docstring says so): its stamp, then the kernels, read once the stamp matches
+    stamp, payload = pickle.loads(lzma.decompress(path.read_bytes()))  # noqa: S301
+    differ = [f"{key} {stamp.get(key)} (here {value})" for key, value in _stamp().items() if stamp.get(key) != value]
+    if differ:
+        raise ValueError(f"{path}: made for {', '.join(differ)}; compile them again with what runs here")
+    kernels = pickle.loads(payload)  # noqa: S301
+    for name, kernel in kernels.items():
+        KERNELS[INTEGRATORS.index(name)].add_overload(kernel, kernel.argument_types)
+    _LOADED[path.resolve()] = list(kernels)
+    return _LOADED[path.resolve()]
+
+
+def load_named_kernels() -> list:
+    """The kernels of the folder :data:`ENVIRONMENT` names loaded (:func:`load_kernels`) before a GPU batch, if it
+    names one; none under numba's CUDA simulator, whose kernels are Python.  Returns the integrators loaded."""
+    from numba import config
+
+    folder = os.environ.get(ENVIRONMENT)
+    if not folder or config.ENABLE_CUDASIM:
+        return []
+    return load_kernels(folder)
+
+
+def main(argv=None) -> int:
+    """``python -m dem_core.gpu_kernels FOLDER [--cc 9.0] [--integrator NAME]``."""
+    import argparse
+    import time
+
+    parser = argparse.ArgumentParser(prog="python -m dem_core.gpu_kernels", description=__doc__.split("\n\n")[0])
+    parser.add_argument("folder", help=f"where to write {FILE_NAME}")
+    parser.add_argument("--cc", default="9.0", help="compute capability (default 9.0: H100, H200)")
+    parser.add_argument("--integrator", action="append", help="one integrator (default both)")
+    args = parser.parse_args(argv)
+    try:
+        cc = tuple(int(part) for part in args.cc.split("."))
+    except ValueError:
+        parser.error(f"--cc {args.cc!r}: give it as major.minor, e.g. 9.0")
+    began = time.perf_counter()
+    path = compile_kernels(args.folder, cc, args.integrator)
+    print(f"{path}: {', '.join(args.integrator or ['explicit', 'moreau'])} for compute capability {args.cc}, "
+          f"{time.perf_counter() - began:.0f} s; on the GPU's machine set {ENVIRONMENT}={args.folder}")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
