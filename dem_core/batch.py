@@ -27,7 +27,7 @@ from . import batch_gpu
 from .batch_gpu import gpu_available
 from .gpu_kernels import load_named_kernels
 from .engine.result import Result
-from .inputs.excitation import GroundMotion, MotionSequence, strong_motion_cuts
+from .inputs.excitation import GroundMotion, MotionSequence, describe, strong_motion_cuts
 from .simulation import Simulation, SimulationUnstable, check_run_arguments, set_up_scene, warn_caller
 
 #: where a batch can run: ``"auto"`` takes the GPU where numba-cuda finds one and the batch has at least
@@ -184,7 +184,7 @@ def _on_cpu(threads: int, scenes, motions, duration, simulate_options, keep, mea
             run.advance(progress=halt)
         except _Stopped:
             return None, None
-        row, result = _measured(m, motions[m].name, run, time.perf_counter() - set_up, measures)
+        row, result = _measured(m, motions[m], run, time.perf_counter() - set_up, measures)
         return row, (result if m in keep else None)
 
     try:
@@ -197,7 +197,7 @@ def _on_cpu(threads: int, scenes, motions, duration, simulate_options, keep, mea
     return _batch(rows, kept, _cpu(threads), started)
 
 
-def _measured(m: int, motion: str, run: Simulation, seconds: float, measures) -> tuple:
+def _measured(m: int, motion: GroundMotion, run: Simulation, seconds: float, measures) -> tuple:
     """``(row, result)`` of member ``m``'s finished ``run`` (:func:`member_row`, ``seconds`` its wall time, with the
     items of ``measures(result)``); an unstable run's row has its error and the measures of its partial result."""
     try:
@@ -359,7 +359,7 @@ def _gpu_rows(runs: dict, members: list, motions, measures, keep, rows: dict, ke
         run = runs[m]
         if ended_only and run.status is None:
             continue
-        rows[m], result = _measured(m, motions[m].name, run, set_up[m] + share, measures)
+        rows[m], result = _measured(m, motions[m], run, set_up[m] + share, measures)
         if m in keep:
             kept[m] = result
 
@@ -403,13 +403,16 @@ def _member_inputs(scene, motions) -> tuple:
     return scenes, motions
 
 
-def member_row(member: int, motion: str, result: Result, status: str, error: str, wall_time: float) -> dict:
-    """One member's row: ``member``, ``motion`` (its name), ``status`` (``"ok"``, ``"unstable"``, ``"refused"``),
+def member_row(member: int, motion: GroundMotion, result: Result, status: str, error: str,
+               wall_time: float) -> dict:
+    """One member's row: ``member``; ``motion`` (its name), ``record`` (what it scales), ``scale`` (the factor),
+    ``pga_m_s2`` and ``pgv_m_s`` (:func:`~dem_core.inputs.excitation.describe`); ``status`` (``"ok"``,
+    ``"unstable"``, ``"refused"``),
     ``error`` (the message, or ''), the scene's measures (:meth:`Result.measures`), ``dt_s``, ``steps``,
     ``wall_time_s`` (its set-up, run and measures), where the scene has connectors how many ``connectors_yielded``
     and ``connectors_ruptured`` (``connectors_pulled_out`` of them in tension) and their ``peak_connector_shear_N``, and for each block ``<measure>[<block>]``
     of its measures (:meth:`Result.metrics`, :data:`~dem_core.engine.result.BLOCK_MEASURES`)."""
-    row = {"member": member, "motion": motion, "status": status, "error": error, **result.measures(),
+    row = {"member": member, **describe(motion), "status": status, "error": error, **result.measures(),
            "dt_s": result.dt, "steps": int(result.info.get("steps", 0)), "wall_time_s": wall_time}
     if result.connectors is not None:
         row.update(connectors_yielded=int(result.connectors.yielded.sum()),

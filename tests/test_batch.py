@@ -215,3 +215,21 @@ def test_a_refused_first_member_is_a_row_like_any_other():
     assert table["overturned"].isna().tolist() == [True, False]
     with pytest.raises(ValueError, match=r"every member was refused; member 0 \(harmonic"):
         simulate_batch(scenes.block(0.6, 3.0), motions[:1] * 3, None)
+
+
+def test_each_members_row_names_its_record_its_scale_and_the_pga_and_pgv_it_was_scaled_to():
+    """A member asked for as a PGA shows that PGA, its factor and its record; a record's baseline correction and
+    its velocity are linear in its samples, so the PGA and the PGV are the unscaled record's times the factor."""
+    record = excitation.record("el_centro_1940")
+    motions = [excitation.record("el_centro_1940", pga=2.0), excitation.scaled(record, 0.5),
+               excitation.sine_pulse(3.0, 0.5)]
+    table = simulate_batch(scenes.block(1.0, 6.0), motions, 0.2, threads=1).table
+    peak, own = record.horizontal.peak_acceleration, excitation.peak_velocity(record)
+    assert list(table["record"]) == ["el_centro_1940", "el_centro_1940", motions[2].name]
+    assert list(table["motion"]) == [m.name for m in motions]
+    # pga= scales the record before its baseline correction, which moves the peak by 7e-8 of it
+    assert table["pga_m_s2"][0] == pytest.approx(2.0, rel=1e-6)
+    np.testing.assert_allclose(table["pga_m_s2"][1:], [0.5 * peak, 3.0], rtol=1e-12)
+    np.testing.assert_allclose(table["scale"], [table["pga_m_s2"][0] / peak, 0.5, 1.0], rtol=1e-12)
+    np.testing.assert_allclose(table["pgv_m_s"][:2], table["scale"][:2] * own, rtol=1e-12)
+    assert table["pgv_m_s"][2] == pytest.approx(3.0 * 0.5 / np.pi, rel=1e-4)  # a one-sine pulse: a_p T_p / pi

@@ -21,7 +21,7 @@ from comparisons.harness.engines import USUAL_STEP, step_label
 from comparisons.report.glossary import AXIS_NAMES
 from comparisons.report.verdicts import observed_order
 
-COLOURS = {"dem": "#1b9e77", "dem-overlap": "#66a61e", "dem-moreau": "#a6761d", "pymunk": "#d95f02", "pybullet": "#7570b3",
+COLOURS = {"dem": "#1b9e77", "dem-overlap": "#66a61e", "dem-moreau": "#1f78b4", "pymunk": "#d95f02", "pybullet": "#7570b3",
            "mujoco": "#e7298a"}
 STATUS_COLOURS = {"ok": "#1b9e77", "silently wrong": "#e6ab02", "stopped": "#d95f02"}
 DPI = 110

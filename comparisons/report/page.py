@@ -4,8 +4,8 @@
 (:mod:`comparisons.harness.case_runs`), the ensembles (:mod:`comparisons.harness.ensembles`), the 8-drum column's
 ensemble (:mod:`comparisons.harness.column_ensemble`, shown with the column's case), the overturning spectra
 (:mod:`comparisons.harness.overturning_spectra`) and the stability stress tests (:mod:`comparisons.harness.stress`),
-then writes into the output folder the tidy tables (``results.csv``, ``ensembles.csv``, ``column_ensemble.csv``,
-``spectra.csv``, ``stability.csv``), one PNG per figure (:mod:`comparisons.report.figures`, each checked for
+then writes into the output folder the tidy tables (``scoreboard.csv``, ``results.csv``, ``ensembles.csv``,
+``column_ensemble.csv``, ``spectra.csv``, ``stability.csv``), one PNG per figure (:mod:`comparisons.report.figures`, each checked for
 cut text), ``digest.json`` (the digest of the sources the numbers come from,
 :func:`comparisons.report.provenance.source_digest`) and ``index.html``, which opens with a line of provenance (the
 commit and the digest) and a scoreboard per engine (:mod:`comparisons.report.scoreboard`), heads its tables in plain
@@ -413,6 +413,7 @@ def write_report(table: pd.DataFrame, stability: pd.DataFrame, out: Path, *, qui
     usual = usual_steps([e for e in engines if e in ENGINES])
     board = scoreboard(records, ensemble_table, spectra_table, table, ensemble_kinds=kinds, engines=engines,
                        usual=usual)
+    board.to_csv(out / "scoreboard.csv", index=False)
     overview_images = _overview_images(ensemble_table, spectra_table, spectrum_labels, out)
     simulations = (len(table.drop_duplicates(["case", "engine", "step", "settings"])) + len(ensemble_table)
                    + len(column_table) + len(spectra_table))
@@ -437,8 +438,8 @@ other engines on the multi-block scenes, where none does. Errors below {exact_fl
 or {exact_floor("drift_m"):g} m or rad count as exact and are not ranked. Errors are in percent of the reference
 unless a unit is named. Wall times exclude compiling and building. The terms are explained in the
 <a href="#glossary">glossary</a>; the thesis' parametric studies are <a href="#studies">linked below</a>.
-Tables: <a href="results.csv">results.csv</a>, <a href="ensembles.csv">ensembles.csv</a>,
-<a href="column_ensemble.csv">column_ensemble.csv</a>, <a href="spectra.csv">spectra.csv</a>,
+Tables: <a href="scoreboard.csv">scoreboard.csv</a>, <a href="results.csv">results.csv</a>,
+<a href="ensembles.csv">ensembles.csv</a>, <a href="column_ensemble.csv">column_ensemble.csv</a>, <a href="spectra.csv">spectra.csv</a>,
 <a href="stability.csv">stability.csv</a>.</p>
 <p>Contents: <a href="#verdicts">Verdicts</a> | <a href="#ensembles">Ensembles under records</a> |
 <a href="#spectra">Overturning spectra</a> | <a href="#cases">Cases</a> | <a href="#stability">Stability map</a> |

@@ -20,7 +20,7 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from ..inputs.excitation import GroundMotion, extended, record_name, scaled, unscaled
+from ..inputs.excitation import GroundMotion, extended, peak_velocity, record_name, scaled, unscaled
 from ..inputs.records import G_STANDARD
 from ..output_files import replacing
 from ..simulation import integrator_for, warn_caller
@@ -51,8 +51,6 @@ STILL_SPEED = 0.01
 #: s: the periods of the spectral accelerations a study compares with PGA and PGV (a rocking column has no natural
 #: period of its own, so the measure is compared at a few)
 DEFAULT_PERIODS = (0.5, 1.0, 2.0)
-#: s: the ground velocity is sampled this finely (or finer, for a motion that changes faster) to find its peak
-VELOCITY_SAMPLING = 1e-3
 
 
 @dataclass(frozen=True)
@@ -216,8 +214,8 @@ def _check_measure(im: str) -> None:
 
 
 def intensity(motion: GroundMotion, im: str, period: float | None = None) -> float:
-    """The intensity measure ``im`` of ``motion``'s horizontal component: PGA (m/s^2); PGV (m/s), the peak
-    |velocity| sampled every :data:`VELOCITY_SAMPLING` s or 1/50 of the motion's shortest time; or Sa(T) (m/s^2),
+    """The intensity measure ``im`` of ``motion``'s horizontal component: PGA (m/s^2); PGV (m/s,
+    :func:`~dem_core.inputs.excitation.peak_velocity`); or Sa(T) (m/s^2),
     the 5%-damped pseudo-spectral acceleration at ``period`` s (:func:`~.spectra.response_spectrum`), refused
     naming the motion outside its usable periods (:func:`check_period`)."""
     _check_measure(im)
@@ -226,12 +224,7 @@ def intensity(motion: GroundMotion, im: str, period: float | None = None) -> flo
     if im == "sa":
         check_period(motion, period)
         return float(response_spectrum(motion, [period]).psa[0])
-    end = motion.horizontal.end_time
-    if not math.isfinite(end):
-        raise ValueError(f"{motion.name}: PGV needs a motion with an end (a record, a pulse)")
-    step = min(VELOCITY_SAMPLING, motion.horizontal.time_scale / 50.0)
-    t = np.linspace(0.0, end, int(math.ceil(end / step)) + 1)
-    return float(np.max(np.abs(motion.horizontal.velocity(t))))
+    return peak_velocity(motion)
 
 
 def check_period(motion: GroundMotion, period) -> None:
@@ -339,7 +332,9 @@ def fragility_study(scene, records: dict, levels, states=DEFAULT_STATES, *, im: 
     measures = damage_measures if len(families) == 1 else functools.partial(residual_measures, first)
     batch = run_members(scene, motions, duration, by_record, log=log, scheduler=scheduler, device=device,
                         threads=threads, progress=progress, measures=measures, **simulate_options)
-    runs = pd.concat([pd.DataFrame(plan, columns=["record", "level", "scale"]), batch.table], axis=1)
+    # the record and scale of the plan, as the suite names and scales it, stand for the batch's own
+    runs = pd.concat([pd.DataFrame(plan, columns=["record", "level", "scale"]),
+                      batch.table.drop(columns=["record", "scale"], errors="ignore")], axis=1)
     options = {} if samples is None else {"samples": samples}
     fits, ida = {}, {}
     for measure, thresholds in families.items():

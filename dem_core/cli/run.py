@@ -55,6 +55,9 @@ def add(sub):
     command.add_argument("--exaggerate", type=POSITIVE, default=1.0, metavar="K",
                          help="draw each block's rotation and displacement on what it rests on K times larger in the "
                          "animation, K > 0 (default: 1); a block rocking on a corner still stands on it")
+    command.add_argument("--vtu", action="store_true", help="also write the blocks as a VTU time series for "
+                         "ParaView: vtu/blocks.pvd (open it) and a VTU file per frame, at most 25 frames per "
+                         "simulated second")
     command.add_argument("--relative-rotations", action="store_true",
                          help="plot rotations as theta / alpha, alpha the critical angle (column's for drums)")
 
@@ -118,6 +121,12 @@ def run(args) -> int:
         write_animation(spec, result, movie, out / "snapshots.png", path.stem, exaggerate=args.exaggerate)
         written += [movie.resolve().relative_to(out.resolve()).as_posix() if _inside(movie, out) else str(movie),
                     "snapshots.png"]
+    if args.vtu:
+        from ..vtu_series import write_vtu_series  # meshio loads only when a series is written
+
+        collection = write_vtu_series(spec.scene, result, out / "vtu")
+        written += [collection.relative_to(out).as_posix(), "vtu/blocks_*.vtu"]
+        print(f"VTU time series: {collection.relative_to(out).as_posix()} (open it in ParaView)")
     write_summary(out, {**summary, "status": "stopped" if stopped else "complete", "files": written})
     if not stopped:
         print(f"results written to {out}/")
@@ -165,7 +174,8 @@ def _previous_run(out: Path, scene: Path, overwrite: bool) -> list:
     previous = previous if isinstance(previous, dict) else {}
     listed = previous.get("files") if isinstance(previous.get("files"), list) else []
     names = {*RUN_FILES, *(name for name in listed if isinstance(name, str))}
-    files = sorted(p for p in (out / name for name in names) if _inside(p, out) and p.is_file())
+    found = (p for name in names for p in (out.glob(name) if "*" in name else [out / name]))  # a pattern: a series
+    files = sorted(p for p in found if _inside(p, out) and p.is_file())
     if not files:
         return []
     held = previous.get("scene")

@@ -9,9 +9,10 @@ ground at rest at ``t = 0`` except for harmonic motion, whose velocity starts
 at ``A omega`` (the blocks then start at rest relative to the ground).
 """
 
+import functools
 import math
-import re
 import numbers
+import re
 from dataclasses import dataclass, field, replace
 from pathlib import Path
 
@@ -210,12 +211,15 @@ class Sampled(Component):
 
     Linear between samples, zero after the last one (the ground then coasts at
     its final velocity).  Velocity and displacement are the exact integrals of
-    that piecewise-linear acceleration.
+    that piecewise-linear acceleration.  ``factor`` says what the record was
+    multiplied by to make ``samples`` (:func:`record`'s ``scale`` or ``pga``):
+    what a batch's row shows, never used to compute.
     """
 
     samples: np.ndarray
     dt: float
     name: str = "record"
+    factor: float = 1.0
     _v: np.ndarray = field(init=False, repr=False)
     _u: np.ndarray = field(init=False, repr=False)
 
@@ -347,6 +351,63 @@ def strong_motion(component: Component) -> tuple[float, float] | None:
     t = component.dt * np.arange(len(squared))
     start, end = np.interp(STRONG_MOTION, arias / arias[-1], t)
     return float(start), float(end)
+
+
+#: s: the ground velocity is sampled this finely (or finer, for a motion that changes faster) to find its peak
+VELOCITY_SAMPLING = 1e-3
+
+
+def scale_factor(component: Component) -> float:
+    """The product of the factors of the :class:`Scaled` in the chain (with :class:`Extended`) that wraps
+    ``component`` and of the record's own (:attr:`Sampled.factor`); 1 for a component not scaled."""
+    inner = unscaled(component)
+    return _wrapped_factor(component) * (inner.factor if isinstance(inner, Sampled) else 1.0)
+
+
+def _wrapped_factor(component: Component) -> float:
+    """The product of the factors of the :class:`Scaled` in the chain that wraps ``component``."""
+    factor = 1.0
+    while isinstance(component, (Scaled, Extended)):
+        factor *= component.factor if isinstance(component, Scaled) else 1.0
+        component = component.component
+    return factor
+
+
+def _peak_speed(component: Component) -> float:
+    end = component.end_time
+    if not math.isfinite(end):
+        raise ValueError("PGV needs a motion with an end (a record, a pulse)")
+    step = min(VELOCITY_SAMPLING, component.time_scale / 50.0)
+    t = np.linspace(0.0, end, math.ceil(end / step) + 1)
+    return float(np.max(np.abs(component.velocity(t))))
+
+
+#: a record's peak |velocity|, found once for all the motions that scale it
+_record_peak_speed = functools.lru_cache(maxsize=64)(_peak_speed)
+
+
+def peak_velocity(motion: GroundMotion) -> float:
+    """PGV (m/s): the peak |velocity| of ``motion``'s horizontal component, sampled every
+    :data:`VELOCITY_SAMPLING` s or 1/50 of its shortest time; ``ValueError`` naming a motion without an end (a
+    harmonic, a ramp).  A scaled record's is its record's times the factor."""
+    inner = unscaled(motion.horizontal)
+    try:
+        speed = _record_peak_speed(inner) if isinstance(inner, Sampled) else _peak_speed(inner)
+    except ValueError as error:
+        raise ValueError(f"{motion.name}: {error}") from None
+    return _wrapped_factor(motion.horizontal) * speed
+
+
+def describe(motion: GroundMotion) -> dict:
+    """What a member's motion is, as a batch's row gives it: ``motion`` (its name), ``record`` (the name of what it
+    scales, :func:`record_name`), ``scale`` (the factor, :func:`scale_factor`), ``pga_m_s2`` and ``pgv_m_s`` (its
+    horizontal component's, NaN for the PGV of a motion without an end)."""
+    try:
+        pgv = peak_velocity(motion)
+    except ValueError:
+        pgv = math.nan
+    return {"motion": motion.name, "record": record_name(motion), "scale": scale_factor(motion.horizontal),
+            "pga_m_s2": float(motion.horizontal.peak_acceleration), "pgv_m_s": pgv}
 
 
 def record_name(motion: GroundMotion) -> str:
@@ -691,7 +752,8 @@ def _resampled(component: Component, dt: float) -> Component:
         return component
     count = math.ceil(component.end_time / dt - 1e-6) + 1
     own = np.arange(len(component.samples)) * component.dt
-    return Sampled(np.interp(np.arange(count) * dt, own, component.samples), dt, name=component.name)
+    return Sampled(np.interp(np.arange(count) * dt, own, component.samples), dt, name=component.name,
+                   factor=component.factor)
 
 
 def still() -> GroundMotion:
@@ -808,8 +870,8 @@ def record(source, dt: float | None = None, scale: float = 1.0, pga: float | Non
     if baseline:
         horizontal = baseline_correct(horizontal, dt)
         vert = None if vert is None else baseline_correct(vert, dt)
-    h = Sampled(horizontal * scale, dt, name=name)
-    v = Sampled(vert * scale, dt, name=name + " (vertical)") if vert is not None else Still()
+    h = Sampled(horizontal * scale, dt, name=name, factor=scale)
+    v = Sampled(vert * scale, dt, name=name + " (vertical)", factor=scale) if vert is not None else Still()
     return GroundMotion(h, v, name=f"{name} x{scale:.4g}")
 
 

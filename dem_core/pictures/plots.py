@@ -32,6 +32,11 @@ DRUM_AGREEMENT = 0.10
 CRITICAL_IN_VIEW = 2.0
 #: interfaces whose accumulated slip stays below this (m) are drawn together as one grey line
 SLID = SLIP_THRESHOLD
+#: the most interfaces drawn each in its own colour (the qualitative map's colours, none repeated); the others
+#: that slid join the grey line
+MOST_SLIP_LINES = 10
+#: sliding is drawn in mm while the largest stays under this (m), else in m
+SLIP_IN_MM_BELOW = 0.1
 OVERTURN = "crimson"
 
 
@@ -236,35 +241,38 @@ def epistyles(result, excitation=None, title="Epistyles"):
 
 
 def sliding(result, excitation=None, title="Sliding at the interfaces", *, threshold: float = SLID):
-    """Figure: slip accumulated at each interface over time (m), from ``result.slip_history``: a line
-    per interface whose slip passed ``threshold`` m, the others as one grey line (the largest of
-    them at each output); the ground motion below."""
+    """Figure: slip accumulated at each interface over time (mm, or m past :data:`SLIP_IN_MM_BELOW`), from
+    ``result.slip_history``: a line per interface whose slip passed ``threshold`` m, the largest
+    :data:`MOST_SLIP_LINES` of them each in a colour of its own, the others as one grey line (the largest of them
+    at each output); the ground motion below."""
     if result.slip_history is None:
         raise ValueError("the result carries no slip history (an engine that does not measure it)")
     slip = np.asarray(result.slip_history, dtype=float)
     total = np.nanmax(slip, axis=0, initial=0.0) if len(slip) else np.zeros(len(result.interfaces))
-    slid = [k for k in np.argsort(-total) if total[k] > threshold]
-    rest = [k for k in range(len(result.interfaces)) if k not in slid]
+    order = [int(k) for k in np.argsort(-total, kind="stable")]
+    drawn = [k for k in order if total[k] > threshold][:MOST_SLIP_LINES]
+    rest = [k for k in order if k not in drawn]
+    in_mm = float(np.max(total, initial=0.0)) < SLIP_IN_MM_BELOW
+    scale, unit = (1e3, "mm") if in_mm else (1.0, "m")
     fig, axes = plt.subplots(2, 1, sharex=True, figsize=(10, 6), gridspec_kw={"height_ratios": [3, 1]})
     ax = axes[0]
-    colours = plt.cm.tab10(np.arange(len(slid)) % 10)
-    for k, colour in zip(slid, colours):
-        a, b = result.interfaces[k]
-        ax.plot(result.t[:len(slip)], slip[:, k], lw=1.0, color=colour, label=f"{a}\u2013{b}")
+    t = result.t[:len(slip)]
+    for k, colour in zip(drawn, plt.cm.tab10(np.arange(len(drawn)))):
+        ax.plot(t, scale * slip[:, k], lw=1.0, color=colour, label="\u2013".join(result.interfaces[k]))
     if rest:
-        if len(rest) == 1:
-            label = "\u2013".join(result.interfaces[rest[0]]) + f", under {threshold:g} m"
-        else:
-            label = f"{len(rest)} other interfaces, each under {threshold:g} m (the largest)"
-        ax.plot(result.t[:len(slip)], np.nanmax(slip[:, rest], axis=1), lw=1.0, color="0.6", label=label)
-    if not slid:
-        ax.text(0.02, 0.95, f"no interface slid more than {threshold:g} m", transform=ax.transAxes,
-                va="top", fontsize=9)
-    ax.set_ylabel("accumulated sliding (m)")
-    ax.set_ylim(bottom=0.0)
+        largest = scale * total[rest[0]]
+        others = "other " if drawn else ""
+        label = ("\u2013".join(result.interfaces[rest[0]]) if len(rest) == 1 else
+                 f"{len(rest)} {others}interfaces, the largest of them")
+        ax.plot(t, scale * np.nanmax(slip[:, rest], axis=1), lw=1.0, color="0.6",
+                label=f"{label} (at most {largest:.2g} {unit})")
+    ax.set_ylabel(f"accumulated sliding ({unit})")
+    top = max(ax.get_ylim()[1], 1.05 * scale * threshold)  # slips under the threshold lie flat, above the axis
+    ax.set_ylim(-0.02 * top, top)
     ax.grid(alpha=0.3)
     if len(result.interfaces):
-        _legend(ax)
+        _legend(ax, title=None if drawn else f"no interface slid more than {scale * threshold:g} {unit}",
+                title_fontsize=7)
     _ground_panel(axes[1], result, excitation)
     return _finish(fig, axes, result, title)
 
