@@ -424,3 +424,21 @@ def test_run_prints_the_peak_as_a_share_of_the_critical_angle(tmp_path, capsys):
     assert peak == pytest.approx(metrics["peak_abs_theta_rad"].max(), rel=1e-3)
     column_alpha = math.atan(1.0 / 6.0)  # the bundled 1 x 6 m column's critical angle
     assert ratio == pytest.approx(peak / column_alpha, rel=2e-3)
+
+
+def test_without_a_terminal_a_commands_bar_over_its_runs_writes_a_line_now_and_then(monkeypatch, capsys):
+    """In a log or a CI pipe the bar is a line every LOG_EVERY_S s, with the share done and the time left from the
+    rate so far, and a last line at the end."""
+    from dem_core.cli import progress
+
+    monkeypatch.setattr(progress, "interactive", lambda: False)
+    assert isinstance(progress.progress_bar(total=1), progress.ProgressLines)
+    clock = iter([0.0, 5.0, 12.0, 12.0, 20.0, 31.0])
+    bar = progress.ProgressLines(total=8, desc="runs", unit="run", clock=lambda: next(clock))
+    bar.update()      # 5 s: too soon for a line
+    bar.update()      # 12 s: 2 of 8 in 12 s, 6 left at that rate
+    bar.update(3)     # 20 s: too soon
+    bar.set_postfix_str("pga = 3 m/s^2")
+    bar.close()       # 31 s: the end
+    assert capsys.readouterr().err.splitlines() == ["runs: 2 of 8 (25.0%), 12 s, about 36 s left",
+                                                    "runs: 5 of 8 (62.5%), 31 s; pga = 3 m/s^2"]
