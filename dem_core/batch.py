@@ -407,11 +407,11 @@ def member_row(member: int, motion: GroundMotion, result: Result, status: str, e
                wall_time: float) -> dict:
     """One member's row: ``member``; ``motion`` (its name), ``record`` (what it scales), ``scale`` (the factor),
     ``pga_m_s2`` and ``pgv_m_s`` (:func:`~dem_core.inputs.excitation.describe`); ``status`` (``"ok"``,
-    ``"unstable"``, ``"refused"``),
-    ``error`` (the message, or ''), the scene's measures (:meth:`Result.measures`), ``dt_s``, ``steps``,
-    ``wall_time_s`` (its set-up, run and measures), where the scene has connectors how many ``connectors_yielded``
-    and ``connectors_ruptured`` (``connectors_pulled_out`` of them in tension) and their ``peak_connector_shear_N``, and for each block ``<measure>[<block>]``
-    of its measures (:meth:`Result.metrics`, :data:`~dem_core.engine.result.BLOCK_MEASURES`)."""
+    ``"unstable"``, ``"refused"``), ``error`` (the message, or ''), the scene's measures
+    (:meth:`Result.measures`), ``dt_s``, ``steps``, ``wall_time_s`` (its set-up, run and measures), where the
+    scene has connectors how many ``connectors_yielded`` and ``connectors_ruptured`` (``connectors_pulled_out`` of
+    them in tension) and their ``peak_connector_shear_N``, and for each block ``<measure>[<block>]`` of its measures
+    (:meth:`Result.metrics`, :data:`~dem_core.engine.result.BLOCK_MEASURES`)."""
     row = {"member": member, **describe(motion), "status": status, "error": error, **result.measures(),
            "dt_s": result.dt, "steps": int(result.info.get("steps", 0)), "wall_time_s": wall_time}
     if result.connectors is not None:

@@ -3,10 +3,11 @@
 numba-cuda compiles a kernel of :data:`~dem_core.engine._members.KERNELS` the first time a batch of its integrator
 runs on a GPU, and for the one step driver that takes minutes (docs/performance.md).  :func:`compile_kernels` does
 that work on any machine with the ``gpu`` extra, for a compute capability named, and writes each integrator's
-kernel (numba-cuda's own serialised form: its PTX, argument types and entry) to one compressed file; :func:`load_kernels`
-hands them to the kernels' dispatchers where the GPU is, so that a batch's first launch only assembles the PTX
-(seconds).  A file serves the engine's code of the same :data:`~dem_core.engine._build.ENGINE_DIGEST` under the
-same numba-cuda version and Python minor version as made it; any other is refused by name.  The file is a pickle: load only files you made.
+kernel (numba-cuda's own serialised form: its PTX, argument types and entry) to one compressed file;
+:func:`load_kernels` hands them to the kernels' dispatchers where the GPU is, so that a batch's first launch only
+assembles the PTX (seconds).  A file serves the engine's code of the same
+:data:`~dem_core.engine._build.ENGINE_DIGEST` under the same numba-cuda version and Python minor version as made
+it; any other is refused by name.  The file is a pickle: load only files you made.
 
     python -m dem_core.gpu_kernels build/kernels            (here: compiles for sm_90, the H100 and H200)
     DEM_CORE_GPU_KERNELS=build/kernels dem-core fragility --device gpu   (there)

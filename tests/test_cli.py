@@ -191,10 +191,14 @@ def test_progress_shows_on_a_terminal(tmp_path, capsys, monkeypatch):
 
 
 @pytest.mark.parametrize("command", ["run", "animate", "threshold", "ramp", "stiffness", "fragility"])
-def test_every_command_that_runs_a_scene_takes_a_duration(command, capsys):
+def test_every_command_that_runs_a_scene_takes_a_duration_and_defaults_to_the_bundled_scene(command, capsys):
+    from dem_core.cli.arguments import DEFAULT_SCENE
+
     with pytest.raises(SystemExit):
         main([command, "--help"])
-    assert "--duration" in capsys.readouterr().out
+    shown = " ".join(capsys.readouterr().out.split())
+    assert "--duration" in shown
+    assert "[scene]" in shown and f"default the bundled {DEFAULT_SCENE}" in shown.replace("default: the", "default the")
 
 
 def test_warnings_print_as_one_line_a_user_reads(monkeypatch, capsys):

@@ -1,4 +1,4 @@
-"""``dem-core ramp SCENE``: the accelerations at which the scene starts rocking, starts sliding and overturns under
+"""``dem-core ramp [SCENE]``: the accelerations at which the scene starts rocking, starts sliding and overturns under
 a monotonic ramp (:func:`dem_core.analyses.thresholds.onset_under_ramp`), each with its criterion."""
 
 import math
@@ -7,7 +7,7 @@ import numpy as np
 
 from ..analyses.thresholds import ROCKING_FRACTION, SLIP_THRESHOLD, onset_under_ramp
 from ..simulation import SimulationUnstable
-from .arguments import RATE, SECONDS, add_integrator, load_or_fail, with_integrator
+from .arguments import DEFAULT_SCENE, RATE, SECONDS, add_integrator, default_scene_path, load_or_fail, with_integrator
 from .console import acceleration_text, failed_run
 from .progress import compile_first, simulate_options
 
@@ -20,7 +20,8 @@ def add(sub):
                           "theta_cr the scene's slenderness), starts sliding (an interface slips more than 0.1 mm) "
                           "and overturns, each with its criterion, and, for a single block or column, its static "
                           "uplift acceleration g b/h.")
-    ramp.add_argument("scene", help="scene file (its [excitation] is ignored)")
+    ramp.add_argument("scene", nargs="?", help=f"scene file (its [excitation] is ignored); default the bundled "
+                      f"{DEFAULT_SCENE}")
     ramp.add_argument("--rate", type=RATE, default=0.5, help="rate at which the ground acceleration grows, m/s^2 per "
                       "s, positive (default: 0.5)")
     ramp.add_argument("--duration", type=SECONDS, help="simulated time in s (default: until the ramp reaches 1 g)")
@@ -28,6 +29,7 @@ def add(sub):
 
 
 def run(args) -> int:
+    args.scene = args.scene or default_scene_path()
     spec = load_or_fail(args.scene)
     if spec is None:
         return 2
