@@ -111,11 +111,11 @@ def load_kernels(folder: str | Path) -> list:
     if not path.is_file():
         raise ValueError(f"{path}: no compiled kernels there (python -m dem_core.gpu_kernels {folder} writes them)")
     # a file this module wrote (the docstring says so): its stamp, then the kernels, read once the stamp matches
-    stamp, payload = pickle.loads(lzma.decompress(path.read_bytes()))  # noqa: S301
+    stamp, payload = pickle.loads(lzma.decompress(path.read_bytes()))
     differ = [f"{key} {stamp.get(key)} (here {value})" for key, value in _stamp().items() if stamp.get(key) != value]
     if differ:
         raise ValueError(f"{path}: made for {', '.join(differ)}; compile them again with what runs here")
-    kernels = pickle.loads(payload)  # noqa: S301
+    kernels = pickle.loads(payload)
     for name, kernel in kernels.items():
         KERNELS[INTEGRATORS.index(name)].add_overload(kernel, kernel.argument_types)
     _LOADED[path.resolve()] = list(kernels)

@@ -47,7 +47,7 @@ def write_vtu_series(scene, result, folder, *, frames_per_second: float = FRAMES
     Each VTU: the points (P, 3) of every block's vertices at the frame (m); a ``polygon`` cell per block, in the
     scene's order; cell data ``block`` (its index in the scene), ``theta_rad`` and ``x_rel_m`` (its horizontal
     displacement relative to the base).  Every file is written whole or not at all."""
-    import meshio  # noqa: PLC0415 (loaded only when a series is written)
+    import meshio
 
     folder = Path(folder)
     folder.mkdir(parents=True, exist_ok=True)

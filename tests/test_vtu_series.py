@@ -3,7 +3,7 @@ reads back, a PVD that lists them with their times, and polygons that are the bl
 area, and its centroid is the run's position of the block at that time)."""
 
 import re
-import xml.etree.ElementTree as ElementTree
+from xml.etree import ElementTree
 
 import numpy as np
 import pandas as pd
