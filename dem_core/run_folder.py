@@ -18,8 +18,9 @@ import numpy as np
 from .output_files import replacing
 
 #: the files a run writes into its folder (an animation's name is recorded in summary.json)
-RUN_FILES = ("summary.json", "time_history.csv", "time_history.parquet", "metrics.csv", "interfaces.csv", "events.csv",
-             "connectors.csv", "connector_history.csv", "rotations.png", "displacements.png", "sliding.png", "epistyles.png", "snapshots.png")
+RUN_FILES = ("summary.json", "scene.json", "time_history.csv", "time_history.parquet", "metrics.csv", "interfaces.csv",
+             "events.csv", "connectors.csv", "connector_history.csv", "rotations.png", "displacements.png", "sliding.png",
+             "epistyles.png", "snapshots.png")
 
 
 def run_summary(result, scene: Path, stopped: str, setup: float | None = None) -> dict:

@@ -84,7 +84,7 @@ def test_the_engine_imports_nothing_above_it():
 
 
 #: the package's layers, lowest first: a module imports from its own layer and the layers below, never above
-LAYERS = (("engine", "output_files"), ("inputs",), ("simulation",), ("batch_gpu", "gpu_kernels"), ("batch",), ("analyses",),
+LAYERS = (("engine", "output_files"), ("inputs", "scene_json"), ("simulation",), ("batch_gpu", "gpu_kernels"), ("batch",), ("analyses",),
           ("pictures", "run_folder", "vtu_series"), ("cli", "__main__"))
 
 

@@ -10,6 +10,7 @@ import numpy as np
 from ..engine.result import EVENT_MEASURES
 from ..output_files import output_file, output_folder
 from ..run_folder import RUN_FILES, run_summary, write_run, write_summary
+from ..scene_json import write_scene_json
 from ..simulation import SimulationUnstable
 from .arguments import (
     DEFAULT_SCENE,
@@ -110,6 +111,8 @@ def run(args) -> int:
         old.unlink(missing_ok=True)
     summary = run_summary(result, path, stopped, setup)
     written = write_run(result, out, fmt, summary)
+    write_scene_json(spec.scene, out / "scene.json")
+    written.append("scene.json")
     if not args.no_plots and spec.output.get("plots", True) and len(result.t) > 1:
         from ..pictures.plots import save_run_figures  # matplotlib loads only when figures are written
 
