@@ -142,3 +142,14 @@ def test_the_joint_slips_the_readme_quotes_are_the_default_runs(readme):
     said = (f"Moreau-Jean's joints slip at most {moreau:.2g} mm and PyBullet's, also rigid, at most {pybullet:.2g} mm; "
             f"the explicit core's up to {explicit:.1g} mm")
     assert _words(said) in readme
+
+
+def test_the_default_runs_peak_that_cli_md_quotes_is_the_runs():
+    from dem_core.cli import default_scene_path
+    from dem_core.cli.single_run import simulated
+    from dem_core.inputs.scene_file import load
+
+    spec = load(default_scene_path())
+    result, _ = simulated(spec, dict(spec.simulation))
+    cli_md = _words((REPOSITORY / "docs" / "cli.md").read_text(encoding="utf-8"))
+    assert f"the default run rocks to about {float(np.max(result.peak_theta)):.1g} rad" in cli_md
