@@ -185,7 +185,7 @@ def test_a_run_into_the_folder_of_another_scene_is_refused_naming_it(tmp_path, s
     replaced = command_line("run", other, "--out", out, "--no-plots", "--format", "parquet", "--overwrite",
                             cwd=tmp_path)
     assert replaced.returncode == 0, replaced.stderr
-    assert sorted(p.name for p in out.iterdir()) == ["interfaces.csv", "metrics.csv", "summary.json",
+    assert sorted(p.name for p in out.iterdir()) == ["interfaces.csv", "metrics.csv", "scene.json", "summary.json",
                                                      "time_history.parquet"]
     summary = json.loads((out / "summary.json").read_text())
     assert summary["scene"] == str(other.resolve()) and summary["status"] == "complete"
@@ -199,10 +199,10 @@ def test_rerunning_a_scene_into_its_folder_replaces_its_results_whole(tmp_path, 
     again = command_line("run", scene, "--out", out, "--no-plots", "--format", "parquet", cwd=tmp_path)
     assert again.returncode == 0 and "Traceback" not in again.stderr
     assert "replaced whole" in again.stderr
-    assert sorted(p.name for p in out.iterdir()) == ["interfaces.csv", "metrics.csv", "summary.json",
+    assert sorted(p.name for p in out.iterdir()) == ["interfaces.csv", "metrics.csv", "scene.json", "summary.json",
                                                      "time_history.parquet"]
     assert json.loads((out / "summary.json").read_text())["files"] == ["summary.json", "time_history.parquet",
-                                                                       "metrics.csv", "interfaces.csv"]
+                                                                       "metrics.csv", "interfaces.csv", "scene.json"]
 
 
 @pytest.mark.parametrize("argv", [["run", "{scene}", "--out", "taken"],
