@@ -15,7 +15,7 @@ from xml.sax.saxutils import quoteattr
 import numpy as np
 
 from .output_files import replacing
-from .pictures.animation import block_outlines
+from .pictures.animation import BlockOutlines
 
 #: frames per simulated second at most (every output where the outputs are sparser): the animation's default rate
 FRAMES_PER_SECOND = 25.0
@@ -57,9 +57,10 @@ def write_vtu_series(scene, result, folder, *, frames_per_second: float = FRAMES
     starts = np.concatenate(([0], np.cumsum(sizes)[:-1]))
     cells = [("polygon", (start + np.arange(size)).reshape(1, -1)) for start, size in zip(starts, sizes)]
     relative = result.relative_x - result.relative_x[0]
+    outlines = BlockOutlines(scene, result)
     entries = []
     for n, k in enumerate(frames):
-        points = np.concatenate(block_outlines(scene, result, int(k)))
+        points = np.concatenate(outlines(int(k)))
         mesh = meshio.Mesh(np.column_stack([points, np.zeros(len(points))]), cells, cell_data={
             "block": [np.array([b]) for b in range(len(sizes))],
             "theta_rad": [np.array([result.theta[k, b]]) for b in range(len(sizes))],

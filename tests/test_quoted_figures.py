@@ -48,16 +48,16 @@ def percent(share: float, digits: int = 2) -> str:
     return f"{100 * share:.{digits}g}%"
 
 
-def _usual(table: pd.DataFrame, engine: str, board: pd.DataFrame) -> pd.DataFrame:
+def _usual(table: pd.DataFrame, engine: str) -> pd.DataFrame:
     from comparisons.report.scoreboard import usual_steps
 
     return table[(table.engine == engine) & (table.step == usual_steps([engine])[engine])]
 
 
-def quantile_of_standing(ensembles, board, ensemble: str, engine: str, q: float) -> float:
+def quantile_of_standing(ensembles, ensemble: str, engine: str, q: float) -> float:
     """The ``q`` quantile of |peak error| over the members of ``ensemble`` whose reference stands (the scoreboard's
     members), at the engine's usual step."""
-    rows = _usual(ensembles[ensembles.ensemble == ensemble], engine, board)
+    rows = _usual(ensembles[ensembles.ensemble == ensemble], engine)
     return float(np.quantile(np.abs(rows[~rows.reference_overturned.astype(bool)].error), q))
 
 
@@ -89,7 +89,7 @@ def claims(board, ensembles, results) -> list:
     colonnade = max(abs(case_error(results, "colonnade_mexico", "dem", step, "peak_rotation"))
                     for step in ("auto/1", "auto/1, 10 x K_n", "auto/1, 100 x K_n"))
     drift = [1e3 * case_error(results, "statics", engine, "0.001", "drift_m") for engine in ("pymunk", "pybullet")]
-    mujoco_p90 = quantile_of_standing(ensembles, board, "sliding_records", "mujoco", 0.9)
+    mujoco_p90 = quantile_of_standing(ensembles, "sliding_records", "mujoco", 0.9)
     pairs = summarise_pairs(pd.read_csv(REPORTS / "column_ensemble.csv")).set_index(["run", "against"])
     column_step = pairs.loc[("dem-moreau 1e-3 s", "dem-moreau 2.5e-4 s"), "typical_difference"]
     thesis = pd.read_parquet(REPORTS / "studies" / "thesis_tables" / "results.parquet")

@@ -147,12 +147,14 @@ def drawn_poses(result, exaggerate: float = 1.0, scene=None):
 
 def block_outlines(scene, result, k: int, exaggerate: float = 1.0) -> list:
     """World vertices of every block at output ``k`` of ``result`` (list of (n_i, 2) arrays, m), each block's
-    motion since the start on what it rests on multiplied by ``exaggerate`` (:func:`drawn_poses`)."""
-    return _Outlines(scene, result, exaggerate)(k)
+    motion since the start on what it rests on multiplied by ``exaggerate`` (:func:`drawn_poses`); for many outputs,
+    :class:`BlockOutlines`."""
+    return BlockOutlines(scene, result, exaggerate)(k)
 
 
-class _Outlines:
-    """Block outlines at any output index, the local shapes and drawn poses computed once."""
+class BlockOutlines:
+    """Block outlines at any output index (``outlines(k)``: :func:`block_outlines`), the local shapes and drawn
+    poses computed once."""
 
     def __init__(self, scene, result, exaggerate=1.0):
         self.shapes = _local_shapes(scene, result)
@@ -202,7 +204,7 @@ class _Drawing:
 
     def __init__(self, ax, scene, result, *, exaggerate=1.0, animated=False):
         self.result = result
-        self.outlines = _Outlines(scene, result, exaggerate)
+        self.outlines = BlockOutlines(scene, result, exaggerate)
         (x0, x1), (y0, y1) = _view(scene, result, exaggerate)
         self.base_half = 0.5 * (x1 - x0) + np.nanmax(np.abs(result.base_x))
         ax.set_xlim(x0, x1)
