@@ -1,9 +1,12 @@
-"""The figures the README quotes from the comparison report, read from the report's own tables: a figure that
-drifts from its source fails here, naming both.  Timings are left out (they are the machine's, not the code's).
+"""The figures the README and docs quote from the comparison report, read from the report's own tables: a figure
+that drifts from its source fails here, naming both.  Timings are left out (they are the machine's, not the
+code's).
 
-Each claim is the text the README must hold, made from ``reports/`` as the report makes its scoreboard
-(``scoreboard.csv``), its ensembles (``ensembles.csv``, ``column_ensemble.csv``) and its cases (``results.csv``),
-and from the thesis_tables study (``reports/studies/thesis_tables/results.parquet``)."""
+The README's engine table and its figures of the column ensemble are made from ``reports/`` as the report makes its
+scoreboard (``scoreboard.csv``), its ensembles (``ensembles.csv``, ``column_ensemble.csv``) and its cases
+(``results.csv``), the thesis' failure PGAs from the thesis_tables study (``reports/studies/thesis_tables``);
+docs/validation.md's ensemble table and spectra agreement from ``ensembles.csv`` and ``spectra.csv``; the
+README's joint slips and docs/cli.md's peak of the default run from the runs themselves."""
 
 from pathlib import Path
 
@@ -153,3 +156,47 @@ def test_the_default_runs_peak_that_cli_md_quotes_is_the_runs():
     result, _ = simulated(spec, dict(spec.simulation))
     cli_md = _words((REPOSITORY / "docs" / "cli.md").read_text(encoding="utf-8"))
     assert f"the default run rocks to about {float(np.max(result.peak_theta)):.1g} rad" in cli_md
+
+
+#: validation.md's ensemble table: its engines, as it labels them
+ENSEMBLE_TABLE = {"dem": "dem (auto/1)", "dem-moreau": "dem-moreau (auto/1)", "dem-overlap": "dem-overlap (auto/1)",
+                  "pymunk": "pymunk (1e-3 s)", "pybullet": "PyBullet (1e-3 s)", "mujoco": "MuJoCo (1e-3 s)"}
+
+
+def _two_figures(share: float) -> str:
+    """A share as a percentage of two significant figures, without an exponent (140%, 1%, 0.29%)."""
+    return f"{float(f'{100 * share:.2g}'):g}%"
+
+
+def test_validation_mds_ensemble_table_is_the_reports(ensembles):
+    """Per engine at its usual step: the rocking ensemble's median and 90th percentile |peak error| over the
+    members whose reference stands, the share of members where it overturns when the rocking equation does, and
+    the sliding ensemble's median and 90th percentile."""
+    validation = _words((REPOSITORY / "docs" / "validation.md").read_text(encoding="utf-8"))
+    for engine, label in ENSEMBLE_TABLE.items():
+        cells = []
+        for name in ("rocking_records", "sliding_records"):
+            members = _usual(ensembles[ensembles.ensemble == name], engine)
+            standing = np.abs(members[~members.reference_overturned.astype(bool)].error)
+            cells += [_two_figures(np.median(standing)), _two_figures(np.quantile(standing, 0.9))]
+            if name == "rocking_records":
+                agree = np.mean(members.overturned.astype(bool) == members.reference_overturned.astype(bool))
+                cells.append(f"{100 * agree:.3g}%")
+        row = _words(f"| {label} | " + " | ".join(cells) + " |")
+        assert row in validation, f"docs/validation.md's ensemble table should have the row {row!r}"
+
+
+def test_validation_mds_agreement_on_the_overturning_spectra_is_the_reports():
+    """Per engine at its usual step, the share of each overturning spectrum's points where it overturns when the
+    rocking equation does, in validation.md's order of the spectra."""
+    spectra = pd.read_csv(REPORTS / "spectra.csv")
+    order = ("spectrum_sine_1x6", "spectrum_rectangular_1x6", "spectrum_sine_1_5x6", "spectrum_rectangular_1_5x6")
+    parts = []
+    for engine in ("dem-moreau", "dem", "dem-overlap", "pymunk", "pybullet", "mujoco"):
+        mine = _usual(spectra, engine)
+        shares = [np.mean(mine[mine.spectrum == name].overturned.astype(bool)
+                          == mine[mine.spectrum == name].reference_overturned.astype(bool)) for name in order]
+        parts.append(f"{ENSEMBLE_TABLE[engine].split(' (')[0]} " + ", ".join(_two_figures(x) for x in shares))
+    sentence = _words("Agreement at the usual steps (sine and rectangular, 1 x 6 m then 1.5 x 6 m): "
+                      + "; ".join(parts) + ".")
+    assert sentence in _words((REPOSITORY / "docs" / "validation.md").read_text(encoding="utf-8")), sentence
