@@ -333,9 +333,17 @@ STRONG_MOTION = (0.05, 0.95)
 def unscaled(component: Component) -> Component:
     """The component a chain of :class:`Scaled` and :class:`Extended` wraps (a record's samples), or ``component``
     itself."""
+    return _unwrapped(component)[0]
+
+
+def _unwrapped(component: Component) -> tuple[Component, float]:
+    """``(inner, factor)``: the component a chain of :class:`Scaled` and :class:`Extended` wraps, and the product of
+    the chain's :class:`Scaled` factors (1 for no chain)."""
+    factor = 1.0
     while isinstance(component, (Scaled, Extended)):
+        factor *= component.factor if isinstance(component, Scaled) else 1.0
         component = component.component
-    return component
+    return component, factor
 
 
 def strong_motion(component: Component) -> tuple[float, float] | None:
@@ -360,17 +368,8 @@ VELOCITY_SAMPLING = 1e-3
 def scale_factor(component: Component) -> float:
     """The product of the factors of the :class:`Scaled` in the chain (with :class:`Extended`) that wraps
     ``component`` and of the record's own (:attr:`Sampled.factor`); 1 for a component not scaled."""
-    inner = unscaled(component)
-    return _wrapped_factor(component) * (inner.factor if isinstance(inner, Sampled) else 1.0)
-
-
-def _wrapped_factor(component: Component) -> float:
-    """The product of the factors of the :class:`Scaled` in the chain that wraps ``component``."""
-    factor = 1.0
-    while isinstance(component, (Scaled, Extended)):
-        factor *= component.factor if isinstance(component, Scaled) else 1.0
-        component = component.component
-    return factor
+    inner, factor = _unwrapped(component)
+    return factor * (inner.factor if isinstance(inner, Sampled) else 1.0)
 
 
 def _peak_speed(component: Component) -> float:
@@ -390,12 +389,12 @@ def peak_velocity(motion: GroundMotion) -> float:
     """PGV (m/s): the peak |velocity| of ``motion``'s horizontal component, sampled every
     :data:`VELOCITY_SAMPLING` s or 1/50 of its shortest time; ``ValueError`` naming a motion without an end (a
     harmonic, a ramp).  A scaled record's is its record's times the factor."""
-    inner = unscaled(motion.horizontal)
+    inner, factor = _unwrapped(motion.horizontal)
     try:
         speed = _record_peak_speed(inner) if isinstance(inner, Sampled) else _peak_speed(inner)
     except ValueError as error:
         raise ValueError(f"{motion.name}: {error}") from None
-    return _wrapped_factor(motion.horizontal) * speed
+    return factor * speed
 
 
 def describe(motion: GroundMotion) -> dict:
@@ -716,8 +715,9 @@ def sampling_interval(motion: GroundMotion) -> float | None:
     """The sampling interval (s) of the record ``motion`` scales or extends, or None for a motion that is not a
     record."""
     for component in (motion.horizontal, motion.vertical):
-        if isinstance(unscaled(component), Sampled):
-            return unscaled(component).dt
+        inner = unscaled(component)
+        if isinstance(inner, Sampled):
+            return inner.dt
     return None
 
 
