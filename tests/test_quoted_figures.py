@@ -200,3 +200,169 @@ def test_validation_mds_agreement_on_the_overturning_spectra_is_the_reports():
     sentence = _words("Agreement at the usual steps (sine and rectangular, 1 x 6 m then 1.5 x 6 m): "
                       + "; ".join(parts) + ".")
     assert sentence in _words((REPOSITORY / "docs" / "validation.md").read_text(encoding="utf-8")), sentence
+
+
+@pytest.fixture(scope="module")
+def validation() -> str:
+    return _words((REPOSITORY / "docs" / "validation.md").read_text(encoding="utf-8"))
+
+
+#: the free-rocking cases of the four slender blocks, and the squat one
+SLENDER_ROCKING = ("free_rocking", "free_rocking_large", "free_rocking_slender", "free_rocking_slender_large")
+SQUAT_ROCKING = "free_rocking_squat"
+PULSES = ("sine_pulse", "sine_pulse_strong", "sine_pulse_slender", "cosine_pulse")
+NEWMARK = ("newmark", "newmark_low", "newmark_high")
+#: the engines of validation.md's free-rocking sentence, in its order, as it names them
+SIDE_BY_SIDE = {"dem-moreau": "native, Moreau-Jean", "dem": "native, explicit corner law", "mujoco": "MuJoCo",
+                "pymunk": "pymunk", "pybullet": "PyBullet", "dem-overlap": "native, overlap-area law"}
+
+
+def _usual_error(results, case: str, engine: str, metric: str) -> float:
+    from comparisons.report.scoreboard import usual_steps
+
+    return case_error(results, case, engine, usual_steps([engine])[engine], metric)
+
+
+def _largest(results, cases, engine: str, metric: str) -> str:
+    return _two_figures(max(abs(_usual_error(results, case, engine, metric)) for case in cases))
+
+
+def _more_or_less(error: float) -> str:
+    return f"{_two_figures(abs(error))} {'more' if error > 0 else 'less'}"
+
+
+def validation_claims(board, results) -> list:
+    """``(what, text)``: each figure docs/validation.md quotes from the report's cases and scoreboard."""
+    dem = lambda case, metric: _usual_error(results, case, "dem", metric)  # noqa: E731
+    said = [("the corner law: free-rocking quarter periods", "free-rocking quarter periods within "
+             f"{_largest(results, SLENDER_ROCKING + (SQUAT_ROCKING,), 'dem', 'quarter_period')} of the rocking equation"),
+            ("the corner law: peaks after five impacts", f"peaks after five impacts within "
+             f"{_largest(results, SLENDER_ROCKING, 'dem', 'peak_decay')} on the four slender blocks, and "
+             f"{_two_figures(abs(dem(SQUAT_ROCKING, 'peak_decay')))} on the squat one"),
+            ("the corner law: onset", f"rocking onset under a ramp within "
+             f"{_two_figures(abs(dem('onset_ramp', 'onset_acceleration')))};"),
+            ("the corner law: stacked blocks", "Psycharis' stacked blocks' first impact within "
+             f"{_two_figures(abs(dem('stacked_blocks', 'impact_time')))};"),
+            ("the corner law: pulses", f"one-sine and one-cosine pulses within "
+             f"{_largest(results, PULSES, 'dem', 'peak_rotation')} of the peak;"),
+            ("the corner law: Newmark", f"Newmark's sliding pulses within {_largest(results, NEWMARK, 'dem', 'max_slip')} "
+             "of the rigid-plastic slip"),
+            ("the overlap-area law: onset", "rocking onset "
+             f"{percent(-_usual_error(results, 'onset_ramp', 'dem-overlap', 'onset_acceleration'), 1)} early"),
+            ("the overlap-area law: rocking ensemble", "In the report's rocking ensemble its median |peak error| is "
+             f"{percent(board.loc['dem-overlap', 'rocking_median'])}")]
+    free = {e: [_two_figures(abs(_usual_error(results, "free_rocking", e, m))) for m in ("quarter_period", "peak_decay")]
+            for e in SIDE_BY_SIDE}
+    newmark = max(abs(_usual_error(results, "newmark", e, "max_slip")) for e in SIDE_BY_SIDE)
+    *first, last = [peaks for _, peaks in free.values()]
+    said.append(("the engines side by side: free rocking and Newmark",
+                 "first impact within " + ", ".join(f"{free[e][0]} ({name})" for e, name in SIDE_BY_SIDE.items())
+                 + "; peaks after five impacts within " + ", ".join(first) + f" and {last}; Newmark's sliding pulse "
+                 f"within {_two_figures(newmark)} in all"))
+
+    def verdicts(engine):
+        right, judged = int(board.loc[engine, "right"]), int(board.loc[engine, "judged"])
+        return f"in all {judged}" if right == judged else f"in {right} of {judged}"
+
+    judged = int(board.judged.max())
+    cases = int(board.case_runs.max())
+    said += [("the report's verdicts", f"Of the page's {judged} verdicts ({cases} cases, 2 ensembles, "
+              f"{judged - cases - 2} overturning spectra;"),
+             ("the report's verdicts per engine",
+              f"`dem-moreau` is right {verdicts('dem-moreau')} and the fastest right engine in "
+              f"{int(board.loc['dem-moreau', 'fastest'])}, `dem` {verdicts('dem')}"),
+             ("the report's verdicts of the other engines",
+              f"MuJoCo {verdicts('mujoco')}, pymunk {verdicts('pymunk')}, PyBullet {verdicts('pybullet')} (the other "
+              f"engines refuse the {judged - int(board.loc['pymunk', 'judged'])} cases with connectors) and "
+              f"`dem-overlap` {verdicts('dem-overlap')}")]
+    scenes = {}
+    for case in ("column_record", "colonnade_mexico"):
+        rows = [results[(results.case == case) & (results.engine == "dem") & (results.step == step)
+                        & (results.metric == "peak_rotation")].iloc[0]
+                for step in ("auto/1", "auto/1, 10 x K_n", "auto/1, 100 x K_n")]
+        scenes[case] = (f"{rows[0].reference:.3g} rad +-{rows[0].reference_uncertainty:.0%}",
+                        [_more_or_less(row.error) for row in rows], rows[0].reference_members)
+    (column, column_errors, members), (colonnade, colonnade_errors, _) = scenes.values()
+    said.append(("the multi-block scenes against the consensus",
+                 f"The column's peak is {column} by the consensus that judges `dem` ({members}); `dem` gives "
+                 f"{column_errors[0]} at its default K_n, {column_errors[1]} at 10 x K_n and {column_errors[2]} at "
+                 f"100 x K_n. The colonnade's is {colonnade} by the same consensus; `dem` gives "
+                 f"{colonnade_errors[0]}, {colonnade_errors[1]} and {colonnade_errors[2]}."))
+    pairs = summarise_pairs(pd.read_csv(REPORTS / "column_ensemble.csv")).set_index(["run", "against"])
+    step = pairs.loc[("dem-moreau 1e-3 s", "dem-moreau 2.5e-4 s")]
+    explicit = pairs.loc[("dem-moreau 1e-3 s", "dem automatic step")]
+    said.append(("the column ensemble", f"Moreau-Jean's 1e-3 s is {_two_figures(step.typical_difference)} from its "
+                 f"2.5e-4 s typically (90% interval {_two_figures(step.interval_low)} to "
+                 f"{_two_figures(step.interval_high)}) and {_two_figures(explicit.typical_difference)} from the explicit "
+                 f"core, over the {int(step.compared)} runs that stand and rock in both;"
+                 + (" every run agrees on overturning" if pairs.overturn_agreement.min() == 1.0 else "")))
+    return said
+
+
+def test_every_figure_validation_md_quotes_from_the_report_is_the_reports(validation, board, results):
+    missing = [f"{what}: docs/validation.md should say {text!r}" for what, text in validation_claims(board, results)
+               if _words(text) not in validation]
+    assert missing == [], "\n".join(missing)
+
+
+def test_validation_mds_threshold_check_is_the_record_overturning_studys(validation):
+    """The smallest overturning PGA of the 1-drum column (friction 2) under each bundled record, by the rocking
+    equation, Moreau-Jean and the explicit core: by the 2% scan, and by either search (the scan or the fine
+    0.02 m/s^2 scan), from the study's ``rigid_check.parquet``."""
+    import test_thresholds
+
+    check = pd.read_parquet(REPORTS / "studies" / "record_overturning" / "rigid_check.parquet").set_index("record")
+    either = {run: np.minimum(check[f"{run}_smallest"], check[f"{run}_fine"]) for run in ("rigid", "moreau", "explicit")}
+    off = {run: either[run] / either["rigid"] - 1.0 for run in ("moreau", "explicit")}
+    worst = off["moreau"].abs().idxmax()
+    scan = check.loc[worst]
+    said = [f"under El Centro and Northridge within {test_thresholds.RECORD_OVERTURN_BAND:.0%}",
+            f"The explicit core at the default K_n 2e11 is within {_two_figures(off['explicit'].abs().max())} under all "
+            f"four; Moreau-Jean within {_two_figures(off['moreau'].drop(worst).abs().max())} under three and "
+            f"{_two_figures(off['moreau'][worst])} high under {worst.split('_')[0].capitalize()}",
+            f"from {either['rigid'][worst]:.2f} m/s^2 up",
+            f"With the 2% scan alone the rocking equation gives {scan.rigid_smallest:.1f}, Moreau-Jean "
+            f"{scan.moreau_smallest:.1f} and the explicit core {scan.explicit_smallest:.1f} "
+            f"(+{scan.explicit_smallest / scan.rigid_smallest - 1:.0%}); with the fine scan "
+            f"{either['rigid'][worst]:.2f}, {either['moreau'][worst]:.2f} and {either['explicit'][worst]:.2f}"]
+    missing = [text for text in said if _words(text) not in validation]
+    assert missing == [], "docs/validation.md should say:\n" + "\n".join(missing)
+
+
+def test_validation_mds_converged_bands_are_the_catalogues(validation):
+    from comparisons.cases.catalogue import MOREAU_CONVERGED_BANDS
+
+    quarter, peaks = (MOREAU_CONVERGED_BANDS[m]["dem-moreau"] for m in ("quarter_period", "peak_decay"))
+    said = (f"free rocking within {_two_figures(quarter)} on the quarter period and {_two_figures(peaks)} on the peaks "
+            "after five impacts")
+    assert _words(said) in validation, said
+
+
+def test_validation_mds_luck_of_a_single_record_run_is_the_rocking_equations(validation):
+    """The rigid monolith's peak under El Centro's strong motion at 2.75 and 2.76 m/s^2, by the rocking equation."""
+    from comparisons.cases.strong_motion import strong_motion, window
+    from comparisons.references import analytical
+    from comparisons.references.rocking_equation import rocking_response
+
+    block = analytical.RockingBlock.from_size(1.0, 6.0)
+    start, end = window("el_centro_1940")
+    peaks = [rocking_response(block, strong_motion("el_centro_1940", pga), end - start).peak / block.alpha
+             for pga in (2.75, 2.76)]
+    said = f"El Centro at 2.75 and 2.76 m/s^2 take the rigid monolith's peak from {peaks[0]:.3f} to {peaks[1]:.3f} alpha"
+    assert _words(said) in validation, said
+
+
+@pytest.mark.slow
+def test_validation_mds_rectangular_boundary_against_housner_is_the_rocking_equations(validation):
+    """The largest difference, over each rectangular spectrum's columns, between the rocking equation's overturning
+    boundary and Housner's linearised 1/(1 - exp(-p t_d))."""
+    from comparisons.harness import overturning_spectra
+
+    worst = []
+    for name in ("spectrum_rectangular_1x6", "spectrum_rectangular_1_5x6"):
+        spec = overturning_spectra.spectrum(name)
+        worst.append(max(abs(overturning_spectra.reference_transitions(spec, column)[0][0]
+                             / overturning_spectra.closed_form_rectangular(column) - 1.0) for column in spec.columns))
+    said = (f"the rocking equation's boundary is within {_two_figures(worst[0])} (1 x 6 m) and {_two_figures(worst[1])} "
+            "(1.5 x 6 m) of Housner's linearised")
+    assert _words(said) in validation, said

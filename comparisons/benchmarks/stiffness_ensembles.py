@@ -20,13 +20,16 @@ which a stiffness dependence cannot be told from the response's own sensitivity.
 """
 
 import argparse
+import json
 import time
+from pathlib import Path
 
 import numpy as np
 import pandas as pd
 
 import dem_core
 from comparisons.cases.strong_motion import strong_motion
+from comparisons.report import provenance
 from dem_core import records, scenes
 
 SCALE_RANGE = (1.2, 3.0)  # amplitudes, in multiples of the uplift acceleration g tan(alpha)
@@ -67,18 +70,32 @@ def median_change_interval(peak, reference, level: float = 0.9, seed: int = 0) -
     return tuple(np.quantile(change, [(1.0 - level) / 2.0, (1.0 + level) / 2.0]))
 
 
-def compare(label: str, peak, over, reference_peak, reference_over, standing) -> str:
-    """One line: ``peak``/``over`` (members,) against the reference run, the peaks over the members ``standing``
-    in every run."""
+def measures(peak, over, reference_peak, reference_over, standing) -> dict:
+    """How ``peak``/``over`` (members,) compare with the reference run over the members ``standing`` in every run:
+    ``median`` (rad) and its ``change`` against the reference's median with the bootstrap 90% interval
+    ``change_low``/``change_high``; member by member, ``median_ratio``, ``geometric_mean`` (of the ratios) with
+    the ``standard_error`` of its log, and ``typical_change`` (the median |log ratio|); ``overturned`` (a count) and
+    ``agreement`` on overturning (a share)."""
     median = np.median(peak[standing])
     low, high = median_change_interval(peak[standing], reference_peak[standing])
     log_ratio = np.log(peak[standing] / reference_peak[standing])
     error = log_ratio.std(ddof=1) / np.sqrt(len(log_ratio)) if len(log_ratio) > 1 else np.nan
-    return (f"  {label}: overturned {over.sum()}, median peak {median:.5f} rad "
-            f"({median / np.median(reference_peak[standing]) - 1:+.1%}, 90% interval {low:+.1%} to {high:+.1%}); "
-            f"member by member: median ratio {np.exp(np.median(log_ratio)):.4f}, geometric mean ratio "
-            f"{np.exp(log_ratio.mean()):.4f} (standard error {error:.1%}), median |log ratio| "
-            f"{np.median(np.abs(log_ratio)):.3f}; agrees on overturning {np.mean(over == reference_over):.0%}")
+    return {"median": median, "change": median / np.median(reference_peak[standing]) - 1.0, "change_low": low,
+            "change_high": high, "median_ratio": np.exp(np.median(log_ratio)),
+            "geometric_mean": np.exp(log_ratio.mean()), "standard_error": error,
+            "typical_change": np.median(np.abs(log_ratio)), "overturned": int(over.sum()),
+            "agreement": np.mean(over == reference_over)}
+
+
+def compare(label: str, peak, over, reference_peak, reference_over, standing) -> str:
+    """One line of :func:`measures`: ``peak``/``over`` (members,) against the reference run, the peaks over the
+    members ``standing`` in every run."""
+    m = measures(peak, over, reference_peak, reference_over, standing)
+    return (f"  {label}: overturned {m['overturned']}, median peak {m['median']:.5f} rad "
+            f"({m['change']:+.1%}, 90% interval {m['change_low']:+.1%} to {m['change_high']:+.1%}); "
+            f"member by member: median ratio {m['median_ratio']:.4f}, geometric mean ratio "
+            f"{m['geometric_mean']:.4f} (standard error {m['standard_error']:.1%}), median |log ratio| "
+            f"{m['typical_change']:.3f}; agrees on overturning {m['agreement']:.0%}")
 
 
 def run_ensemble(scene, factors: list, n_scales: int, perturb: float | None = None, name: str = "") -> pd.DataFrame:
@@ -97,23 +114,53 @@ def run_ensemble(scene, factors: list, n_scales: int, perturb: float | None = No
     return table
 
 
+def _runs(table: pd.DataFrame) -> tuple[dict, np.ndarray, str]:
+    """``({run key: (peak, overturned)}, standing in every run (members,), the stiffest run's key)`` of ``table``."""
+    keys = [c[len("peak_"):] for c in table.columns if c.startswith("peak_")]
+    run = {k: (table[f"peak_{k}"].to_numpy(float), table[f"overturned_{k}"].to_numpy(bool)) for k in keys}
+    standing = np.all([~over for _, over in run.values()], axis=0)
+    factors = {k: float(k[:-1]) for k in keys if not k.endswith("_perturbed")}
+    return run, standing, max(factors, key=factors.get)
+
+
+def _against(key: str, stiffest: str) -> str:
+    """The run a run of :func:`run_ensemble` is compared with: a perturbed run with its run as given, a stiffness
+    with the stiffest."""
+    return key[:-len("_perturbed")] if key.endswith("_perturbed") else stiffest
+
+
+def compared(table: pd.DataFrame) -> dict:
+    """``{run key: measures}`` (:func:`measures`) of ``table`` (:func:`run_ensemble`): each stiffness against the
+    stiffest, a perturbed run against its run as given, over the members standing in every run."""
+    run, standing, stiffest = _runs(table)
+    return {k: measures(*run[k], *run[_against(k, stiffest)], standing) for k in run}
+
+
 def summarise(table: pd.DataFrame, name: str = "") -> list:
     """Lines comparing each stiffness of ``table`` (:func:`run_ensemble`) with the stiffest, and the perturbed
     run, if any, with its unperturbed one."""
-    keys = [c[len("peak_"):] for c in table.columns if c.startswith("peak_")]
-    factors = {k: float(k[:-1]) for k in keys if not k.endswith("_perturbed")}
-    perturbed = [k for k in keys if k.endswith("_perturbed")]
-    run = {k: (table[f"peak_{k}"].to_numpy(float), table[f"overturned_{k}"].to_numpy(bool)) for k in keys}
-    standing = np.all([~over for _, over in run.values()], axis=0)
-    stiffest = max(factors, key=factors.get)
+    run, standing, stiffest = _runs(table)
     lines = [f"{name}, {len(table)} members, {standing.sum()} standing in every run; against {stiffest} K_n:"]
-    lines += [compare(f"{k} K_n = {factors[k] * dem_core.ContactParameters().kn:.0e}", *run[k], *run[stiffest],
-                      standing) for k in factors]
-    for k in perturbed:
-        base = k[:-len("_perturbed")]
-        lines += [f"against {base} K_n with the amplitudes as given (the response's own sensitivity):",
-                  compare(f"{base} K_n, amplitudes perturbed", *run[k], *run[base], standing)]
+    for k in run:
+        if k.endswith("_perturbed"):
+            base = _against(k, stiffest)
+            lines += [f"against {base} K_n with the amplitudes as given (the response's own sensitivity):",
+                      compare(f"{base} K_n, amplitudes perturbed", *run[k], *run[base], standing)]
+        else:
+            lines.append(compare(f"{k} K_n = {float(k[:-1]) * dem_core.ContactParameters().kn:.0e}", *run[k],
+                                 *run[stiffest], standing))
     return lines
+
+
+def write_stamp(members: Path, args: argparse.Namespace) -> Path:
+    """Write ``members``' stamp beside it (``.json``): the digest of the sources the peaks come from
+    (:func:`comparisons.report.provenance.source_digest`), the commit, and the options that made it."""
+    made = provenance.provenance()
+    stamp = {"digest": made["digest"], "commit": made["commit"], "modified": made["modified"],
+             "options": {k: v for k, v in vars(args).items() if k in ("scene", "factors", "scales", "perturb")}}
+    path = members.with_suffix(".json")
+    path.write_text(json.dumps(stamp, indent=1) + "\n", encoding="utf-8")
+    return path
 
 
 def arguments(parser: argparse.ArgumentParser) -> None:
@@ -122,7 +169,8 @@ def arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--factors", type=float, nargs="+", default=[1.0, 10.0, 100.0])
     parser.add_argument("--scales", type=int, default=10, help="amplitudes per record, from 1.2 to 3 g tan(alpha)")
     parser.add_argument("--perturb", type=float, help="also rerun the first stiffness with amplitudes x (1 + PERTURB)")
-    parser.add_argument("--members", help="write every member's peak and outcome in each run to this CSV")
+    parser.add_argument("--members", help="write every member's peak and outcome in each run to this CSV, and "
+                        "beside it (.json) the digest of the sources and the options it comes from")
     parser.add_argument("--summarise", metavar="CSV",
                         help="print the summary of a CSV written by --members; run nothing")
 
@@ -132,8 +180,11 @@ def run(args: argparse.Namespace) -> None:
     if args.summarise:
         print("\n".join(summarise(pd.read_csv(args.summarise), args.summarise)))
         return
+    if args.members:  # made before the runs, so that they are not lost to a missing folder after them
+        Path(args.members).parent.mkdir(parents=True, exist_ok=True)
     table = run_ensemble(SCENES[args.scene](), args.factors, args.scales, args.perturb, args.scene)
     if args.members:
         table.to_csv(args.members, index=False)
+        write_stamp(Path(args.members), args)
     print("\n".join(summarise(table, args.scene)))
 
