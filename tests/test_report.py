@@ -191,6 +191,14 @@ def test_a_closed_form_case_always_has_a_reference():
     assert verdict["has_reference"] and verdict["right"] == ["dem"]
 
 
+
+def test_a_verdict_names_its_metric_once_with_its_article():
+    table = pd.DataFrame([{"case": "impact_slip", "engine": "dem-moreau", "step": "auto/1", "settings": "{}",
+                           "status": "ok", "metric": "joint_slip_m", "error": 5e-8, "wall_time_s": 0.1, "dt": 1e-3}])
+    text = verdicts.case_verdict(table, catalogue.case("impact_slip"))["text"]
+    assert "on the largest slip of any joint" in text and "the the" not in text
+
+
 # --- figures' words --------------------------------------------------------------------------------------------
 
 def test_figure_words_are_plain():

@@ -165,7 +165,7 @@ def case_verdict(table, case) -> dict:
     from_step = {e: mine[mine.right].sort_values("wall_time_s").step.iloc[0]
                  for e, mine in runs.groupby("engine", sort=False) if mine.right.any()}
     kind = metric_kind(metric)
-    name = METRICS.get(metric, metric).split(" (1 where")[0]
+    name = METRICS.get(metric, metric).split(" (1 where")[0].removeprefix("the ")
     within = describe_band(level, metric)
     if case.by_consensus and np.isfinite(runs.level).any():
         within += f" or the consensus's uncertainty (up to {describe_band(np.nanmax(runs.level), metric)})"
