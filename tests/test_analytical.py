@@ -6,8 +6,8 @@ import pytest
 from comparisons.cases.measures import peaks_between_crossings
 from comparisons.references import analytical
 
-@pytest.mark.slow
 
+@pytest.mark.slow
 def test_rocking_equation_reproduces_housner_peaks(housner_block):
     """Housner's peak formula counts energy with the small-angle potential, 1 - (1 - theta/alpha)^2, so the
     exact rocking equation agrees with it to the size of that approximation (0.12% here)."""
@@ -16,8 +16,8 @@ def test_rocking_equation_reproduces_housner_peaks(housner_block):
     peaks = peaks_between_crossings(ode.theta, 6)
     np.testing.assert_allclose(peaks, analytical.housner_peaks(housner_block, theta0, 5), rtol=2e-3)
 
-@pytest.mark.slow
 
+@pytest.mark.slow
 def test_housner_period_is_the_small_angle_limit_of_the_rocking_equation():
     block = analytical.RockingBlock.from_size(0.2, 2.0)
     for ratio, band in ((0.05, 2e-3), (0.2, 1e-2)):

@@ -446,3 +446,14 @@ def test_without_a_terminal_a_commands_bar_over_its_runs_writes_a_line_now_and_t
     bar.close()       # 31 s: the end
     assert capsys.readouterr().err.splitlines() == ["runs: 2 of 8 (25.0%), 12 s, about 36 s left",
                                                     "runs: 5 of 8 (62.5%), 31 s; pga = 3 m/s^2"]
+
+
+def test_a_resumed_bar_counts_what_was_done_and_takes_its_rate_from_what_it_does(capsys):
+    from dem_core.cli import progress
+
+    clock = iter([0.0, 12.0, 12.0])
+    with progress.ProgressLines(total=8, initial=4, desc="sweep", unit="run", clock=lambda: next(clock)) as bar:
+        bar.update(2)  # 12 s: 2 run here in 12 s, 2 left at that rate
+    with progress.ProgressLines(total=8, disable=True, clock=lambda: 99.0) as quiet:
+        quiet.update(8)
+    assert capsys.readouterr().err.splitlines() == ["sweep: 6 of 8 (75.0%), 12 s, about 12 s left"]

@@ -63,8 +63,8 @@ def test_squat_block_loses_housners_energy():
     # the band the slender blocks meet (the squat case declares none for the native core's decay)
     assert cases.case("free_rocking").within_band("peak_decay", "dem", errors["peak_decay"])
 
-@pytest.mark.slow
 
+@pytest.mark.slow
 def test_housner_closed_forms_are_the_small_angle_limit_of_the_reference(housner_block):
     """Housner's closed forms for free rocking agree with the exact reference to the size of their
     linearisation (0.34% on the quarter period, 0.12% on the peaks here)."""

@@ -86,8 +86,8 @@ def test_overturning_time_agrees_with_the_solve_ivp_reference():
     after = compiled.t > compiled.overturn_time
     assert np.all(np.isnan(compiled.theta[after])) and np.all(np.isfinite(compiled.theta[~after]))
 
-@pytest.mark.slow
 
+@pytest.mark.slow
 def test_free_rocking_matches_the_solve_ivp_reference_and_housner():
     theta0 = cases.HOUSNER_THETA0
     ode = analytical.rocking_response(HOUSNER, lambda t: 0.0, 3.0, theta0=theta0, max_step=1e-4)

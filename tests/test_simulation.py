@@ -110,8 +110,8 @@ def test_duration_defaults_to_the_record_length():
     with pytest.raises(ValueError, match="duration"):
         dem_core.simulate(scenes.block(1.0, 1.0), excitation.harmonic(0.01, 1.0))
 
-@pytest.mark.slow
 
+@pytest.mark.slow
 def test_a_column_collapses_through_to_rest_when_asked_to_go_on():
     """Past the overturn the drums fall into a pile: the run must finish, with the energy balance intact."""
     motion = excitation.record("el_centro_1940", pga=10.0)

@@ -54,8 +54,8 @@ def test_mirror_image_release_mirrors_the_reference(stack, reference):
     assert set(mirror.pivot1) == {-1} and mirror.pivot2[-1] == -reference.pivot2[-1]
     np.testing.assert_allclose(mirror.theta2[-1], -reference.theta2[-1], rtol=1e-9)
 
-@pytest.mark.slow
 
+@pytest.mark.slow
 def test_reference_of_equal_widths_is_one_rocking_block():
     stack = TwoBlockStack(1.25, 1.25, 1.25, 2.5)
     history = stack_response(stack, 0.1, 2.0)

@@ -34,8 +34,8 @@ def test_two_drum_column_released_past_its_critical_tilt_falls_at_once(fraction,
     else:  # the drums never pass their own critical angle (0.32 rad) either
         assert np.max(np.abs(result.theta)) < alpha
 
-@pytest.mark.slow
 
+@pytest.mark.slow
 def test_kernel_and_output_checks_agree_and_come_before_the_drums_topple():
     scene = scenes.column(8)
     motion = excitation.record("el_centro_1940", pga=6.0)

@@ -109,8 +109,8 @@ def test_restarted_sweep_skips_finished_runs(tmp_path):
         assert (tmp_path / "runs" / name).stat().st_mtime_ns == mtime  # not run again
     assert [(r.mu, r.amplitude) for r in table.itertuples()] == [(p["mu"], p["amplitude"]) for p in whole.points()]
 
-@pytest.mark.slow
 
+@pytest.mark.slow
 def test_same_sweep_on_a_dask_cluster(tmp_path):
     distributed = pytest.importorskip("distributed")
     sweep = Sweep(block_under_pulse, {"mu": [0.7], "amplitude": [3.0, 8.0]})
@@ -122,13 +122,15 @@ def test_same_sweep_on_a_dask_cluster(tmp_path):
     pd.testing.assert_frame_equal(local[columns], remote[columns])
 
 
-def test_sweep_command(tmp_path):
-    from dem_core.cli import main
+def test_sweep_command_writes_its_progress_as_lines_in_a_log(tmp_path, monkeypatch, capsys):
+    from dem_core.cli import main, progress
 
+    monkeypatch.setattr(progress, "interactive", lambda: False)
     path = tmp_path / "spec.toml"
     path.write_text(textwrap.dedent(SPEC).replace("time_histories = true", "time_histories = false"))
-    assert main(["sweep", str(path), "--out", str(tmp_path / "out"), "--workers", "1", "--no-progress"]) == 0
+    assert main(["sweep", str(path), "--out", str(tmp_path / "out"), "--workers", "1"]) == 0
     assert len(pd.read_parquet(tmp_path / "out" / "results.parquet")) == 4
+    assert "sweep: 4 of 4 (100.0%)" in capsys.readouterr().err
 
 
 def test_bundled_example_sweep_file_builds_every_point():
@@ -139,6 +141,7 @@ def test_bundled_example_sweep_file_builds_every_point():
     assert len(points) == 10 * 4 * 2
     spec = sweep.build(points[-1])
     assert spec.scene.friction("drum1", "drum2") == 0.7 and spec.simulation["duration"] == 10.0
+
 
 @pytest.mark.slow
 def test_sweep_killed_midway_resumes_without_losing_runs(tmp_path):

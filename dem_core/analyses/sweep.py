@@ -54,6 +54,7 @@ import itertools
 import json
 import numbers
 import os
+import sys
 import time
 import traceback
 import warnings
@@ -495,13 +496,15 @@ def _changed_keys(old, new) -> list:
 # --- running ---------------------------------------------------------------------------------------
 
 def run_sweep(sweep: Sweep, out, *, workers: int | None = None, scheduler=None, progress: bool | None = None,
-              retry_failed: bool = False, overwrite: bool = False,
+              progress_bar: Callable | None = None, retry_failed: bool = False, overwrite: bool = False,
               on_start: Callable[[int, int], None] | None = None) -> pd.DataFrame:
     """Run every point of ``sweep`` not already finished in ``out`` and return the sweep's rows.
 
     workers : processes on this machine, at least 1 (default: one per core); ignored with a scheduler.
     scheduler : address of a running Dask scheduler, or a ``distributed.Client``.
     progress : a progress bar on stderr; None: only when stderr is a terminal (quiet in logs and CI).
+    progress_bar : what makes the bar, called with tqdm's keywords (``total``, ``initial``, ``unit``, ``desc``) and
+        used as a context with ``update()``; default tqdm (the command line's writes lines in a log).
     retry_failed : run again the points recorded as failed or unstable.
     overwrite : delete whatever results ``out`` holds and run every point; without it, the results
         of another sweep in ``out`` raise :class:`SweepError` and those of this sweep are resumed.
@@ -532,8 +535,10 @@ def run_sweep(sweep: Sweep, out, *, workers: int | None = None, scheduler=None, 
     for point in [p for p in todo if p.spec is None]:
         _write_atomic(pd.DataFrame([_failed_row(point, point.error)]), runs_dir / f"{point.run_id}.parquet")
     todo = [p for p in todo if p.spec is not None]
-    with tqdm(total=len(points), initial=len(points) - len(todo), unit="run", desc="sweep",
-              disable=None if progress is None else not progress, smoothing=0.1) as bar:
+    show = sys.stderr.isatty() if progress is None else progress
+    bar = (progress_bar or tqdm)(total=len(points), initial=len(points) - len(todo), unit="run", desc="sweep",
+                                 disable=not show)
+    with bar:
         for row in _run(todo, None if history_dir is None else str(history_dir), workers, scheduler):
             _write_atomic(pd.DataFrame([row]), runs_dir / f"{row['run_id']}.parquet")
             bar.update()

@@ -34,14 +34,22 @@ def progress_bar(**options):
 
 class ProgressLines:
     """The part of a tqdm bar the commands use (``n``, ``total``, :meth:`update`, :meth:`set_postfix_str`,
-    :meth:`close`) as a line on stderr every :data:`LOG_EVERY_S` s and one at the end: what is done of the total,
+    :meth:`close`, a context) as a line on stderr every :data:`LOG_EVERY_S` s and one at the end: what is done of the total,
     the time so far and, from the rate so far, the time left ("runs: 120 of 1600 (7.5%), 45 s, about 9.2 min
     left")."""
 
-    def __init__(self, total=None, desc: str = "", unit: str = "it", clock=time.perf_counter, **_):
-        self.total, self.desc, self.unit, self.n, self.postfix, self.clock = total, desc, unit, 0, "", clock
+    def __init__(self, total=None, desc: str = "", unit: str = "it", initial: int = 0, disable: bool = False,
+                 clock=time.perf_counter, **_):
+        self.total, self.desc, self.unit, self.n, self.postfix, self.clock = total, desc, unit, initial, "", clock
+        self.disable = disable
         self.started = self.said = clock()
-        self.n_said = 0
+        self.initial = self.n_said = initial
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *_) -> None:
+        self.close()
 
     def update(self, n=1) -> None:
         self.n += n
@@ -57,11 +65,13 @@ class ProgressLines:
 
     def _say(self, ended: bool = False) -> None:
         self.said, self.n_said = self.clock(), self.n
+        if self.disable:
+            return
         took = self.said - self.started
         done = f"{self.n:g} of {self.total:g} ({100 * self.n / self.total:.1f}%)" if self.total else f"{self.n:g}"
         left = ""
-        if not ended and self.total and 0 < self.n < self.total:
-            left = f", about {_duration(took * (self.total - self.n) / self.n)} left"
+        if not ended and self.total and self.initial < self.n < self.total:
+            left = f", about {_duration(took * (self.total - self.n) / (self.n - self.initial))} left"
         extra = f"; {self.postfix}" if self.postfix else ""
         print(f"{self.desc or self.unit}: {done}, {_duration(took)}{left}{extra}", file=sys.stderr, flush=True)
 

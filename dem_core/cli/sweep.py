@@ -7,7 +7,7 @@ from ..analyses.sweep import SweepError, load_sweep, run_sweep, saved_runs, with
 from ..engine.settings import INTEGRATORS
 from ..output_files import output_folder
 from .arguments import SECONDS, WORKERS
-from .progress import compile_first
+from .progress import compile_first, progress_bar
 
 
 def add(sub):
@@ -67,7 +67,7 @@ def run(args) -> int:
     args.on_interrupt = args.after_write_error = saved
     try:
         table = run_sweep(sweep, out, workers=args.workers, scheduler=args.scheduler,
-                          progress=False if args.no_progress else None, retry_failed=args.retry_failed,
+                          progress=not args.no_progress, progress_bar=progress_bar, retry_failed=args.retry_failed,
                           overwrite=args.overwrite, on_start=on_start)
     except SweepError as exc:
         print(f"error: {exc}", file=sys.stderr)
