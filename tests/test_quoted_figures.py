@@ -366,3 +366,58 @@ def test_validation_mds_rectangular_boundary_against_housner_is_the_rocking_equa
     said = (f"the rocking equation's boundary is within {_two_figures(worst[0])} (1 x 6 m) and {_two_figures(worst[1])} "
             "(1.5 x 6 m) of Housner's linearised")
     assert _words(said) in validation, said
+
+
+#: the stiffness ensembles' members (``python -m comparisons stiffness-ensembles --members``), per scene
+STIFFNESS_ENSEMBLES = REPORTS / "stiffness_ensembles"
+
+
+def test_the_stiffness_ensembles_are_current():
+    """Each stiffness ensemble's members were run from the sources the checkout holds (the report's digest)."""
+    import json
+
+    from comparisons.report import provenance
+
+    current, _ = provenance.source_digest()
+    for scene in ("column", "colonnade"):
+        stamp = json.loads((STIFFNESS_ENSEMBLES / f"{scene}.json").read_text(encoding="utf-8"))
+        assert stamp["digest"] == current, (
+            f"reports/stiffness_ensembles/{scene}.csv is stale: run `python -m comparisons stiffness-ensembles "
+            f"--scene {scene} --perturb 0.001 --members reports/stiffness_ensembles/{scene}.csv`")
+
+
+def test_validation_mds_stiffness_table_is_the_stiffness_ensembles(validation):
+    """validation.md's table of the stiffness ensembles, each cell made from the members' peaks as
+    ``comparisons.benchmarks.stiffness_ensembles.measures`` measures them, and its count of members."""
+    from comparisons.benchmarks.stiffness_ensembles import compared
+
+    tables = {scene: pd.read_csv(STIFFNESS_ENSEMBLES / f"{scene}.csv") for scene in ("column", "colonnade")}
+    found = {scene: compared(table) for scene, table in tables.items()}
+
+    def change(m):
+        return f"{m['change']:+.1%} ({m['change_low']:+.0%} to {m['change_high']:+.0%})"
+
+    rows = {
+        "median peak at 1 x K_n (90% interval of the change)": lambda f: change(f["1x"]),
+        "the same at 10 x K_n": lambda f: change(f["10x"]),
+        "member by member at 1 x: median ratio, geometric mean (standard error)":
+            lambda f: f"{f['1x']['median_ratio']:.4f}, {f['1x']['geometric_mean']:.3f} ({f['1x']['standard_error']:.1%})",
+        "typical member change at 1 x / 10 x (median \\|log ratio\\|)":
+            lambda f: f"{_two_figures(f['1x']['typical_change'])} / {_two_figures(f['10x']['typical_change'])}",
+        "amplitudes 0.1% higher at 1 x: typical member change, geometric mean (standard error)":
+            lambda f: (f"{_two_figures(f['1x_perturbed']['typical_change'])}, "
+                       f"{f['1x_perturbed']['geometric_mean']:.3f} ({f['1x_perturbed']['standard_error']:.1%})"),
+        "agreement on overturning at 1 x": lambda f: f"{f['1x']['agreement']:.0%}",
+    }
+    missing = []
+    for label, cell in rows.items():
+        row = _words(f"| {label} | " + " | ".join(cell(f) for f in found.values()) + " |")
+        if row not in validation:
+            missing.append(row)
+    standing = sorted({int(table.filter(like="overturned_").any(axis=1).eq(False).sum()) for table in tables.values()})
+    members = {len(table) for table in tables.values()}
+    said = (f"On the {members.pop()} members ({' or '.join(map(str, standing))} standing in every run"
+            if len(members) == 1 else "the scenes' ensembles have the same members")
+    if _words(said) not in validation:
+        missing.append(said)
+    assert missing == [], "docs/validation.md should say:\n" + "\n".join(missing)
