@@ -14,7 +14,6 @@ tests/test_restitution.py and the heavier dashpots (1.3, 1.8), the explicit core
 bundled default's joints, pair lists and solves and the colonnades' solves (1.8)."""
 
 import argparse
-import re
 import warnings
 from pathlib import Path
 
@@ -135,9 +134,8 @@ def test_moreau_jeans_step_on_the_column_ensemble_is_the_reports(method):
 def test_the_bootstrap_coverage_method_md_quotes_is_the_tests(method):
     """Section 3's coverage of the bootstrap by record: the suites and the least count of them that
     tests/test_nested_fragility.py asserts."""
-    source = (REPOSITORY / "tests" / "test_nested_fragility.py").read_text(encoding="utf-8")
-    suites, = re.findall(r"for seed in range\((\d+)\):", source)
-    least, = re.findall(r'assert covered\["records"\] >= (\d+)', source)
+    from test_nested_fragility import COVERAGE_SUITES as suites, COVERED_AT_LEAST as least
+
     _said(method, [("the bootstrap's coverage (tests/test_nested_fragility.py)",
                     f"on {suites} suites of 10 records from a known lognormal, the band drawn by record covers its "
                     f"median in at least {least}, the band drawn by run in fewer")])
