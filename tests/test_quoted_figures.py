@@ -82,10 +82,13 @@ def claims(board, ensembles, results) -> list:
         return f"overturns when the rocking equation does at {share} of the spectra's points"
 
     said = []
-    for engine in ("dem-moreau", "dem", "pybullet", "pymunk", "mujoco"):
+    #: where the README gives each engine's verdicts: the words before them (its row of the table, or its sentence)
+    before = {"dem-moreau": "1e-3 s steps) |", "dem": "with `dem-core stiffness` |", "pymunk": "`pymunk` (1e-3 s) |",
+              "mujoco": "`mujoco` (or `dem-moreau`) |", "pybullet": "PyBullet is"}
+    for engine, words in before.items():
         right, judged = int(board.loc[engine, "right"]), int(board.loc[engine, "judged"])
-        said.append((f"{engine}: verdicts", f"right in all {judged}" if right == judged else
-                     f"right in {right} of {judged}"))
+        said.append((f"{engine}: verdicts", f"{words} right in all {judged}" if right == judged else
+                     f"{words} right in {right} of {judged}"))
     onset = -case_error(results, "onset_ramp", "dem-overlap", "auto/1", "onset_acceleration")
     column = [abs(case_error(results, "column_record", "dem", step, "peak_rotation"))
               for step in ("auto/1", "auto/1, 10 x K_n")]
