@@ -14,6 +14,7 @@ tests/test_restitution.py and the heavier dashpots (1.3, 1.8), the explicit core
 bundled default's joints, pair lists and solves and the colonnades' solves (1.8)."""
 
 import argparse
+import re
 import warnings
 from pathlib import Path
 
