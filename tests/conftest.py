@@ -56,3 +56,19 @@ def pytest_terminal_summary(terminalreporter, config):
         terminalreporter.section("GPU kernels built for sm_90 (tests/test_cuda_build.py)")
         for line in lines:
             terminalreporter.write_line(line)
+
+
+@pytest.fixture(scope="module")
+def results():
+    """The committed report's cases (``reports/results.csv``), for the tests that read the docs' figures."""
+    import pandas as pd
+
+    return pd.read_csv(Path(__file__).resolve().parents[1] / "reports" / "results.csv")
+
+
+@pytest.fixture(scope="module")
+def ensembles():
+    """The committed report's ensembles (``reports/ensembles.csv``)."""
+    import pandas as pd
+
+    return pd.read_csv(Path(__file__).resolve().parents[1] / "reports" / "ensembles.csv")

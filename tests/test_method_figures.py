@@ -48,16 +48,6 @@ def method() -> str:
     return _words((REPOSITORY / "docs" / "method.md").read_text(encoding="utf-8"))
 
 
-@pytest.fixture(scope="module")
-def results() -> pd.DataFrame:
-    return pd.read_csv(REPORTS / "results.csv")
-
-
-@pytest.fixture(scope="module")
-def ensembles() -> pd.DataFrame:
-    return pd.read_csv(REPORTS / "ensembles.csv")
-
-
 def _said(method: str, claims: list) -> None:
     """Each ``(what, text)`` of ``claims`` in method.md, or a failure naming every one that is not."""
     missing = [f"{what}: docs/method.md should say {text!r}" for what, text in claims if _words(text) not in method]

@@ -36,16 +36,6 @@ def board() -> pd.DataFrame:
     return pd.read_csv(REPORTS / "scoreboard.csv").set_index("engine")
 
 
-@pytest.fixture(scope="module")
-def ensembles() -> pd.DataFrame:
-    return pd.read_csv(REPORTS / "ensembles.csv")
-
-
-@pytest.fixture(scope="module")
-def results() -> pd.DataFrame:
-    return pd.read_csv(REPORTS / "results.csv")
-
-
 def percent(share: float, digits: int = 2) -> str:
     """``share`` as the report writes a percentage: ``digits`` significant figures."""
     return f"{100 * share:.{digits}g}%"
