@@ -33,11 +33,10 @@ from .simulation import Simulation, SimulationUnstable, check_run_arguments, set
 #: where a batch can run: ``"auto"`` takes the GPU where numba-cuda finds one and the batch has at least
 #: GPU_MEMBERS_PER_THREAD members per CPU thread, else the CPU's threads
 DEVICES = ("auto", "cpu", "gpu")
-#: a GPU thread steps a member about 16 times slower than a CPU core (the H100 prototype of the issue that asked for
-#: the GPU path: 6.0e10 member-steps per second over 65,536 members, 9.2e5 each, against 1.5e7 on one core), so
-#: the GPU is the faster where a batch has more members than this many per CPU thread.  It is the explicit
-#: prototype's ratio, taken for both integrators until ``python -m comparisons gpu-check`` measures each one's
-GPU_MEMBERS_PER_THREAD = 16
+#: a GPU thread steps a member about 320 times slower than a CPU core, under either integrator (the device check on
+#: an H200 against the development machine's cores, docs/performance.md "The device check on an H200: first
+#: measurements"), so the GPU is the faster where a batch has more members than this many per CPU thread
+GPU_MEMBERS_PER_THREAD = 320
 #: members queued per thread at a time (so that waiting for the next to finish does not grow with the batch)
 IN_FLIGHT_PER_THREAD = 4
 #: s the main thread waits for a member at most before it looks again: a Ctrl-C is taken between two looks

@@ -3,9 +3,10 @@
 numba-cuda compiles a kernel of :data:`~dem_core.engine._members.KERNELS` the first time a batch of its integrator
 runs on a GPU, and for the one step driver that takes minutes (docs/performance.md).  :func:`compile_kernels` does
 that work on any machine with the ``gpu`` extra, for a compute capability named, and writes each integrator's
-kernel (numba-cuda's own serialised form: its PTX, argument types and entry) to one compressed file;
-:func:`load_kernels` hands them to the kernels' dispatchers where the GPU is, so that a batch's first launch only
-assembles the PTX (seconds).  A file serves the engine's code of the same
+kernel (numba-cuda's own serialised form: its PTX, argument types and entry, and, where the CUDA wheels' ``ptxas``
+is installed, the PTX assembled for the GPU) to one compressed file; :func:`load_kernels` hands them to the kernels'
+dispatchers where the GPU is, so that a batch's first launch only loads the assembled kernel (or, without it, has
+the driver assemble the PTX).  A file serves the engine's code of the same
 :data:`~dem_core.engine._build.ENGINE_DIGEST` under the same numba-cuda version and Python minor version as made
 it; any other is refused by name.  The file is a pickle: load only files you made.
 
@@ -19,8 +20,12 @@ import contextlib
 import lzma
 import os
 import pickle
+import re
+import subprocess
 import sys
+import tempfile
 import types
+import warnings
 from importlib import metadata
 from pathlib import Path
 
@@ -74,6 +79,43 @@ def _stamp() -> dict:
             "python": ".".join(str(v) for v in sys.version_info[:2])}
 
 
+def _cache_key(cc: tuple) -> tuple:
+    """numba-cuda's key for a compute capability's PTX and cubin: Hopper's and later take the arch-specific "a"."""
+    return (*cc[:2], "a" if tuple(cc[:2]) >= (9, 0) else "")
+
+
+def kernel_resources(ptxas_log: str) -> list:
+    """Each function's resources in ``ptxas -v``'s log: (name, bytes of stack frame, of spill stores, of spill
+    loads, registers per thread)."""
+    found = re.findall(r"Function properties for (\S+)\n\s*(\d+) bytes stack frame, (\d+) bytes spill stores, "
+                       r"(\d+) bytes spill loads\n.*?Used (\d+) registers", ptxas_log)
+    return [(name, *(int(value) for value in values)) for name, *values in found]
+
+
+def _assemble(library, cc: tuple) -> str:
+    """``library``'s PTX for ``cc`` assembled by the CUDA wheels' ``ptxas`` into the cubin numba-cuda keeps for
+    ``cc`` (where it looks before asking the driver to assemble the PTX), ptxas' log kept as the linker's; returns
+    the entry's resources, or why it did not assemble: the ``nvidia-cuda-nvcc`` wheel is not installed."""
+    try:
+        from nvidia import cuda_nvcc
+    except ImportError:
+        return "not assembled: no ptxas here (the gpu extra's nvidia-cuda-nvcc wheel)"
+    key = _cache_key(cc)
+    arch = f"sm_{key[0]}{key[1]}{key[2]}"
+    with tempfile.TemporaryDirectory() as folder:
+        ptx, cubin = Path(folder) / "kernel.ptx", Path(folder) / "kernel.cubin"
+        ptx.write_text(library.get_asm_str(key))
+        done = subprocess.run([str(Path(cuda_nvcc.__path__[0]) / "bin" / "ptxas"), f"-arch={arch}", "-v", str(ptx),
+                               "-o", str(cubin)], capture_output=True, text=True)
+        if done.returncode != 0:
+            raise RuntimeError(f"ptxas -arch={arch} failed: {done.stderr[-2000:]}")
+        library._cubin_cache[key] = cubin.read_bytes()
+    library._linkerinfo_cache[key] = done.stderr
+    return "; ".join(f"{arch} {name}: {registers} registers, {stack} B stack, {stores} B spill stores, {loads} B "
+                     f"spill loads" for name, stack, stores, loads, registers in kernel_resources(done.stderr)
+                     if name == library._entry_name)
+
+
 def compile_kernels(folder: str | Path, cc: tuple = HOPPER, integrators=None) -> Path:
     """Compile the kernel of each of ``integrators`` (default both) for compute capability ``cc`` and write them to
     ``folder``/kernels.pickle; returns its path.  Needs no GPU; takes minutes (the compile a first batch would)."""
@@ -93,6 +135,7 @@ def compile_kernels(folder: str | Path, cc: tuple = HOPPER, integrators=None) ->
             dispatcher = KERNELS[INTEGRATORS.index(name)]
             argument_types = tuple(typeof(a) for a in kernel_arguments(name))
             built[name] = _Kernel(dispatcher.py_func, argument_types, **dispatcher.targetoptions)
+            print(f"{name}: {_assemble(built[name]._codelibrary, cc)}", flush=True)
     path = Path(folder) / FILE_NAME
     path.parent.mkdir(parents=True, exist_ok=True)
     path.write_bytes(lzma.compress(pickle.dumps(({**_stamp(), "cc": tuple(cc)}, pickle.dumps(built)))))
@@ -117,9 +160,30 @@ def load_kernels(folder: str | Path) -> list:
         raise ValueError(f"{path}: made for {', '.join(differ)}; compile them again with what runs here")
     kernels = pickle.loads(payload)
     for name, kernel in kernels.items():
+        _load_assembled(name, kernel._codelibrary)
         KERNELS[INTEGRATORS.index(name)].add_overload(kernel, kernel.argument_types)
     _LOADED[path.resolve()] = list(kernels)
     return _LOADED[path.resolve()]
+
+
+def _load_assembled(name: str, library) -> None:
+    """The kernel assembled ahead (a cubin) handed to numba-cuda in the form its linker gives, and loaded onto this
+    process's GPU if one is here; where the driver refuses it, it is dropped with a warning, and the driver
+    assembles the PTX at the first launch."""
+    from cuda.core import ObjectCode
+    from numba import cuda
+
+    # kept as bytes in the file; numba-cuda loads the cubins its linker makes, cuda.core's ObjectCode
+    library._cubin_cache = {key: ObjectCode.from_cubin(cubin) if isinstance(cubin, bytes) else cubin
+                            for key, cubin in library._cubin_cache.items()}
+    if not library._cubin_cache or not cuda.is_available():
+        return
+    try:
+        library.get_cufunc()
+    except Exception as refused:  # the driver's error, whichever of numba-cuda's bindings raised it
+        library._cubin_cache.clear()
+        library._cufunc_cache.clear()
+        warnings.warn(f"{name}: the kernel assembled ahead was refused ({refused}); the driver assembles its PTX")
 
 
 def load_named_kernels() -> list:

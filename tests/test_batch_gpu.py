@@ -5,6 +5,7 @@ take is refused naming it."""
 
 import json
 import os
+import re
 import subprocess
 import sys
 from pathlib import Path
@@ -209,16 +210,32 @@ def test_the_cuda_kernel_under_the_simulator_gives_the_cpus_rows():
     assert max(block["max_peak_abs_theta_rad"]) > 1e-4 and max(moreau["max_peak_abs_theta_rad"]) > 1e-4
 
 
-def test_the_device_check_runs_every_section_under_the_simulator(tmp_path):
-    """``python -m comparisons gpu-check --smoke`` (two members a case, 0.05 s each) through numba's CUDA simulator:
-    every section prints its lines, none fails, and the fine scan writes its table."""
+def _device_check(tmp_path, *options) -> subprocess.CompletedProcess:
+    """``python -m comparisons gpu-check --smoke OPTIONS`` (two members a case, 0.05 s each) through numba's CUDA
+    simulator, its files in ``tmp_path``."""
     env = dict(os.environ, NUMBA_ENABLE_CUDASIM="1", NUMBA_DISABLE_JIT="1", PYTHONPATH=str(REPOSITORY))
-    done = subprocess.run([sys.executable, "-m", "comparisons", "gpu-check", "--smoke", "--out", str(tmp_path)],
-                          capture_output=True, text=True, env=env, timeout=600, cwd=tmp_path, check=False)
+    return subprocess.run([sys.executable, "-m", "comparisons", "gpu-check", "--smoke", "--out", str(tmp_path),
+                           *options], capture_output=True, text=True, env=env, timeout=600, cwd=tmp_path, check=False)
+
+
+def test_the_device_check_runs_every_section_under_the_simulator(tmp_path):
+    """Every section prints its lines, in the order ``--sections`` gives, none fails, and the fine scan writes its
+    table."""
+    order = ("device", "throughput", "fragility", "fine", "agreement", "throughput-other")
+    done = _device_check(tmp_path, "--sections", *order)
     assert done.returncode == 0, done.stderr[-3000:]
-    for section in ("device", "agreement", "throughput", "fragility", "fine", "throughput-other"):
-        assert f"| {section:16s} | section's wall time" in done.stdout, section
+    ended = [done.stdout.find(f"| {section:16s} | section's wall time") for section in order]
+    assert -1 not in ended and ended == sorted(ended), done.stdout
     assert "FAILED" not in done.stdout and "cut at" not in done.stdout, done.stdout + done.stderr[-3000:]
     assert "| agreement        | column, moreau: steady members within 1e-9" in done.stdout
     scanned = pd.read_csv(tmp_path / "fine_scan.csv")
     assert len(scanned) == 1 and scanned["runs"][0] > 1
+
+
+def test_the_device_check_cuts_a_study_at_its_budget_and_goes_on(tmp_path):
+    """A budget spent during the fragility study (whose members stop with the study's own interruption, not a
+    batch's) cuts that section and leaves the next to run: on an H200 it ended the whole check with a traceback."""
+    done = _device_check(tmp_path, "--budget", "0", "--sections", "fragility", "fine")
+    assert done.returncode == 0 and "Traceback" not in done.stderr, done.stderr[-3000:]
+    assert re.search(r"\| fragility +\| \d+ runs +\| cut at the budget's end", done.stdout), done.stdout
+    assert "| fine             | section's wall time" in done.stdout, done.stdout

@@ -45,6 +45,7 @@ import pandas as pd
 
 import dem_core
 from dem_core import excitation, scenes
+from dem_core.analyses.study_members import MembersInterrupted
 from dem_core.batch import BatchInterrupted, simulate_batch
 from dem_core.batch_gpu import gpu_available, run_members
 from dem_core.gpu_kernels import ENVIRONMENT, load_named_kernels
@@ -85,7 +86,7 @@ def arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--smoke", action="store_true",
                         help="two members a case, 0.05 s each: the check itself tested under numba's CUDA simulator")
     parser.add_argument("--sections", nargs="+", choices=SECTION_ORDER, default=list(SECTION_ORDER),
-                        help="the sections to run, in this order (default: all)")
+                        help="the sections to run, in the order given (default: all, in the order above)")
 
 
 class OverBudget(KeyboardInterrupt):
@@ -255,7 +256,7 @@ def fragility_section(args, clock: Clock) -> None:
         done = fragility_study(load(default_scene_path()).scene, records, levels, study.STATES, device="gpu",
                                duration=SMOKE_DURATION if args.smoke else None, progress=clock.progress,
                                residual=None if args.smoke else study.RESIDUAL, **study.OPTIONS)
-    except BatchInterrupted:
+    except (BatchInterrupted, MembersInterrupted):  # a study's members stop as its batches do
         _line("fragility", f"{len(records) * len(levels)} runs", "cut at the budget's end", "NOT met")
         return
     took = time.perf_counter() - began
@@ -313,11 +314,11 @@ def run(args: argparse.Namespace) -> None:
     warnings.filterwarnings("ignore", message="the strong motion is cut")
     print(f"gpu-check, budget {args.budget:g} s, {args.duration:g} s of {RECORD}", flush=True)
     _line("section", "item", "value", "issue's mark")
-    for name in [section for section in SECTION_ORDER if section in args.sections]:
+    for name in dict.fromkeys(args.sections):
         began = time.perf_counter()
         try:
             rows = SECTIONS[name](args, clock)
-        except (OverBudget, BatchInterrupted):
+        except (OverBudget, BatchInterrupted, MembersInterrupted):
             _line(name, "cut at the budget's end", "")
             continue
         except Exception as error:  # noqa: BLE001 (one section's failure leaves the others' lines)

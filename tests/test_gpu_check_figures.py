@@ -1,0 +1,136 @@
+"""The GPU figures the docs quote, read from the device check's committed output (reports/gpu_check/h200: its logs
+and tables, as ``bash .ci/gpu-check`` wrote them on a lent H200): docs/performance.md's table and the ratios under
+it, the README's sentence, and ``GPU_MEMBERS_PER_THREAD``, where ``device="auto"`` takes the GPU."""
+
+import re
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+import pytest
+
+from dem_core.batch import GPU_MEMBERS_PER_THREAD
+from dem_core.engine._members import THREADS_PER_BLOCK
+
+REPOSITORY = Path(__file__).resolve().parents[1]
+CHECK = REPOSITORY / "reports" / "gpu_check" / "h200"
+#: the H200's multiprocessors (NVIDIA's H200 SXM: 132) and the registers each holds (65,536)
+MULTIPROCESSORS, REGISTERS = 132, 65536
+#: a step of one member on a core of the development machine (AMD EPYC), s: docs/performance.md's "Measuring the
+#: joints" table, the 1 x 6 m block's 20 s by central differences at its automatic step and the 8-drum column's 30 s
+#: by Moreau-Jean at 1e-3 s, as that table measured them
+CPU_STEP = {("block", "explicit"): 0.073 / (20.0 / 5.96e-5), ("column", "moreau"): 0.136 / (30.0 / 1e-3)}
+
+
+def _words(text: str) -> str:
+    return " ".join(text.split())
+
+
+@pytest.fixture(scope="module")
+def logs() -> dict:
+    return {name: (CHECK / f"{name}.log").read_text() for name in ("first_call", "second_call")}
+
+
+@pytest.fixture(scope="module")
+def section() -> str:
+    text = (REPOSITORY / "docs" / "performance.md").read_text()
+    start = text.index("### The device check on an H200: first measurements")
+    return _words(text[start:text.index("\n## ", start)])
+
+
+def _row(log: str, item: str) -> tuple:
+    """The item and value of the check's row whose item matches ``item`` (a regular expression) at its start."""
+    for line in log.splitlines():
+        cells = [cell.strip() for cell in line.strip().strip("|").split("|")]
+        if len(cells) >= 3 and re.match(item, cells[1]):
+            return cells[1], cells[2]
+    raise AssertionError(f"no row {item!r} in the log")
+
+
+def _value(log: str, item: str) -> str:
+    return _row(log, re.escape(item))[1]
+
+
+def per_thread_step(row) -> float:
+    """s a step of one member takes a GPU thread: the kernel's time over the waves of resident threads it ran in,
+    over each member's steps.  At r registers a thread (allocated by the warp, in 256s) a multiprocessor holds
+    REGISTERS / (32 r) warps."""
+    warps = REGISTERS // (32 * 256)
+    resident = MULTIPROCESSORS * (warps * 32 // THREADS_PER_BLOCK) * THREADS_PER_BLOCK
+    waves = int(np.ceil(row.members / resident))
+    return row.kernel_s / waves / (row.member_steps / row.members)
+
+
+def ratios() -> dict:
+    table = pd.read_csv(CHECK / "throughput.csv")
+    return {(row.scene, row.integrator): per_thread_step(row) / CPU_STEP[row.scene, row.integrator]
+            for row in table.itertuples()}
+
+
+def test_the_table_is_the_checks_output(logs, section):
+    first, second = logs["first_call"], logs["second_call"]
+    for item in ("explicit kernel: first batch", "moreau kernel: first batch"):
+        assert f"| {_value(first, item)} s |" in section, item
+    for name, words in (("explicit", "explicit"), ("moreau", "Moreau-Jean")):
+        registers, memory = re.match(r"(\d+) registers, (\d+) B", _value(first, f"{name} kernel, per thread")).groups()
+        assert f"{registers} and {memory} B ({words})" in section, name
+    table = pd.read_csv(CHECK / "throughput.csv")
+    for row, item in zip(table.itertuples(), ("block, explicit, M=", "column, moreau, M=")):
+        rate = _value(first, item)
+        assert float(rate) == pytest.approx(row.member_steps / row.kernel_s, rel=5e-3)
+        setup, kernel = _value(first, item.split(", M=")[0] + ": set-up").split(";")[0].split(", ")
+        assert f"{rate} member-steps/s: kernel {kernel} s, set-up {setup} s" in section, item
+    column = table[table.scene == "column"].iloc[0]
+    assert f"{column.set_up_s + column.kernel_s:.1f} s in all" in section
+    item, took = _row(second, r"\d+ runs \(gpu")
+    assert f"{int(item.split()[0]):,} runs (second call) | {took}; overturning median " \
+           f"{_value(second, 'overturning median')}" in section
+    scanned = pd.read_csv(CHECK / "fine_scan.csv")
+    item, took = _row(second, r"\d+ of \d+ systems")
+    done, systems = (int(v) for v in re.match(r"(\d+) of (\d+)", item).groups())
+    assert done == len(scanned) and f"{done} of {systems} systems, {scanned.runs.sum():,} runs, in {took}" in section
+
+
+def test_the_fragility_median_on_the_gpu_is_inside_the_cpu_studys_band(logs, section):
+    """The GPU's median against the committed CPU study's 90% band (records drawn again), both quoted."""
+    gpu = float(_value(logs["second_call"], "overturning median").split(" =")[0])
+    study = (REPOSITORY / "reports" / "studies" / "fragility" / "README.md").read_text()
+    median, low, high = (float(v) for v in re.search(r"\| overturning \| ([\d.]+) = [\d.]+ g \(([\d.]+) to ([\d.]+)\)",
+                                                      study).groups())
+    assert low <= gpu <= high
+    assert f"(8.86, {low:g} to {high:g}" in section and median == 8.86
+
+
+def test_the_fine_scans_first_overturns_lie_between_the_cpu_studys_bounds(section):
+    scanned = pd.read_csv(CHECK / "fine_scan.csv")
+    study = pd.read_parquet(REPOSITORY / "reports" / "studies" / "record_overturning" / "results.parquet")
+    for row in scanned.itertuples():
+        cpu = study[(study.kind == row.kind) & (study.n_drums == row.n_drums) & (study.record == row.record)].iloc[0]
+        assert cpu.standing_below < row.first_overturn_pga and row.first_overturn_pga - 0.02 < cpu.smallest
+        assert f"{row.first_overturn_pga:.4f} m/s^2" in section
+        assert f"({cpu.standing_below:.4f} and {cpu.smallest:.4f}" in section
+
+
+def test_the_per_thread_ratios_and_the_auto_rule_are_the_checks(section):
+    table = pd.read_csv(CHECK / "throughput.csv").set_index("scene")
+    measured = ratios()
+    for (scene, integrator), ratio in measured.items():
+        row = table.loc[scene]
+        step = per_thread_step(row)
+        shown = f"{step * 1e6:.0f} us a step" if step < 1e-3 else f"{step * 1e3:.2f} ms a step"
+        assert shown in section, (scene, shown)
+        assert f"{ratio:.0f} times" in section, (scene, ratio)
+    assert GPU_MEMBERS_PER_THREAD == round(np.mean(list(measured.values())), -1)
+    assert f"is {GPU_MEMBERS_PER_THREAD} from these" in section
+
+
+def test_the_readme_and_cli_quote_the_check_and_the_auto_rule():
+    readme = _words((REPOSITORY / "README.md").read_text())
+    cli = _words((REPOSITORY / "docs" / "cli.md").read_text())
+    assert f"at least {GPU_MEMBERS_PER_THREAD} members per CPU thread" in readme
+    assert f"at least {GPU_MEMBERS_PER_THREAD} per CPU thread" in cli
+    assert f"about {GPU_MEMBERS_PER_THREAD} times slower" in readme
+    table = pd.read_csv(CHECK / "throughput.csv").set_index("scene")
+    block, column = table.loc["block"], table.loc["column"]
+    assert f"at {block.member_steps / block.kernel_s:.1e} member-steps".replace("e+0", "e") in readme
+    assert f"in {column.set_up_s + column.kernel_s:.0f} s ({column.set_up_s:.1f} s of it their set-up" in readme
