@@ -170,36 +170,32 @@ def test_threads_and_the_broad_phase_margin_do_not_change_the_trajectory(monkeyp
         np.testing.assert_array_equal(other.theta, runs[0].theta)
 
 
-THREADED_KERNEL_CHECK = """
-from dem_core import excitation, scenes
-from dem_core.engine import _driver
-from dem_core.simulation import Simulation
-scene = scenes.colonnade(2, 2, epistyle="a")
-for parallel in (False, True):
-    Simulation(scene, excitation.harmonic(pga=1.0, frequency=2.0), duration=0.01, parallel=parallel,
-               integrator="explicit").advance(5)
-threaded = _driver.drive_threaded
-info = threaded.get_metadata(threaded.signatures[0])["parfor_diagnostics"]
-print(info.count_parfors())
-"""
+def test_no_two_compiled_kernels_of_the_engine_share_an_entry_of_numbas_disk_cache():
+    """Numba's disk cache files a kernel by name and line, not by its options (``parallel=True``) or the functions
+    it calls: two builds of one function under one name share an entry, and one loads the other's code (the
+    threaded driver ran the serial one's, on one thread, once the serial had been cached a moment before in the same
+    process).  Every cached dispatcher of ``dem_core.engine`` (each build made by ``_build.variant`` under a name of
+    its own) has an entry of its own."""
+    import importlib
+    import pkgutil
 
+    from numba.core.registry import CPUDispatcher
 
-@pytest.mark.slow
-def test_the_threaded_kernel_is_compiled_with_its_parallel_loops_after_the_serial_one(tmp_path):
-    """Numba's disk cache files a kernel by name, line and bytecode, not by ``parallel=True``: the two
-    kernels must not share an entry (the threaded one then loaded the serial code, cached a moment before in the
-    same process, and ran on one thread).  The serial kernel compiles first, in a fresh process with an empty
-    cache, as that fault needs; the other order, which could not show it, is not run (each order compiles both
-    kernels afresh, the suite's longest test)."""
-    import os
-    import subprocess
-    import sys
+    import dem_core.engine
+    from dem_core.engine._driver import drive_serial, drive_threaded
 
-    env = dict(os.environ, NUMBA_CACHE_DIR=str(tmp_path), NUMBA_NUM_THREADS="2")  # a 1-CPU runner too
-    done = subprocess.run([sys.executable, "-c", THREADED_KERNEL_CHECK], env=env,
-                          capture_output=True, text=True, timeout=1200)
-    assert done.returncode == 0, done.stderr[-2000:]
-    assert int(done.stdout.split()[-1]) > 0  # the threaded kernel was compiled here, with parallel loops
+    kernels = {}
+    for module in pkgutil.iter_modules(dem_core.engine.__path__):
+        for value in vars(importlib.import_module(f"dem_core.engine.{module.name}")).values():
+            if isinstance(value, CPUDispatcher) and value._cache.__class__.__name__ == "FunctionCache":
+                kernels[id(value)] = value
+    entries = {}
+    for kernel in kernels.values():
+        entries.setdefault((kernel._cache._cache_path, kernel._cache._cache_file._index_name), []).append(kernel)
+    shared = {entry: [k.py_func.__qualname__ for k in found] for entry, found in entries.items() if len(found) > 1}
+    assert not shared, shared
+    assert {id(drive_serial), id(drive_threaded)} <= kernels.keys()
+    assert drive_threaded.targetoptions.get("parallel") and not drive_serial.targetoptions.get("parallel")
 
 
 def test_a_run_pickled_halfway_continues_to_the_same_trajectory_in_another_process(tmp_path):
