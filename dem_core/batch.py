@@ -236,7 +236,9 @@ def _give(said: list, given: set) -> None:
 
 
 def _refused(m: int, motion, error: Exception) -> dict:
-    return {"member": m, "motion": motion.name, "status": "refused", "error": str(error)}
+    """A refused member's row: what its motion is (:func:`~dem_core.inputs.excitation.describe`, as
+    :func:`member_row` gives it), its status and why."""
+    return {"member": m, **describe(motion), "status": "refused", "error": str(error)}
 
 
 def _first_member(scenes, motions, duration, simulate_options, rows: dict, shared: dict) -> tuple:

@@ -118,7 +118,7 @@ def _assemble(library, cc: tuple) -> str:
 
 def compile_kernels(folder: str | Path, cc: tuple = HOPPER, integrators=None) -> Path:
     """Compile the kernel of each of ``integrators`` (default both) for compute capability ``cc`` and write them to
-    ``folder``/kernels.pickle; returns its path.  Needs no GPU; takes minutes (the compile a first batch would)."""
+    ``folder``/:data:`FILE_NAME`; returns its path.  Needs no GPU; takes minutes (the compile a first batch would)."""
     from numba import typeof
     from numba.cuda.dispatcher import _Kernel
 
@@ -143,8 +143,9 @@ def compile_kernels(folder: str | Path, cc: tuple = HOPPER, integrators=None) ->
 
 
 def load_kernels(folder: str | Path) -> list:
-    """Give the kernels in ``folder``/kernels.pickle to :data:`~dem_core.engine._members.KERNELS`; returns the
-    integrators loaded.  ``ValueError`` naming the file where it was made for other code or another numba-cuda."""
+    """Give the kernels in ``folder``/:data:`FILE_NAME` to :data:`~dem_core.engine._members.KERNELS`; returns the
+    integrators loaded.  ``ValueError`` naming the file where it cannot be read, or was made for other code,
+    another numba-cuda or Python, or (where a GPU is here) another compute capability."""
     from .engine._members import KERNELS
     from .engine.settings import INTEGRATORS
 
@@ -154,8 +155,14 @@ def load_kernels(folder: str | Path) -> list:
     if not path.is_file():
         raise ValueError(f"{path}: no compiled kernels there (python -m dem_core.gpu_kernels {folder} writes them)")
     # a file this module wrote (the docstring says so): its stamp, then the kernels, read once the stamp matches
-    stamp, payload = pickle.loads(lzma.decompress(path.read_bytes()))
-    differ = [f"{key} {stamp.get(key)} (here {value})" for key, value in _stamp().items() if stamp.get(key) != value]
+    try:
+        stamp, payload = pickle.loads(lzma.decompress(path.read_bytes()))
+    except (lzma.LZMAError, pickle.UnpicklingError, EOFError, ValueError, TypeError) as error:
+        raise ValueError(f"{path}: not a file of kernels python -m dem_core.gpu_kernels wrote, or cut short "
+                         f"({type(error).__name__}: {error})") from None
+    gpu = _device_capability()
+    here = {**_stamp(), **({"cc": gpu} if gpu else {})}
+    differ = [f"{key} {stamp.get(key)} (here {value})" for key, value in here.items() if stamp.get(key) != value]
     if differ:
         raise ValueError(f"{path}: made for {', '.join(differ)}; compile them again with what runs here")
     kernels = pickle.loads(payload)
@@ -164,6 +171,16 @@ def load_kernels(folder: str | Path) -> list:
         KERNELS[INTEGRATORS.index(name)].add_overload(kernel, kernel.argument_types)
     _LOADED[path.resolve()] = list(kernels)
     return _LOADED[path.resolve()]
+
+
+def _device_capability() -> tuple | None:
+    """The compute capability of this process's GPU, ``(major, minor)``; None without one (or under numba's CUDA
+    simulator)."""
+    from numba import config, cuda
+
+    if config.ENABLE_CUDASIM or not cuda.is_available():
+        return None
+    return tuple(cuda.get_current_device().compute_capability)
 
 
 def _load_assembled(name: str, library) -> None:
@@ -202,18 +219,19 @@ def main(argv=None) -> int:
     import argparse
     import time
 
+    from .engine.settings import INTEGRATORS
+
     parser = argparse.ArgumentParser(prog="python -m dem_core.gpu_kernels", description=__doc__.split("\n\n")[0])
     parser.add_argument("folder", help=f"where to write {FILE_NAME}")
     parser.add_argument("--cc", default="9.0", help="compute capability (default 9.0: H100, H200)")
-    parser.add_argument("--integrator", action="append", help="one integrator (default both)")
+    parser.add_argument("--integrator", action="append", choices=INTEGRATORS, help="one integrator (default both)")
     args = parser.parse_args(argv)
-    try:
-        cc = tuple(int(part) for part in args.cc.split("."))
-    except ValueError:
+    if not re.fullmatch(r"\d+\.\d+", args.cc):
         parser.error(f"--cc {args.cc!r}: give it as major.minor, e.g. 9.0")
+    cc = tuple(int(part) for part in args.cc.split("."))
     began = time.perf_counter()
     path = compile_kernels(args.folder, cc, args.integrator)
-    print(f"{path}: {', '.join(args.integrator or ['explicit', 'moreau'])} for compute capability {args.cc}, "
+    print(f"{path}: {', '.join(args.integrator or INTEGRATORS)} for compute capability {args.cc}, "
           f"{time.perf_counter() - began:.0f} s; on the GPU's machine set {ENVIRONMENT}={args.folder}")
     return 0
 

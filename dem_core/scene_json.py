@@ -68,6 +68,27 @@ def _read_block(data: dict, where: str) -> Block:
     return Block(**{**data, "vertices": np.asarray(data.get("vertices"), dtype=float)})
 
 
+def _read_connector(data, where: str) -> Connector:
+    if not isinstance(data, dict) or not isinstance(data.get("kind"), dict):
+        raise SceneError(f"{where}: a connector is an object with 'between', 'kind' (an object of its kind's "
+                         f"parameters) and 'position'")
+    try:
+        kind = ConnectorKind(**{k: math.inf if k == "rupture_slip" and v is None else v
+                                for k, v in data["kind"].items()})
+        return Connector(tuple(data["between"]), kind, data["position"])
+    except KeyError as missing:
+        raise SceneError(f"{where}: has no {missing}") from None
+    except (TypeError, ValueError) as error:
+        raise SceneError(f"{where}: {error}") from None
+
+
+def _number(data: dict, key: str, none: bool = False):
+    value = data[key]
+    if (value is None and none) or (isinstance(value, (int, float)) and not isinstance(value, bool)):
+        return value
+    raise SceneError(f"the scene's JSON: {key!r} is {value!r}, not a number")
+
+
 def scene_from_json(data: dict) -> Scene:
     """The :class:`Scene` that ``data`` (as :func:`scene_to_json` writes it) describes; :class:`SceneError` naming
     the key at fault."""
@@ -76,14 +97,12 @@ def scene_from_json(data: dict) -> Scene:
                          f"{data.get('format') if isinstance(data, dict) else None!r})")
     try:
         contact = ContactParameters(**data["contact"])
-        connectors = tuple(
-            Connector(tuple(c["between"]), ConnectorKind(**{k: math.inf if k == "rupture_slip" and v is None else v
-                                                            for k, v in c["kind"].items()}), c["position"])
-            for c in data.get("connectors", []))
+        connectors = tuple(_read_connector(c, f"connectors[{k}]") for k, c in enumerate(data.get("connectors", [])))
         friction = {tuple(f["between"]): f["friction"] for f in data.get("interface_friction", [])}
         return Scene(tuple(_read_block(b, f"blocks[{k}]") for k, b in enumerate(data["blocks"])),
-                     _read_block(data["base"], "base"), contact, friction, data["gravity"],
-                     data["overlap_tolerance"], data["slenderness"], data["allow_free_blocks"], connectors)
+                     _read_block(data["base"], "base"), contact, friction, _number(data, "gravity"),
+                     _number(data, "overlap_tolerance"), _number(data, "slenderness", none=True),
+                     data["allow_free_blocks"], connectors)
     except KeyError as missing:
         raise SceneError(f"the scene's JSON has no {missing}") from None
     except TypeError as error:

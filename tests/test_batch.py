@@ -96,6 +96,8 @@ def test_a_member_beyond_fifty_g_is_refused_and_the_others_run():
     table = simulate_batch(scenes.block(1.0, 6.0), motions, 0.2, threads=2).table
     assert table["status"].tolist() == ["ok", "refused", "ok"]
     assert "beyond the 50 g" in table["error"][1]
+    # the refused member's row says what it was asked to run, as the others' rows do
+    assert (table["record"][1], table["scale"][1], table["pga_m_s2"][1]) == (motions[1].name, 1.0, 600.0)
 
 
 def test_an_unstable_member_keeps_its_partial_measures_and_a_refused_one_its_reason():

@@ -221,7 +221,7 @@ def _device_check(tmp_path, *options) -> subprocess.CompletedProcess:
 def test_the_device_check_runs_every_section_under_the_simulator(tmp_path):
     """Every section prints its lines, in the order ``--sections`` gives, none fails, and the fine scan writes its
     table."""
-    order = ("device", "throughput", "fragility", "fine", "agreement", "throughput-other")
+    order = ("device", "throughput", "fragility", "fine", "agreement", "throughput-other", "scaling")
     done = _device_check(tmp_path, "--sections", *order)
     assert done.returncode == 0, done.stderr[-3000:]
     ended = [done.stdout.find(f"| {section:16s} | section's wall time") for section in order]

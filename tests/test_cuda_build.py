@@ -72,3 +72,34 @@ def test_kernels_made_under_another_python_or_numba_cuda_are_refused_by_name(tmp
         gpu_kernels.load_kernels(tmp_path)
     with pytest.raises(ValueError, match="no compiled kernels there"):
         gpu_kernels.load_kernels(tmp_path / "elsewhere")
+
+
+def test_kernels_for_another_gpu_or_a_broken_file_are_refused_by_name(tmp_path, monkeypatch):
+    """Where a GPU is here, a file made for another compute capability is refused naming both (numba-cuda would
+    compile its kernels again, for minutes, at the first launch); a file that is not one of these, or cut short,
+    is refused naming it."""
+    import lzma
+    import pickle
+
+    from dem_core import gpu_kernels
+
+    (tmp_path / gpu_kernels.FILE_NAME).write_bytes(lzma.compress(pickle.dumps(({**gpu_kernels._stamp(), "cc": (9, 0)},
+                                                                               b"never read"))))
+    monkeypatch.setattr(gpu_kernels, "_device_capability", lambda: (8, 0))
+    with pytest.raises(ValueError, match=r"made for cc \(9, 0\) \(here \(8, 0\)\)"):
+        gpu_kernels.load_kernels(tmp_path)
+    cut = tmp_path / "cut"
+    cut.mkdir()
+    (cut / gpu_kernels.FILE_NAME).write_bytes((tmp_path / gpu_kernels.FILE_NAME).read_bytes()[:40])
+    with pytest.raises(ValueError, match=r"cut.*not a file of kernels .* or cut short"):
+        gpu_kernels.load_kernels(cut)
+
+
+@pytest.mark.parametrize("options, words", [(["--integrator", "rk4"], "invalid choice: 'rk4'"),
+                                            (["--cc", "9"], "give it as major.minor")])
+def test_the_kernel_builders_bad_options_are_refused_naming_them(tmp_path, capsys, options, words):
+    from dem_core import gpu_kernels
+
+    with pytest.raises(SystemExit) as stopped:
+        gpu_kernels.main([str(tmp_path), *options])
+    assert stopped.value.code == 2 and words in capsys.readouterr().err

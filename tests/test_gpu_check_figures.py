@@ -80,8 +80,11 @@ def test_the_table_is_the_checks_output(logs, section):
         assert float(rate) == pytest.approx(row.member_steps / row.kernel_s, rel=5e-3)
         setup, kernel = _value(first, item.split(", M=")[0] + ": set-up").split(";")[0].split(", ")
         assert f"{rate} member-steps/s: kernel {kernel} s, set-up {setup} s" in section, item
-    column = table[table.scene == "column"].iloc[0]
-    assert f"{column.set_up_s + column.kernel_s:.1f} s in all" in section
+    column, block = table[table.scene == "column"].iloc[0], table[table.scene == "block"].iloc[0]
+    assert f"{block.set_up_s:.1f} s of the block's {block.set_up_s + block.kernel_s:.1f} s " \
+           f"({block.set_up_s / block.members * 1e3:.2f} ms a member) and {column.set_up_s:.1f} s of the column's " \
+           f"{column.set_up_s + column.kernel_s:.1f} s" in section
+    assert f"{column.set_up_s + column.kernel_s:.1f} s the two" in section
     item, took = _row(second, r"\d+ runs \(gpu")
     assert f"{int(item.split()[0]):,} runs (second call) | {took}; overturning median " \
            f"{_value(second, 'overturning median')}" in section
@@ -133,4 +136,30 @@ def test_the_readme_and_cli_quote_the_check_and_the_auto_rule():
     table = pd.read_csv(CHECK / "throughput.csv").set_index("scene")
     block, column = table.loc["block"], table.loc["column"]
     assert f"at {block.member_steps / block.kernel_s:.1e} member-steps".replace("e+0", "e") in readme
-    assert f"in {column.set_up_s + column.kernel_s:.0f} s ({column.set_up_s:.1f} s of it their set-up" in readme
+    assert f"in {column.set_up_s + column.kernel_s:.0f} s of set-up and kernel ({column.set_up_s:.1f} s the set-up" \
+        in readme
+
+
+def test_the_members_bytes_and_the_shortfalls_are_so(section, logs):
+    """The bytes of one member's arrays, from the batch's own packing, the resident members' share of them, and how
+    far each mark is from what was measured."""
+    from dem_core import scenes
+    from dem_core.batch_gpu import _motions, pack
+    from dem_core.inputs.excitation import sine_pulse
+    from dem_core.simulation import Simulation
+
+    resident = MULTIPROCESSORS * (REGISTERS // (32 * 256)) * 32
+    table = pd.read_csv(CHECK / "throughput.csv").set_index("scene")
+    for name, build, integrator, members in (("block", lambda: scenes.block(1.0, 6.0), "explicit", resident),
+                                             ("column", scenes.column, "moreau", table.loc["column"].members)):
+        runs = [Simulation(build(), sine_pulse(2.0, 0.5), 0.1, integrator=integrator)]
+        packed = pack(runs, _motions(runs))
+        size = sum(a[0].nbytes for part in (packed.model, packed.settings, packed.state, packed.outputs,
+                                            packed.scratch) for a in part)
+        assert f"{size:,} B" in section, (name, size)
+        assert re.search(rf"{members:,} (resident members )?hold {members * size / 1e6:.0f} MB", section), name
+    block, column = table.loc["block"], table.loc["column"]
+    assert f"block needs {1e10 / (block.member_steps / block.kernel_s):.0f} times" in section
+    assert f"column {(column.set_up_s + column.kernel_s) / 10.0:.1f} times" in section
+    took = float(_row(logs["second_call"], r"\d+ runs \(gpu")[1].split()[0])
+    assert f"fragility study {took / 60.0:.1f} times" in section

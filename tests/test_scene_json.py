@@ -96,3 +96,17 @@ def test_a_broken_description_is_refused_naming_what_is_wrong():
         scene_from_json({**data, "format": "something else"})
     with pytest.raises(SceneError, match=r"blocks\[1\]: unknown keys \['mass'\]"):
         scene_from_json({**data, "blocks": [data["blocks"][0], {**data["blocks"][1], "mass": 1.0}]})
+    with pytest.raises(SceneError, match=r"'gravity' is '9.81', not a number"):
+        scene_from_json({**data, "gravity": "9.81"})
+
+
+def test_a_broken_connector_is_refused_naming_it():
+    """A connector's kind written as a name (easily done by hand), or a connector without its position, is refused
+    naming the connector."""
+    data = scene_to_json(restored_colonnade())
+    bars = data["connectors"]
+    assert bars
+    with pytest.raises(SceneError, match=r"connectors\[0\]: a connector is an object with 'between', 'kind'"):
+        scene_from_json({**data, "connectors": [{**bars[0], "kind": "titanium bar"}, *bars[1:]]})
+    with pytest.raises(SceneError, match=r"connectors\[1\]: has no 'position'"):
+        scene_from_json({**data, "connectors": [bars[0], {k: v for k, v in bars[1].items() if k != "position"}]})

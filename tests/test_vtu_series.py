@@ -39,6 +39,7 @@ def test_the_default_runs_series_reads_back_as_the_blocks_moved_rigidly(tmp_path
     np.testing.assert_allclose(times, t[frames], rtol=0, atol=1e-12)
     scene = load(default_scene_path()).scene
     areas = [polygon_area_and_centroid(block.vertices)[0] for block in scene.blocks]
+    start = history[history.t == t[0]].set_index("block")
     for dataset, time in zip(datasets[::15], times[::15]):
         mesh = meshio.read(out / "vtu" / dataset.get("file"))
         (polygons,) = [cells.data for cells in mesh.cells if cells.type == "polygon"]
@@ -50,6 +51,9 @@ def test_the_default_runs_series_reads_back_as_the_blocks_moved_rigidly(tmp_path
             name = scene.blocks[b].name
             np.testing.assert_allclose(centroid, at.loc[name, ["x", "y"]].to_numpy(float), rtol=0, atol=1e-9)
             assert mesh.cell_data["theta_rad"][0][b] == pytest.approx(at.loc[name, "theta"], rel=0, abs=1e-15)
+            assert mesh.cell_data["block"][0][b] == b
+            moved = at.loc[name, "x_rel"] - start.loc[name, "x_rel"]  # from where it stood on the base at t = 0
+            assert mesh.cell_data["x_rel_m"][0][b] == pytest.approx(moved, rel=0, abs=1e-15)
         assert np.all(mesh.points[:, 2] == 0.0)
     assert re.fullmatch(r"blocks_\d{2}\.vtu", datasets[-1].get("file"))
 

@@ -3,28 +3,34 @@
     python -m comparisons gpu-check [--budget 450] [--out DIR]
 
 Run it first on a machine with an NVIDIA GPU (``.ci/gpu-check`` installs the carried wheels and runs it).  Its
-sections, each printing its lines as it ends, and each stopped where the budget's end comes first (the table says
-which were cut):
+sections, in this order unless ``--sections`` names others, each printing its lines as it ends, and each stopped
+where the budget's end comes first (the table says which were cut):
 
 1. device: the GPU, its compute capability, the driver, the versions of numpy, numba and numba-cuda, and each
    integrator's kernel as compiled for this GPU (registers and local memory per thread).
-2. agreement: ``--sample`` members of the 1 x 6 m block and of the 8-drum column under El Centro, scaled evenly from
-   1.2 to 3 times g tan(alpha), for each integrator, on the GPU and on the CPU's threads.  A member whose CPU run
-   moves by less than 1e-10 when its scale moves by 1e-12 is not chaotic, and its GPU peak must be within 1e-9 of
-   the CPU's; the medians of the peak theta/alpha over the members must lie within each other's 90% bootstrap
-   intervals (members drawn again).
+2. scaling: the block by central differences and the column by Moreau-Jean (2 s of El Centro) on a few
+   multiprocessors, a block of threads on each, and (the block) as many threads as they hold: the time of one
+   thread's step at each load, which says whether the kernel waits on latency or on bandwidth.
 3. throughput: the block (``--block-members``, 65,536) and the column (``--column-members``, 4,096) under
    ``--duration`` s of El Centro, at the integrator's automatic step: the kernels' member-steps per second, the
-   members' set-up and the whole batch's time, beside the CPU's threads on ``--cpu-members`` of the same members
-   (GPU / CPU: their member-steps per second, the break-even that ``simulate_batch(device="auto")`` rests on).
+   members' set-up and the whole batch's time (the set-up, the packing of the members' arrays, their copies to
+   and from the GPU and the kernel), and, with ``--cpu-members``, the CPU's threads on as many of the same members.
    The issue's marked cases (the block by central differences, the column by Moreau-Jean) run here; the other two
-   (``throughput-other``) run last, after the studies.
+   (``throughput-other``) run last.
 4. fragility: the committed study (examples/studies/fragility.py: the bundled default column, the demonstration
    suite's 40 motions x 40 stripes, each followed by 10 s at rest, Moreau-Jean) on the GPU: its time and its
    overturning median.
 5. fine scan: the first overturn of each of record_overturning's 28 systems (examples/studies/record_overturning.py:
    columns of 1 to 3 drums and colonnades of 1, 2, 3 and 5 drums under the four records), every 0.02 m/s^2 from
    its lowest PGA to its cap, one GPU batch a system: the time, and ``fine_scan.csv`` in ``--out``.
+6. agreement: ``--sample`` members of the 1 x 6 m block and of the 8-drum column under El Centro, scaled evenly from
+   1.2 to 3 times g tan(alpha), for each integrator, on the GPU and on the CPU's threads (whose kernels compile
+   first: minutes on a fresh machine).  A member whose CPU run moves by less than 1e-10 when its scale moves by
+   1e-12 is not chaotic, and its GPU peak must be within 1e-9 of the CPU's; the medians of the peak theta/alpha
+   over the members must lie within each other's 90% bootstrap intervals (members drawn again).  And how many
+   times as long a GPU thread takes for a member's step as a CPU core, the ratio that
+   ``simulate_batch(device="auto")`` rests on.
+7. throughput-other: the block by Moreau-Jean and the column by central differences, as in 3.
 
 The issue's marks (H100 or H200): the block by central differences at least 1e10 member-steps/s; the column's 4,096
 members by Moreau-Jean in at most 10 s; the fragility study in at most 60 s; the fine scan in at most 10 minutes.
@@ -59,8 +65,9 @@ from .record_members import RECORD, SCENES, motions
 STUDIES = Path(__file__).resolve().parents[2] / "examples" / "studies"
 #: a member is not chaotic when its CPU peak moves less than this (relative) as its scale moves by NUDGE
 STEADY, NUDGE, AGREEMENT = 1e-10, 1e-12, 1e-9
-#: the sections in the order they run: the issue's marked throughputs before the studies, the others last
-SECTION_ORDER = ("device", "agreement", "throughput", "fragility", "fine", "throughput-other")
+#: the sections in the order they run: what decides the kernel's design and the issue's marks first; the agreement,
+#: which compiles the CPU's kernels first (minutes on a fresh machine), and the other throughputs last
+SECTION_ORDER = ("device", "scaling", "throughput", "fragility", "fine", "agreement", "throughput-other")
 #: s of every run under --smoke (the record's whole length otherwise, where a study runs it)
 SMOKE_DURATION = 0.05
 #: motions of the fragility study's suite run under --smoke
@@ -78,7 +85,10 @@ def arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--sample", type=int, default=64, help="members of each agreement check (default 64)")
     parser.add_argument("--block-members", type=int, default=65536)
     parser.add_argument("--column-members", type=int, default=4096)
-    parser.add_argument("--cpu-members", type=int, default=64, help="members of the CPU's throughput (default 64; 0: none)")
+    parser.add_argument("--cpu-members", type=int, default=0,
+                        help="members of the CPU's throughput beside the GPU's (default 0: none; the CPU's threaded "
+                             "kernel compiles first, minutes on a fresh machine; the agreement section measures a GPU "
+                             "thread against a CPU core in any case)")
     parser.add_argument("--duration", type=float, default=20.0, help="s of El Centro (default 20)")
     parser.add_argument("--stripes", type=int, default=None, help="the fragility study's stripes (default its own)")
     parser.add_argument("--systems", type=int, default=None, help="the fine scan's first N systems (default all)")
@@ -167,16 +177,20 @@ def _median_interval(values: np.ndarray, rng, samples: int = 2000) -> tuple:
 
 
 def agreement_section(args, clock: Clock) -> None:
+    import numba
+
     rng = np.random.default_rng(0)
+    threads = min(numba.get_num_threads(), args.sample)
     for name, (build, tan_alpha) in SCENES.items():
         alpha = float(np.arctan(tan_alpha))
         for integrator in INTEGRATORS:
             options = {"integrator": integrator, "stop_at_overturn": True}
             members = motions(tan_alpha, args.sample)
             gpu = simulate_batch(build(), members, args.duration, device="gpu", progress=clock.progress, **options)
-            cpu = simulate_batch(build(), members, args.duration, device="cpu", progress=clock.progress, **options)
+            cpu = simulate_batch(build(), members, args.duration, device="cpu", threads=threads,
+                                 progress=clock.progress, **options)
             nudged = simulate_batch(build(), motions(tan_alpha, args.sample, NUDGE), args.duration, device="cpu",
-                                    progress=clock.progress, **options)
+                                    threads=threads, progress=clock.progress, **options)
             on_gpu, on_cpu, moved = _peaks(gpu, alpha), _peaks(cpu, alpha), _peaks(nudged, alpha)
             steady = np.abs(moved - on_cpu) <= STEADY * np.abs(on_cpu)
             within = int(np.sum(np.abs(on_gpu - on_cpu)[steady] <= AGREEMENT * np.abs(on_cpu)[steady]))
@@ -187,6 +201,16 @@ def agreement_section(args, clock: Clock) -> None:
                   "met" if within == int(steady.sum()) else "NOT met")
             _line("agreement", f"{name}, {integrator}: median theta/alpha GPU, CPU",
                   f"{g[0]:.4f} ({g[1]:.4f}-{g[2]:.4f}), {c[0]:.4f}", "met" if overlap else "NOT met")
+            _line("agreement", f"{name}, {integrator}: a GPU thread's step against a CPU core's",
+                  f"{_thread_against_core(gpu, cpu, threads):.3g} times as long")
+
+
+def _thread_against_core(gpu, cpu, threads: int) -> float:
+    """How many times as long a GPU thread takes for a member's step as a CPU core, from one batch of the same
+    members on each: the GPU's members run at once (its time is its longest member's), the CPU's on ``threads``
+    threads, a member each at a time (its time is all their steps over its threads)."""
+    steps = cpu.table["steps"].to_numpy(float)
+    return (gpu.wall_time_s / steps.max()) / (cpu.wall_time_s * threads / steps.sum())
 
 
 #: the throughput's cases (scene, integrator): the issue's marks first, the other two after the studies
@@ -213,6 +237,7 @@ def throughput_section(args, clock: Clock, cases=MARKED_CASES) -> list:
             kernel = run_members(runs, progress=clock.progress)
         except OverBudget:
             kernel, cut = time.perf_counter() - began - set_up, " (cut at the budget)"
+        whole = time.perf_counter() - began  # with the members' packing and their copies to and from the GPU
         steps = sum(int(run.state.counters[STEP]) for run in runs)
         rate = steps / kernel
         cpu_rate, versus = np.nan, "the CPU not run (--cpu-members 0)"
@@ -225,13 +250,50 @@ def throughput_section(args, clock: Clock, cases=MARKED_CASES) -> list:
         if name == "block" and integrator == "explicit":
             mark = _marked("block explicit member-steps/s", rate, higher_is_better=True)
         if name == "column" and integrator == "moreau":
-            mark = _marked("column moreau batch s", set_up + kernel)
+            mark = _marked("column moreau batch s", whole)
         _line("throughput", f"{name}, {integrator}, M={members}: member-steps/s",
               f"{rate:.3g}{cut}", mark)
-        _line("throughput", f"{name}, {integrator}: set-up s, kernel s; GPU/CPU",
-              f"{set_up:.1f}, {kernel:.1f}; {versus}")
+        _line("throughput", f"{name}, {integrator}: set-up s, kernel s, all s; GPU/CPU",
+              f"{set_up:.1f}, {kernel:.1f}, {whole:.1f}; {versus}")
         rows.append({"scene": name, "integrator": integrator, "members": members, "member_steps": steps,
-                     "set_up_s": set_up, "kernel_s": kernel, "cut": bool(cut), "cpu_member_steps_per_s": cpu_rate})
+                     "set_up_s": set_up, "kernel_s": kernel, "whole_s": whole, "cut": bool(cut),
+                     "cpu_member_steps_per_s": cpu_rate})
+    return rows
+
+
+#: the scaling section's cases and their loads, in blocks of threads per multiprocessor: a block on a few of them,
+#: one on each, and as many as they hold at 255 registers a thread (four of 64 threads)
+SCALING = {("block", "explicit"): (1 / 32, 1, 4), ("column", "moreau"): (1 / 32, 1)}
+#: s of El Centro in each of the scaling section's batches
+SCALING_DURATION = 2.0
+
+
+def scaling_section(args, clock: Clock) -> list:
+    """Each case of :data:`SCALING` at each of its loads: the time of one thread's step.  The same time at every
+    load says a thread waits on its own chain of memory accesses (latency); a time that grows with the load says
+    the threads share a limit (bandwidth); one that falls at the lightest load, whose members' arrays fit the L2
+    cache, says the heavier loads wait on the GPU's memory."""
+    from numba import cuda
+
+    from dem_core.engine._members import THREADS_PER_BLOCK
+
+    sms = getattr(cuda.get_current_device(), "MULTIPROCESSOR_COUNT", 1)  # none on the simulator's device
+    duration = SMOKE_DURATION if args.smoke else SCALING_DURATION
+    rows = []
+    for (name, integrator), loads in SCALING.items():
+        build, tan_alpha = SCENES[name]
+        scene = build()
+        shared = set_up_scene(scene, integrator=integrator)
+        for load in loads:
+            members = 2 if args.smoke else round(load * sms * THREADS_PER_BLOCK)
+            runs = [Simulation(scene, motion, duration, scene_set_up=shared, integrator=integrator)
+                    for motion in motions(tan_alpha, members)]
+            kernel = run_members(runs, progress=clock.progress)
+            steps = sum(int(run.state.counters[STEP]) for run in runs) / members
+            _line("scaling", f"{name}, {integrator}, M={members} on {sms} multiprocessors",
+                  f"{kernel / steps * 1e6:.3g} us a step a thread")
+            rows.append({"scene": name, "integrator": integrator, "members": members, "multiprocessors": sms,
+                         "steps_per_member": steps, "kernel_s": kernel})
     return rows
 
 
@@ -296,7 +358,7 @@ def fine_section(args, clock: Clock) -> None:
 
 SECTIONS = {"device": device_section, "agreement": agreement_section, "throughput": throughput_section,
             "throughput-other": lambda args, clock: throughput_section(args, clock, OTHER_CASES),
-            "fragility": fragility_section, "fine": fine_section}
+            "fragility": fragility_section, "fine": fine_section, "scaling": scaling_section}
 
 
 def run(args: argparse.Namespace) -> None:

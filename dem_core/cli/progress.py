@@ -36,7 +36,7 @@ class ProgressLines:
     """The part of a tqdm bar the commands use (``n``, ``total``, :meth:`update`, :meth:`set_postfix_str`,
     :meth:`close`, a context) as a line on stderr every :data:`LOG_EVERY_S` s and one at the end: what is done of the total,
     the time so far and, from the rate so far, the time left ("runs: 120 of 1600 (7.5%), 45 s, about 9.2 min
-    left")."""
+    left"; a bar whose steps are weights, not counts, gives its share alone: "runs: 29.4%, ...")."""
 
     def __init__(self, total=None, desc: str = "", unit: str = "it", initial: int = 0, disable: bool = False,
                  clock=time.perf_counter, **_):
@@ -68,7 +68,12 @@ class ProgressLines:
         if self.disable:
             return
         took = self.said - self.started
-        done = f"{self.n:g} of {self.total:g} ({100 * self.n / self.total:.1f}%)" if self.total else f"{self.n:g}"
+        if not self.total:
+            done = f"{self.n:g}"
+        elif float(self.n).is_integer() and float(self.total).is_integer():
+            done = f"{self.n:g} of {self.total:g} ({100 * self.n / self.total:.1f}%)"
+        else:  # a bar weighted by the work of each item (stiffness): its share only
+            done = f"{100 * self.n / self.total:.1f}%"
         left = ""
         if not ended and self.total and self.initial < self.n < self.total:
             left = f", about {_duration(took * (self.total - self.n) / (self.n - self.initial))} left"
