@@ -132,6 +132,9 @@ def test_the_readme_and_cli_quote_the_check_and_the_auto_rule():
     cli = _words((REPOSITORY / "docs" / "cli.md").read_text())
     assert f"at least {GPU_MEMBERS_PER_THREAD} members per CPU thread" in readme
     assert f"at least {GPU_MEMBERS_PER_THREAD} per CPU thread" in cli
+    method = _words((REPOSITORY / "docs" / "method.md").read_text())
+    assert f"about {GPU_MEMBERS_PER_THREAD} times slower than a CPU core" in method
+    assert f"the GPU from {GPU_MEMBERS_PER_THREAD} members per CPU thread" in method
     assert f"about {GPU_MEMBERS_PER_THREAD} times slower" in readme
     table = pd.read_csv(CHECK / "throughput.csv").set_index("scene")
     block, column = table.loc["block"], table.loc["column"]
