@@ -24,6 +24,7 @@ import re
 import subprocess
 import sys
 import tempfile
+import time
 import types
 import warnings
 from importlib import metadata
@@ -134,8 +135,14 @@ def compile_kernels(folder: str | Path, cc: tuple = HOPPER, integrators=None) ->
         for name in chosen:
             dispatcher = KERNELS[INTEGRATORS.index(name)]
             argument_types = tuple(typeof(a) for a in kernel_arguments(name))
+            began = time.perf_counter()
             built[name] = _Kernel(dispatcher.py_func, argument_types, **dispatcher.targetoptions)
-            print(f"{name}: {_assemble(built[name]._codelibrary, cc)}", flush=True)
+            lowered = time.perf_counter()
+            built[name]._codelibrary.get_asm_str(_cache_key(cc))  # NVVM's PTX, kept in the library
+            translated = time.perf_counter()
+            assembled = _assemble(built[name]._codelibrary, cc)
+            print(f"{name}: numba-cuda {lowered - began:.0f} s, NVVM {translated - lowered:.0f} s, ptxas "
+                  f"{time.perf_counter() - translated:.0f} s; {assembled}", flush=True)
     path = Path(folder) / FILE_NAME
     path.parent.mkdir(parents=True, exist_ok=True)
     path.write_bytes(lzma.compress(pickle.dumps(({**_stamp(), "cc": tuple(cc)}, pickle.dumps(built)))))
@@ -217,7 +224,6 @@ def load_named_kernels() -> list:
 def main(argv=None) -> int:
     """``python -m dem_core.gpu_kernels FOLDER [--cc 9.0] [--integrator NAME]``."""
     import argparse
-    import time
 
     from .engine.settings import INTEGRATORS
 

@@ -6,6 +6,7 @@ kernel's cubin in the form numba-cuda loads; the run's summary prints each kerne
 from ptxas' log.  It runs where the ``gpu`` extra is installed (``bash .ci/run`` installs it);
 the kernel's behaviour is tested under numba's CUDA simulator and on one CPU thread in tests/test_batch_gpu.py."""
 
+import re
 import subprocess
 import sys
 from pathlib import Path
@@ -42,11 +43,16 @@ for name, dispatcher in zip(INTEGRATORS, KERNELS):
 
 
 def test_the_gpu_kernels_build_for_sm_90_without_a_gpu(tmp_path, request):
+    printed = []
     for command in ([sys.executable, "-m", "dem_core.gpu_kernels", str(tmp_path)],
                     [sys.executable, "-c", LOAD, str(tmp_path)]):
         done = subprocess.run(command, capture_output=True, text=True, timeout=900, cwd=REPOSITORY)
         assert done.returncode == 0, done.stderr[-3000:]
-    said = []
+        printed.append(done.stdout)
+    # where the build's time went, per kernel: numba-cuda's typing and lowering, NVVM's PTX, ptxas' cubin
+    said = [f"sm_90a advance_members_{name} built in {times}" for name, times in
+            re.findall(r"^(\w+): (numba-cuda \d+ s, NVVM \d+ s, ptxas \d+ s);", printed[0], re.MULTILINE)]
+    assert len(said) == 2, printed[0]
     for name in ("explicit", "moreau"):
         assert ".target sm_90a" in (tmp_path / f"{name}.ptx").read_text()
         log, entry = (tmp_path / f"{name}.ptxas.log").read_text(), (tmp_path / f"{name}.entry").read_text()
