@@ -1,6 +1,8 @@
 """The stiffness-ensemble summary (comparisons/benchmarks/stiffness_ensembles.py) on ensembles whose answers are
 known, and its runs: a batch of the runs simulate gives."""
 
+from pathlib import Path
+
 import numpy as np
 import pandas as pd
 import pytest
@@ -65,3 +67,31 @@ def test_the_ensemble_runs_as_a_batch_of_the_runs_simulate_gives():
         motion = strong_motion(name, scale * uplift)
         alone = dem_core.simulate(block, motion, duration=motion.end_time, integrator="explicit")
         assert peak[m] == np.max(alone.peak_theta) and over[m] == alone.overturned
+
+
+def test_members_are_written_into_a_new_folder_with_the_stamp_of_the_sources(tmp_path, monkeypatch, capsys):
+    """``--members`` makes its folder before the runs (a missing one once lost them to a traceback after) and writes
+    the members and, beside them, the digest of the sources they come from and the options that made them."""
+    import argparse
+    import json
+
+    from comparisons.benchmarks import stiffness_ensembles
+    from comparisons.report import provenance
+
+    committed = pd.read_csv(Path(__file__).parents[1] / "reports" / "stiffness_ensembles" / "column.csv")
+    made = {}
+
+    def ensemble(scene, factors, n_scales, perturb, name):  # the runs, standing in: the folder exists before them
+        made["folder"] = (tmp_path / "new" / "deeper").is_dir()
+        return committed
+
+    monkeypatch.setattr(stiffness_ensembles, "run_ensemble", ensemble)
+    members = tmp_path / "new" / "deeper" / "column.csv"
+    stiffness_ensembles.run(argparse.Namespace(summarise=None, members=str(members), scene="column",
+                                               factors=[1.0, 10.0, 100.0], scales=10, perturb=0.001))
+    assert made["folder"]
+    pd.testing.assert_frame_equal(pd.read_csv(members), committed)
+    stamp = json.loads(members.with_suffix(".json").read_text(encoding="utf-8"))
+    assert stamp["digest"] == provenance.source_digest()[0]
+    assert stamp["options"] == {"scene": "column", "factors": [1.0, 10.0, 100.0], "scales": 10, "perturb": 0.001}
+    assert "column" in capsys.readouterr().out
