@@ -149,6 +149,7 @@ SIMULATED = """
 import json, sys
 from dem_core.inputs.excitation import sine_pulse
 MOREAU_MOTIONS = [sine_pulse(6.0, 0.1), sine_pulse(9.0, 0.08)]
+BARRED = lambda: scenes.column(3, connectors=[(titanium_bar(), "all"), (OAK_POLOS, "capital")])
 import dem_core
 from dem_core import scenes, simulate_batch
 from dem_core.inputs.connectors import OAK_POLOS, titanium_bar
@@ -173,10 +174,12 @@ except dem_core.batch.BatchInterrupted as stopped:
     finished = stopped.partial.table["member"].tolist()
 moreau = simulate_batch(scenes.stack([(0.8, 1.0), (0.7, 0.9), (0.6, 0.8)]), MOREAU_MOTIONS, 0.05, device="gpu",
                         integrator="moreau")
-json.dump({"devices": [few.device, block.device, stack.device, moreau.device], "finished": finished,
+bars = simulate_batch(BARRED(), MOREAU_MOTIONS[:1], 0.03, device="gpu", integrator="moreau")
+json.dump({"devices": [few.device, block.device, stack.device, moreau.device, bars.device], "finished": finished,
            "kept": list(block.histories), "progress": seen[-1],
            **{name: batch.table.drop(columns="wall_time_s").to_dict("list")
-              for name, batch in (("block", block), ("stack", stack), ("moreau", moreau))}}, sys.stdout)
+              for name, batch in (("block", block), ("stack", stack), ("moreau", moreau), ("bars", bars))}},
+          sys.stdout)
 """
 
 
@@ -186,7 +189,7 @@ def test_the_cuda_kernel_under_the_simulator_gives_the_cpus_rows():
     assert done.returncode == 0, done.stderr[-3000:]
     simulated = json.loads(done.stdout)
     # auto takes the GPU for a batch of many members per CPU thread, not for one member
-    assert simulated["devices"] == ["cpu, 1 thread"] + ["gpu, CUDA simulator"] * 3
+    assert simulated["devices"] == ["cpu, 1 thread"] + ["gpu, CUDA simulator"] * 4
     assert simulated["kept"] == [1] and simulated["progress"] == [2, 2]
     assert simulated["finished"] == [0]  # Ctrl-C: the member that ended is handed back
     block = simulate_batch(scenes.block(1.0, 6.0), [sine_pulse(3.0, 0.2), scaled(EL_CENTRO, 4.0)], 0.1, device="cpu",
@@ -197,7 +200,12 @@ def test_the_cuda_kernel_under_the_simulator_gives_the_cpus_rows():
     moreau = simulate_batch(scenes.stack([(0.8, 1.0), (0.7, 0.9), (0.6, 0.8)]),
                             [sine_pulse(6.0, 0.1), sine_pulse(9.0, 0.08)], 0.05, device="cpu",
                             integrator="moreau").table.drop(columns="wall_time_s")
-    for name, cpu in (("block", block), ("stack", stack), ("moreau", moreau)):
+    # a column held by titanium bars at its joints and an oak pole at its capital (section 1.12's connectors)
+    bars = simulate_batch(scenes.column(3, connectors=[(titanium_bar(), "all"), (OAK_POLOS, "capital")]),
+                          [sine_pulse(6.0, 0.1)], 0.03, device="cpu", integrator="moreau").table
+    assert "peak_connector_shear_N" in bars.columns and bars["peak_connector_shear_N"][0] > 0.0
+    for name, cpu in (("block", block), ("stack", stack), ("moreau", moreau),
+                      ("bars", bars.drop(columns="wall_time_s"))):
         gpu = simulated[name]
         assert list(gpu) == list(cpu.columns)
         for column in cpu.columns:
