@@ -460,11 +460,13 @@ def test_a_resumed_bar_counts_what_was_done_and_takes_its_rate_from_what_it_does
 
 
 def test_a_bar_weighted_by_each_runs_work_writes_its_share_not_a_count(capsys):
-    """dem-core stiffness weighs each run by the square root of its stiffness factor (its length in steps): a
-    line of "4.16 of 14.2 runs" would read as a count."""
+    """dem-core stiffness weighs each run by the square root of its stiffness factor (its length in steps), and its
+    bar's format shows its share, no count: a line of "4.16 of 14.2 runs" would read as a count."""
     from dem_core.cli import progress
 
     clock = iter([0.0, 12.0, 12.0])
-    with progress.ProgressLines(total=1.0 + 10**0.5 + 10.0, desc="runs", clock=lambda: next(clock)) as bar:
+    shares = "{desc}: {percentage:3.0f}%|{bar}|"
+    with progress.ProgressLines(total=1.0 + 10**0.5 + 10.0, desc="runs", bar_format=shares,
+                                clock=lambda: next(clock)) as bar:
         bar.update(1.0 + 10**0.5)
     assert capsys.readouterr().err.splitlines() == ["runs: 29.4%, 12 s, about 29 s left"]

@@ -11,6 +11,7 @@ import pytest
 
 from dem_core.batch import GPU_MEMBERS_PER_THREAD
 from dem_core.engine._members import THREADS_PER_BLOCK
+from test_quoted_figures import _words
 
 REPOSITORY = Path(__file__).resolve().parents[1]
 CHECK = REPOSITORY / "reports" / "gpu_check" / "h200"
@@ -20,10 +21,6 @@ MULTIPROCESSORS, REGISTERS = 132, 65536
 #: joints" table, the 1 x 6 m block's 20 s by central differences at its automatic step and the 8-drum column's 30 s
 #: by Moreau-Jean at 1e-3 s, as that table measured them
 CPU_STEP = {("block", "explicit"): 0.073 / (20.0 / 5.96e-5), ("column", "moreau"): 0.136 / (30.0 / 1e-3)}
-
-
-def _words(text: str) -> str:
-    return " ".join(text.split())
 
 
 @pytest.fixture(scope="module")

@@ -36,11 +36,13 @@ class ProgressLines:
     """The part of a tqdm bar the commands use (``n``, ``total``, :meth:`update`, :meth:`set_postfix_str`,
     :meth:`close`, a context) as a line on stderr every :data:`LOG_EVERY_S` s and one at the end: what is done of the total,
     the time so far and, from the rate so far, the time left ("runs: 120 of 1600 (7.5%), 45 s, about 9.2 min
-    left"; a bar whose steps are weights, not counts, gives its share alone: "runs: 29.4%, ...")."""
+    left"; a bar whose ``bar_format`` shows no count gives its share alone: "runs: 29.4%, ...")."""
 
     def __init__(self, total=None, desc: str = "", unit: str = "it", initial: int = 0, disable: bool = False,
-                 clock=time.perf_counter, **_):
+                 bar_format: str | None = None, clock=time.perf_counter, **_):
         self.total, self.desc, self.unit, self.n, self.postfix, self.clock = total, desc, unit, initial, "", clock
+        # a bar whose format shows no count (its steps are weights: stiffness) writes its share alone, as tqdm does
+        self.counts = bar_format is None or "{n" in bar_format or "{total" in bar_format
         self.disable = disable
         self.started = self.said = clock()
         self.initial = self.n_said = initial
@@ -70,9 +72,9 @@ class ProgressLines:
         took = self.said - self.started
         if not self.total:
             done = f"{self.n:g}"
-        elif float(self.n).is_integer() and float(self.total).is_integer():
+        elif self.counts:
             done = f"{self.n:g} of {self.total:g} ({100 * self.n / self.total:.1f}%)"
-        else:  # a bar weighted by the work of each item (stiffness): its share only
+        else:
             done = f"{100 * self.n / self.total:.1f}%"
         left = ""
         if not ended and self.total and self.initial < self.n < self.total:
