@@ -213,6 +213,14 @@ def _thread_against_core(gpu, cpu, threads: int) -> float:
     return (gpu.wall_time_s / steps.max()) / (cpu.wall_time_s * threads / steps.sum())
 
 
+def _set_up_members(scene, integrator: str, tan_alpha: float, members: int, duration: float) -> list:
+    """``members`` runs of ``scene`` under the record's :func:`motions` for ``duration`` s, set up on the CPU as a
+    batch sets them up (the scene's set-up shared) and not yet stepped."""
+    shared = set_up_scene(scene, integrator=integrator)
+    return [Simulation(scene, motion, duration, scene_set_up=shared, integrator=integrator)
+            for motion in motions(tan_alpha, members)]
+
+
 #: the throughput's cases (scene, integrator): the issue's marks first, the other two after the studies
 MARKED_CASES = (("block", "explicit"), ("column", "moreau"))
 OTHER_CASES = (("block", "moreau"), ("column", "explicit"))
@@ -228,9 +236,7 @@ def throughput_section(args, clock: Clock, cases=MARKED_CASES) -> list:
             continue
         scene = build()
         began = time.perf_counter()
-        shared = set_up_scene(scene, integrator=integrator)
-        runs = [Simulation(scene, motion, args.duration, scene_set_up=shared, integrator=integrator)
-                for motion in motions(tan_alpha, members)]
+        runs = _set_up_members(scene, integrator, tan_alpha, members, args.duration)
         set_up = time.perf_counter() - began
         cut = ""
         try:
@@ -283,11 +289,9 @@ def scaling_section(args, clock: Clock) -> list:
     for (name, integrator), loads in SCALING.items():
         build, tan_alpha = SCENES[name]
         scene = build()
-        shared = set_up_scene(scene, integrator=integrator)
         for load in loads:
             members = 2 if args.smoke else round(load * sms * THREADS_PER_BLOCK)
-            runs = [Simulation(scene, motion, duration, scene_set_up=shared, integrator=integrator)
-                    for motion in motions(tan_alpha, members)]
+            runs = _set_up_members(scene, integrator, tan_alpha, members, duration)
             kernel = run_members(runs, progress=clock.progress)
             steps = sum(int(run.state.counters[STEP]) for run in runs) / members
             _line("scaling", f"{name}, {integrator}, M={members} on {sms} multiprocessors",
