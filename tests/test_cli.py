@@ -23,6 +23,13 @@ from dem_core.inputs.suites import load_suite
 ACCELERATION = r"-?\d[\d.e+-]* m/s\^2 \(-?\d[\d.e+-]* g\)"
 
 
+def _says_the_unconverged_steps(printed: str, summary: dict) -> None:
+    """The run's printout names its steps whose contact solve ended short of its tolerance, as summary.json counts
+    them, and says nothing of them where there are none."""
+    unconverged = summary["unconverged_steps"]
+    assert (f"contact solve: {unconverged:,} of {summary['steps']:,} steps ended short" in printed) == (unconverged > 0)
+
+
 def test_run_writes_tables_summary_and_figures(tmp_path, capsys):
     scene = tmp_path / "col.toml"
     scene.write_text(textwrap.dedent("""
@@ -58,6 +65,7 @@ def test_run_writes_tables_summary_and_figures(tmp_path, capsys):
     joint = dict(zip(interfaces.interface, interfaces.sliding_m))
     assert metrics.sliding_at_its_joints_m[1] == pytest.approx(joint["drum1/drum2"] + joint["drum2/drum3"])
     assert "interfaces.csv" in summary["files"]
+    _says_the_unconverged_steps(printed, summary)
     for name in ("rotations.png", "displacements.png", "sliding.png"):
         assert (out / name).read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
 
@@ -421,13 +429,30 @@ def test_threshold_runs_the_bundled_scene_when_given_none(capsys):
 def test_run_prints_the_peak_as_a_share_of_the_critical_angle(tmp_path, capsys):
     """The printout's peak |theta|/alpha is the damage ratio a fragility study counts (its result's, written)."""
     assert main(["run", "--out", str(tmp_path / "out"), "--no-plots", "--duration", "8"]) == 0
+    printed = capsys.readouterr().out
     found = re.search(r"peak \|theta\| ([\d.e-]+) rad \(peak \|theta\|/alpha ([\d.e-]+), alpha the critical angle",
-                      capsys.readouterr().out)
+                      printed)
     peak, ratio = float(found.group(1)), float(found.group(2))
     metrics = pd.read_csv(tmp_path / "out" / "metrics.csv")
     assert peak == pytest.approx(metrics["peak_abs_theta_rad"].max(), rel=1e-3)
     column_alpha = math.atan(1.0 / 6.0)  # the bundled 1 x 6 m column's critical angle
     assert ratio == pytest.approx(peak / column_alpha, rel=2e-3)
+    summary = json.loads((tmp_path / "out" / "summary.json").read_text())
+    _says_the_unconverged_steps(printed, summary)
+
+
+def test_a_runs_steps_left_short_of_the_solves_tolerance_are_said_or_nothing():
+    """The line on Moreau-Jean's unconverged steps, from its result's counts; none where no step was left short or
+    under central differences, which has no such solve."""
+    from types import SimpleNamespace
+
+    from dem_core.cli.run import _solver_lines
+
+    assert _solver_lines(SimpleNamespace(info={"unconverged_steps": 32, "steps": 53710})) == [
+        "contact solve: 32 of 53,710 steps ended short of its tolerance after the sweeps a step allows "
+        "(unconverged_steps in summary.json; docs/method.md 1.8)"]
+    assert _solver_lines(SimpleNamespace(info={"unconverged_steps": 0, "steps": 53710})) == []
+    assert _solver_lines(SimpleNamespace(info={"steps": 53710})) == []
 
 
 def test_without_a_terminal_a_commands_bar_over_its_runs_writes_a_line_now_and_then(monkeypatch, capsys):

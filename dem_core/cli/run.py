@@ -96,11 +96,12 @@ def run(args) -> int:
     INTERRUPTS.check()
     ratio = result.damage_ratio
     print(f"peak |theta| {np.max(result.peak_theta):.4g} rad"
-          + (f" (peak |theta|/alpha {ratio:.3g}, alpha the critical angle that governs the block)"
+          + (f" (peak |theta|/alpha {ratio:.3g}, alpha the critical angle that governs each block, its "
+             "column's for a drum)"
              if np.isfinite(ratio) else "")
           + f", total sliding {result.total_sliding:.4g} m, "
           f"overturned: {f'yes at t = {result.time_of_overturn:.3f} s' if result.overturned else 'no'}")
-    for line in _connector_lines(result):
+    for line in _solver_lines(result) + _connector_lines(result):
         print(line)
     for line in _event_lines(result):
         print(line)
@@ -138,6 +139,16 @@ def run(args) -> int:
     print(f"error: {stopped}; the results up to t = {result.t[-1]:.6g} s are written to {out}/, marked \"stopped\" "
           "in summary.json", file=sys.stderr)
     return 3
+
+
+def _solver_lines(result) -> list:
+    """A line on Moreau-Jean's steps whose contact solve ended short of its tolerance (none if no step did, or under
+    central differences): how many of the run's steps, and where summary.json and the method say more."""
+    unconverged = result.info.get("unconverged_steps", 0)
+    if not unconverged:
+        return []
+    return [f"contact solve: {unconverged:,} of {result.info['steps']:,} steps ended short of its tolerance after "
+            "the sweeps a step allows (unconverged_steps in summary.json; docs/method.md 1.8)"]
 
 
 def _connector_lines(result) -> list:
