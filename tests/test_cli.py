@@ -24,10 +24,11 @@ ACCELERATION = r"-?\d[\d.e+-]* m/s\^2 \(-?\d[\d.e+-]* g\)"
 
 
 def _says_the_unconverged_steps(printed: str, summary: dict) -> None:
-    """The run's printout names its steps whose contact solve ended short of its tolerance, as summary.json counts
-    them, and says nothing of them where there are none."""
+    """The run's printout counts its contact solves that ended short of their tolerance, as summary.json does, and
+    says nothing of them where there are none."""
     unconverged = summary["unconverged_steps"]
-    assert (f"contact solve: {unconverged:,} of {summary['steps']:,} steps ended short" in printed) == (unconverged > 0)
+    said = f"contact solve: {unconverged:,} solves in {summary['steps']:,} steps ended short" in printed
+    assert said == (unconverged > 0)
 
 
 def test_run_writes_tables_summary_and_figures(tmp_path, capsys):
@@ -441,15 +442,15 @@ def test_run_prints_the_peak_as_a_share_of_the_critical_angle(tmp_path, capsys):
     _says_the_unconverged_steps(printed, summary)
 
 
-def test_a_runs_steps_left_short_of_the_solves_tolerance_are_said_or_nothing():
-    """The line on Moreau-Jean's unconverged steps, from its result's counts; none where no step was left short or
+def test_a_runs_solves_left_short_of_their_tolerance_are_said_or_nothing():
+    """The line on Moreau-Jean's unconverged solves, from its result's counts; none where no solve was left short or
     under central differences, which has no such solve."""
     from types import SimpleNamespace
 
     from dem_core.cli.run import _solver_lines
 
     assert _solver_lines(SimpleNamespace(info={"unconverged_steps": 32, "steps": 53710})) == [
-        "contact solve: 32 of 53,710 steps ended short of its tolerance after the sweeps a step allows "
+        "contact solve: 32 solves in 53,710 steps ended short of its tolerance after the sweeps a step allows "
         "(unconverged_steps in summary.json; docs/method.md 1.8)"]
     assert _solver_lines(SimpleNamespace(info={"unconverged_steps": 0, "steps": 53710})) == []
     assert _solver_lines(SimpleNamespace(info={"steps": 53710})) == []

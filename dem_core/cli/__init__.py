@@ -153,8 +153,9 @@ def _after_write_error(args) -> str:
 
 def parser() -> argparse.ArgumentParser:
     """The command line's parser: each command's options, declared by its module (:data:`COMMANDS`)."""
-    top = Parser(prog="dem-core", description="Seismic response of stone columns and colonnades (native "
-                 "2D DEM: rigid contacts by Moreau-Jean time stepping, or the thesis' soft contacts).", epilog="Exit status: 0 done, 1 failed, 2 refused input, 3 a run that "
+    top = Parser(prog="dem-core", description="Seismic response of stone columns and colonnades (native 2D DEM: "
+                 "rigid contacts by Moreau-Jean time stepping, or the thesis' soft contacts).",
+                 epilog="Exit status: 0 done, 1 failed, 2 refused input, 3 a run that "
                  "stopped unstable, 130 interrupted (Ctrl-C).  Each command's --help shows its options and "
                  f"their defaults.  No error shows a traceback; set {DEBUG}=1 to see that of an unexpected one.")
     sub = top.add_subparsers(dest="command", required=True)

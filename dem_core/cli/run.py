@@ -142,13 +142,14 @@ def run(args) -> int:
 
 
 def _solver_lines(result) -> list:
-    """A line on Moreau-Jean's steps whose contact solve ended short of its tolerance (none if no step did, or under
-    central differences): how many of the run's steps, and where summary.json and the method say more."""
+    """A line on Moreau-Jean's contact solves that ended short of their tolerance (none if none did, or under central
+    differences): how many, in how many steps (a step split at an impact solves each part), and where summary.json
+    and the method say more."""
     unconverged = result.info.get("unconverged_steps", 0)
     if not unconverged:
         return []
-    return [f"contact solve: {unconverged:,} of {result.info['steps']:,} steps ended short of its tolerance after "
-            "the sweeps a step allows (unconverged_steps in summary.json; docs/method.md 1.8)"]
+    return [f"contact solve: {unconverged:,} solves in {result.info['steps']:,} steps ended short of its tolerance "
+            "after the sweeps a step allows (unconverged_steps in summary.json; docs/method.md 1.8)"]
 
 
 def _connector_lines(result) -> list:
