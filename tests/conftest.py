@@ -45,6 +45,17 @@ def load_study():
 KERNEL_RESOURCES = "dem/sm_90_kernels"
 
 
+#: the test files started first, in this order: the GPU kernels' build compiles nothing for the CPU, so on one
+#: worker of pytest-xdist it keeps the other from compiling the CPU's driver at the same time (`.ci/run` keeps
+#: this order of files with ``--no-loadscope-reorder``; docs/performance.md, "What a fresh clone's suite compiles")
+FIRST_FILES = ("test_cuda_build.py",)
+
+
+def pytest_collection_modifyitems(config, items):
+    items.sort(key=lambda item: FIRST_FILES.index(item.path.name) if item.path.name in FIRST_FILES
+               else len(FIRST_FILES))
+
+
 def pytest_sessionstart(session):
     if not hasattr(session.config, "workerinput"):
         session.config.cache.set(KERNEL_RESOURCES, [])
