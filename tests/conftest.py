@@ -45,10 +45,12 @@ def load_study():
 KERNEL_RESOURCES = "dem/sm_90_kernels"
 
 
-#: the test files started first, in this order: the GPU kernels' build compiles nothing for the CPU, so on one
-#: worker of pytest-xdist it keeps the other from compiling the CPU's driver at the same time (`.ci/run` keeps
-#: this order of files with ``--no-loadscope-reorder``; docs/performance.md, "What a fresh clone's suite compiles")
-FIRST_FILES = ("test_cuda_build.py",)
+#: the test files started first, in this order, the longest first, so that the short ones fill the end of a run on
+#: both workers of pytest-xdist (`.ci/run` keeps this order of files with ``--no-loadscope-reorder``).  The GPU
+#: kernels' build compiles nothing for the CPU, so on one worker it keeps the other from compiling the CPU's driver
+#: at the same time (docs/performance.md, "What a fresh clone's suite compiles")
+FIRST_FILES = ("test_cuda_build.py", "test_harness.py", "test_batch_gpu.py", "test_simulation.py",
+               "test_nested_fragility.py", "test_adapters.py")
 
 
 def pytest_collection_modifyitems(config, items):
