@@ -18,8 +18,8 @@ MOTION = excitation.record("el_centro_1940", pga=3.0)
 
 
 def _conforms(value, schema: dict, root: dict, where: str = "$") -> list:
-    """What of ``value`` breaks ``schema``: the part of JSON Schema the format uses (type, const, enum, required,
-    properties, additionalProperties: false, items, minItems, maxItems, $ref)."""
+    """What of ``value`` breaks ``schema``: the part of JSON Schema the format uses (type, const, enum, minLength,
+    required, properties, additionalProperties: false, items, minItems, maxItems, $ref)."""
     if "$ref" in schema:
         return _conforms(value, root["$defs"][schema["$ref"].split("/")[-1]], root, where)
     kinds = {"object": dict, "array": list, "string": str, "boolean": bool, "null": type(None),
@@ -35,6 +35,8 @@ def _conforms(value, schema: dict, root: dict, where: str = "$") -> list:
         wrong.append(f"{where}: {value!r}, not {schema['const']!r}")
     if "enum" in schema and value not in schema["enum"]:
         wrong.append(f"{where}: {value!r}, not one of {schema['enum']}")
+    if isinstance(value, str) and len(value) < schema.get("minLength", 0):
+        wrong.append(f"{where}: {value!r}, shorter than {schema['minLength']}")
     if isinstance(value, dict):
         wrong += [f"{where}: no {key!r}" for key in schema.get("required", []) if key not in value]
         properties = schema.get("properties", {})
@@ -79,6 +81,9 @@ def test_the_json_follows_its_schema():
         written = json.loads(json.dumps(scene_to_json(scene)))  # as a file holds it: null for an infinite slip
         assert _conforms(written, schema, schema) == []
     assert _conforms({"format": "x"}, schema, schema)[:2] == ["$: no 'units'", "$: no 'gravity'"]
+    unnamed = json.loads(json.dumps(scene_to_json(scenes.block(1.0, 6.0))))
+    unnamed["blocks"][0]["name"] = ""
+    assert _conforms(unnamed, schema, schema) == ["$.blocks[0].name: '', shorter than 1"]
 
 
 def test_every_run_folder_holds_its_scene(tmp_path):
