@@ -80,11 +80,6 @@ def _stamp() -> dict:
             "python": ".".join(str(v) for v in sys.version_info[:2])}
 
 
-def _cache_key(cc: tuple) -> tuple:
-    """numba-cuda's key for a compute capability's PTX and cubin: Hopper's and later take the arch-specific "a"."""
-    return (*cc[:2], "a" if tuple(cc[:2]) >= (9, 0) else "")
-
-
 def kernel_resources(ptxas_log: str) -> list:
     """Each function's resources in ``ptxas -v``'s log: (name, bytes of stack frame, of spill stores, of spill
     loads, registers per thread)."""
@@ -93,15 +88,16 @@ def kernel_resources(ptxas_log: str) -> list:
     return [(name, *(int(value) for value in values)) for name, *values in found]
 
 
-def _assemble(library, cc: tuple) -> str:
-    """``library``'s PTX for ``cc`` assembled by the CUDA wheels' ``ptxas`` into the cubin numba-cuda keeps for
-    ``cc`` (where it looks before asking the driver to assemble the PTX), ptxas' log kept as the linker's; returns
-    the entry's resources, or why it did not assemble: the ``nvidia-cuda-nvcc`` wheel is not installed."""
+def _assemble(library) -> str:
+    """``library``'s PTX for the compute capability numba-cuda is told of (:func:`_compute_capability`) assembled by
+    the CUDA wheels' ``ptxas`` into the cubin numba-cuda keeps for it (where it looks before asking the driver to
+    assemble the PTX), ptxas' log kept as the linker's; returns the entry's resources, or why it did not assemble:
+    the ``nvidia-cuda-nvcc`` wheel is not installed."""
     try:
         from nvidia import cuda_nvcc
     except ImportError:
         return "not assembled: no ptxas here (the gpu extra's nvidia-cuda-nvcc wheel)"
-    key = _cache_key(cc)
+    key = library._ensure_cc(None)  # numba-cuda's own key: Hopper's and later take the arch-specific "a"
     arch = f"sm_{key[0]}{key[1]}{key[2]}"
     with tempfile.TemporaryDirectory() as folder:
         ptx, cubin = Path(folder) / "kernel.ptx", Path(folder) / "kernel.cubin"
@@ -138,7 +134,7 @@ def compile_kernels(folder: str | Path, cc: tuple = HOPPER, integrators=None) ->
             began = time.perf_counter()
             built[name] = _Kernel(dispatcher.py_func, argument_types, **dispatcher.targetoptions)
             made = time.perf_counter()  # numba-cuda makes the kernel's PTX with it (NVVM's time inside)
-            assembled = _assemble(built[name]._codelibrary, cc)
+            assembled = _assemble(built[name]._codelibrary)
             print(f"{name}: numba-cuda {made - began:.0f} s, ptxas {time.perf_counter() - made:.0f} s; {assembled}",
                   flush=True)
     path = Path(folder) / FILE_NAME
