@@ -58,8 +58,9 @@ from .settings import (DT, HALF_SKIN, INERTIAL, INTEGRATOR, INTERFACE_STRIDE, LA
 from .state import LISTED, STEP
 
 #: a build of the driver reads the integrator from each run's settings (ANY_INTEGRATOR), or is made for one
-#: integrator (``variant(drive, name, BUILT_FOR=EXPLICIT)``), whose code then holds only that integrator's stage: the
-#: GPU's kernels (:mod:`._members`), where the other stage's code would take registers
+#: integrator (``variant(drive, name, BUILT_FOR=EXPLICIT, ...)``, the other integrator's stage swapped for stubs),
+#: whose code then holds only that integrator's stage: the GPU's kernels (:mod:`._members`), where the other stage's
+#: code would take registers and its compile time
 ANY_INTEGRATOR = -1
 BUILT_FOR = ANY_INTEGRATOR
 

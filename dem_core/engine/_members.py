@@ -4,8 +4,9 @@ Private module.  A batch's arrays are the driver's named tuples (:mod:`._driver`
 axis; :func:`member` takes one member's rows of them, and :func:`advance_member` drives that member through the
 chunk with the loop of a single run.  :data:`KERNELS` holds, per integrator, the CUDA kernel (numba-cuda, float64)
 that runs it for every member of a batch, a thread each, and :data:`SERIAL` the same on one CPU thread, which checks
-the GPU path where there is no GPU.  Each integrator has its own build of the driver (``BUILT_FOR``), so that a
-kernel holds one integrator's stage: the members of a batch share their integrator.  A member's motion is a row of
+the GPU path where there is no GPU.  Each integrator has its own build of the driver (``BUILT_FOR``), with stubs in
+place of the other integrator's stage (:data:`LEFT_OUT`), so that a kernel holds one integrator's stage and its
+build types and inlines only that one: the members of a batch share their integrator.  A member's motion is a row of
 the chunk's samples at unit scale, shared by every member that scales it (:func:`~._ground.ground_at`).  The
 kernels are made at import: numba's CUDA simulator replaces this module's ``cuda``, which they then see.
 """
@@ -16,7 +17,7 @@ from numba.extending import overload
 
 from ._build import ENGINE_DIGEST, variant
 from ._driver import drive
-from .settings import INTEGRATORS, LAST_STEP, STATUS_OK
+from .settings import EXPLICIT, INTEGRATORS, LAST_STEP, MOREAU, STATUS_OK
 from .state import STEP
 
 #: a member's status while it can take more steps (its run's STATUS_* once it ended)
@@ -70,11 +71,36 @@ def advance_members_serial(model, settings, state, outputs, scratch, samples, mo
         advance_member(m, model, settings, state, outputs, scratch, samples, motion, n_steps, status)
 
 
+@nb.njit(inline="always")
+def _no_moreau_part(model, settings, state, scratch, part, remaining, load_x, load_y):
+    """Moreau-Jean's stage where a build takes only explicit runs: never called, its types those of the stage's."""
+    return STATUS_OK, 0, 0, 0.0
+
+
+@nb.njit(inline="always")
+def _no_explicit_parts(model, settings, state):
+    """The explicit step's division where a build takes only Moreau-Jean runs: never called."""
+    return 1, 0.0, 0.0
+
+
+@nb.njit(inline="always")
+def _no_explicit_part(model, settings, state, scratch, part, parts, h, kick, load_x, load_y):
+    """The explicit stage where a build takes only Moreau-Jean runs: never called."""
+    return STATUS_OK, 0, 0
+
+
+#: per integrator, the driver's stages of the other integrator and their stubs in that integrator's build: numba
+#: prunes the branch that reads the integrator but keeps the stages it calls, which would take most of the build's
+#: time to type, inline and lower
+LEFT_OUT = {EXPLICIT: {"moreau_part": _no_moreau_part},
+            MOREAU: {"explicit_part": _no_explicit_part, "explicit_parts": _no_explicit_parts}}
+
+
 def _builds(integrator: int) -> tuple:
     """``(kernel, serial)`` for the members of one integrator (settings EXPLICIT or MOREAU)."""
     name = INTEGRATORS[integrator]
     driver = nb.njit(cache=True, nogil=True, _nrt=False)(
-        variant(drive, f"drive_{name}_{ENGINE_DIGEST}", BUILT_FOR=integrator))
+        variant(drive, f"drive_{name}_{ENGINE_DIGEST}", BUILT_FOR=integrator, **LEFT_OUT[integrator]))
     one = nb.njit(variant(advance_member, f"advance_member_{name}", drive_member=driver))
     return (cuda.jit(variant(advance_members, f"advance_members_{name}", advance_member=one)),
             nb.njit(variant(advance_members_serial, f"advance_members_serial_{name}", advance_member=one)))
