@@ -51,20 +51,26 @@ def connector_geometry(pos, a, b, law):
 
 
 @nb.njit(cache=True, inline="always")
+def connectors_of(p, ids, start):
+    """``(first, end)``: the range of listed pair ``p``'s connectors, those of its recorded interface (empty where
+    it has none)."""
+    interface = ids[p, PAIR_INTERFACE]
+    if interface < 0:
+        return 0, 0
+    return start[interface], start[interface + 1]
+
+
+@nb.njit(cache=True, inline="always")
 def connector_forces(p, ids, pos, pair_force, law, bodies, start, states, step):
     """Central differences, listed pair ``p``: each intact connector of its interface taken to the present positions
     (:func:`~._connector_law.commit`) and its force added to the pair's row of ``pair_force`` (resultant force and
     moment on the pair's first body, then on its second), as the contact forces are."""
-    interface = ids[p, PAIR_INTERFACE]
-    if interface < 0:
-        return
-    for c in range(start[interface], start[interface + 1]):
+    first, end = connectors_of(p, ids, start)
+    for c in range(first, end):
         state = states[c]
         if not intact(state):
             continue
-        a = bodies[c, 0]
-        b = bodies[c, 1]
-        slip, opening, nx, ny, rbx, rby, rax, ray = connector_geometry(pos, a, b, law[c])
+        slip, opening, nx, ny, rbx, rby, rax, ray = connector_geometry(pos, bodies[c, 0], bodies[c, 1], law[c])
         if commit(slip, opening, law[c], state, step):
             continue
         fx = -(state[TENSION] * nx - state[SHEAR_FORCE] * ny)  # on the second body: -(F_a n + F_s t)
@@ -82,10 +88,8 @@ def connector_rows(p, ids, pos, vel, law, bodies, start, states, rows, ints, n):
     """Moreau-Jean, listed pair ``p``: each intact connector of its interface into ``rows``/``ints`` from row
     ``n``, with its opening, slip and velocities at the part's start and last step's impulses.  Returns the rows
     filled after it."""
-    interface = ids[p, PAIR_INTERFACE]
-    if interface < 0:
-        return n
-    for c in range(start[interface], start[interface + 1]):
+    first, end = connectors_of(p, ids, start)
+    for c in range(first, end):
         state = states[c]
         if not intact(state):
             continue
