@@ -256,7 +256,7 @@ def _overturned(result) -> bool:
 
 def _started(scene: Scene, criterion: str, slip: float, result) -> bool:
     """Whether ``criterion`` ("rocking" or "sliding") started in ``result`` (:func:`rocks`, :func:`slides`)."""
-    return rocks(scene, result) if criterion == "rocking" else slides(scene, result, slip)
+    return rocks(scene, result) if criterion == "rocking" else slides(result, slip)
 
 
 def interface_offsets(scene: Scene, result) -> np.ndarray:
@@ -282,7 +282,7 @@ def rocks(scene: Scene, result) -> bool:
     return bool(np.max(np.abs(result.theta)) > ROCKING_FRACTION * scene.rocking_slenderness)
 
 
-def slides(scene: Scene, result, slip: float = SLIP_THRESHOLD) -> bool:
+def slides(result, slip: float = SLIP_THRESHOLD) -> bool:
     """Whether any interface slipped more than ``slip`` m (:func:`interface_slips`)."""
     slips = interface_slips(result)
     return bool(slips.size and np.max(slips) > slip)
@@ -292,7 +292,7 @@ def motion_mode(scene: Scene, result, slip: float = SLIP_THRESHOLD) -> str:
     """``"rest"``, ``"rocking"``, ``"sliding"`` or ``"slide-rock"``: which of :func:`rocks` and
     :func:`slides` (more than ``slip`` m) the run showed."""
     return {(False, False): "rest", (True, False): "rocking", (False, True): "sliding",
-            (True, True): "slide-rock"}[(rocks(scene, result), slides(scene, result, slip))]
+            (True, True): "slide-rock"}[(rocks(scene, result), slides(result, slip))]
 
 
 def overturning_threshold(scene: Scene, motion_at: Callable, low: float, high: float, *, step: float = SCAN_STEP,
