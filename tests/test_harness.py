@@ -6,6 +6,7 @@ headers are plain words, which states its commit and its sources digest, and whi
 import html.parser
 import re
 import shutil
+import warnings
 
 import matplotlib.pyplot as plt
 import numpy as np
@@ -176,6 +177,17 @@ def test_a_title_cut_at_the_figure_edge_is_refused(tmp_path):
     fig, ax = plt.subplots(figsize=(3, 2))
     figures.title(ax, "a stability-map title far longer than the narrow figure it was given to sit above " * 2)
     figures.save(fig, tmp_path / "whole.png")
+
+
+def test_a_pareto_figure_whose_runs_all_lie_on_the_exact_floor_draws_without_a_warning(tmp_path):
+    """Every run exact (error 0): the points share the floor's value, and the axis spans a decade either side of it
+    rather than matplotlib widening a singular range with a warning."""
+    runs = pd.DataFrame({"engine": ["dem", "pymunk"], "error": [0.0, 0.0], "wall_time_s": [0.1, 0.3],
+                         "step": ["0.001", "0.001"], "settings": ["{}", "{}"]})
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        figures.pareto_figure(runs, "newmark", "max_slip", tmp_path / "pareto.png")
+    assert (tmp_path / "pareto.png").stat().st_size > 0
 
 
 class _Page(html.parser.HTMLParser):

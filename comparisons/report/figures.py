@@ -201,6 +201,8 @@ def pareto_figure(runs, case_name, metric, path, case_title: str | None = None) 
         ys += list(y)
         labels += [run_label(step, settings) for step, settings in zip(mine.step, mine.settings, strict=True)]
     _floor_line(ax, runs.error, metric)
+    if ys and min(ys) == max(ys) > 0:
+        ax.set_ylim(min(ys) / 10, max(ys) * 10)  # every run on one value (the floor): a decade either side
     title(ax, f"{case_title or case_name}: |error| against run time")
     _log_axes(ax, "wall time of the run (s)", error_label(metric), metric)
     fig.tight_layout()
