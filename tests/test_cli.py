@@ -450,7 +450,7 @@ def test_a_runs_solves_left_short_of_their_tolerance_are_said_or_nothing():
     from dem_core.cli.run import _solver_lines
 
     assert _solver_lines(SimpleNamespace(info={"unconverged_steps": 32, "steps": 53710})) == [
-        "contact solve: 32 solves in 53,710 steps ended short of its tolerance after the sweeps a step allows "
+        "contact solve: 32 solves in 53,710 steps ended short of their tolerance after the sweeps a step allows "
         "(unconverged_steps in summary.json; docs/method.md 1.8)"]
     assert _solver_lines(SimpleNamespace(info={"unconverged_steps": 0, "steps": 53710})) == []
     assert _solver_lines(SimpleNamespace(info={"steps": 53710})) == []

@@ -148,7 +148,7 @@ def _solver_lines(result) -> list:
     unconverged = result.info.get("unconverged_steps", 0)
     if not unconverged:
         return []
-    return [f"contact solve: {unconverged:,} solves in {result.info['steps']:,} steps ended short of its tolerance "
+    return [f"contact solve: {unconverged:,} solves in {result.info['steps']:,} steps ended short of their tolerance "
             "after the sweeps a step allows (unconverged_steps in summary.json; docs/method.md 1.8)"]
 
 
