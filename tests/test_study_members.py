@@ -2,6 +2,7 @@
 Dask cluster, and a scheduler that cannot be reached named in one line."""
 
 import json
+import socket
 import warnings
 
 import pandas as pd
@@ -62,10 +63,9 @@ def test_ctrl_c_keeps_the_finished_members_and_the_rerun_gives_the_same_study(tm
 
 @pytest.mark.slow
 def test_the_same_study_on_a_dask_cluster_of_two_workers(tmp_path):
-    distributed = pytest.importorskip("distributed")
+    pytest.importorskip("distributed")
     here = _study()
-    with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True,
-                                  dashboard_address=None) as dask:
+    with cluster.local_cluster(2) as dask:
         there = _study(scheduler=dask.scheduler_address, log=tmp_path / "members.jsonl")
         onset = thresholds.onset_threshold(BLOCK, _pulse, 0.5, 8.0, step=0.25, duration=1.5,
                                            scheduler=dask.scheduler_address)
@@ -124,9 +124,24 @@ def test_threshold_writes_its_runs_and_answer_and_resumes_from_its_log(tmp_path,
     assert len((out / "members.jsonl").read_text().splitlines()) == answer["runs"]  # nothing ran again
 
 
+def test_a_local_cluster_takes_a_free_port_for_its_http_server_without_a_warning():
+    """distributed's scheduler serves HTTP on 8787 unless told otherwise, and warns where another cluster holds it."""
+    pytest.importorskip("distributed")
+    with socket.socket() as held:
+        try:
+            held.bind(("", 8787))
+            held.listen()
+        except OSError:
+            pass  # held already
+        with warnings.catch_warnings():
+            warnings.simplefilter("error")
+            with cluster.local_cluster(1, processes=False) as dask:
+                assert dask.scheduler.http_server.port != 8787
+
+
 @pytest.mark.slow
 def test_a_task_lost_on_the_cluster_fails_its_members_alone_and_is_not_logged(tmp_path):
-    distributed = pytest.importorskip("distributed")
+    pytest.importorskip("distributed")
     log = tmp_path / "members.jsonl"
 
     def flaky(result):
@@ -134,8 +149,7 @@ def test_a_task_lost_on_the_cluster_fails_its_members_alone_and_is_not_logged(tm
             raise RuntimeError("a worker fault")
         return {}
 
-    with distributed.LocalCluster(n_workers=1, threads_per_worker=1, processes=False,
-                                  dashboard_address=None) as dask:
+    with cluster.local_cluster(1, processes=False) as dask:
         done = study_members.run_members(BLOCK, [sine_pulse(a, 0.5) for a in (1.0, 2.0, 8.0)], 1.0, [[0], [1], [2]],
                                          log=log, scheduler=dask.scheduler_address, measures=flaky,
                                          integrator="moreau")

@@ -16,6 +16,7 @@ import pytest
 
 import dem_core
 from dem_core import excitation, scenes
+from dem_core.analyses.cluster import local_cluster
 from dem_core.analyses.sweep import RunSpec, Sweep, SweepError, load_sweep, run_id, run_sweep
 from dem_core.inputs.excitation import Component, GroundMotion
 
@@ -112,10 +113,10 @@ def test_restarted_sweep_skips_finished_runs(tmp_path):
 
 @pytest.mark.slow
 def test_same_sweep_on_a_dask_cluster(tmp_path):
-    distributed = pytest.importorskip("distributed")
+    pytest.importorskip("distributed")
     sweep = Sweep(block_under_pulse, {"mu": [0.7], "amplitude": [3.0, 8.0]})
     local = run_sweep(sweep, tmp_path / "local", workers=1, progress=False)
-    with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None) as cluster:
+    with local_cluster(2) as cluster:
         remote = run_sweep(sweep, tmp_path / "dask", scheduler=cluster.scheduler_address, progress=False)
     assert set(remote.status) == {"ok"}
     columns = ["run_id", "max_peak_abs_theta_rad", "total_sliding_m", "overturned"]

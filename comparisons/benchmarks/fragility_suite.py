@@ -13,6 +13,7 @@ import warnings
 
 import pandas as pd
 
+from dem_core.analyses.cluster import local_cluster
 from dem_core.analyses.fragility_study import DEFAULT_STATES, fragility_study, stripes
 from dem_core.analyses.run_identity import machine
 from dem_core.cli import default_scene_path
@@ -46,8 +47,7 @@ def run(args: argparse.Namespace) -> None:
     here = fragility_study(scene, suite, levels, DEFAULT_STATES)
     rows = [(f"this machine ({here.device})", time.perf_counter() - started)]
     if args.workers:
-        from distributed import LocalCluster
-        with LocalCluster(n_workers=args.workers, threads_per_worker=1, dashboard_address=None) as cluster, \
+        with local_cluster(args.workers) as cluster, \
                 tempfile.TemporaryDirectory() as folder:
             started = time.perf_counter()
             there = fragility_study(scene, suite, levels, DEFAULT_STATES, scheduler=cluster.scheduler_address,

@@ -16,6 +16,7 @@ import time
 import numpy as np
 
 from dem_core import excitation, scenes
+from dem_core.analyses.cluster import local_cluster
 from dem_core.analyses.sweep import RunSpec, Sweep, run_sweep
 
 DURATION = 10.0  # s simulated per run
@@ -60,9 +61,7 @@ def run(args: argparse.Namespace) -> None:
     all_cores, _ = timed(sweep, workers=cores)
     rows.append((f"{cores} workers", all_cores))
     if args.dask:
-        from distributed import LocalCluster
-
-        with LocalCluster(n_workers=cores, threads_per_worker=1, dashboard_address=None) as cluster:
+        with local_cluster(cores) as cluster:
             timed(grid(4), scheduler=cluster.scheduler_address)  # workers import and load the kernel
             dask_wall, _ = timed(sweep, scheduler=cluster.scheduler_address)
         rows.append((f"Dask, {cores} local workers", dask_wall))

@@ -35,6 +35,16 @@ def dask_client(scheduler):
         client.close()
 
 
+def local_cluster(workers: int, *, processes: bool = True):
+    """A ``distributed.LocalCluster`` of ``workers`` single-threaded workers on this machine (a process each, or
+    threads of this one), with no dashboard and the scheduler's HTTP server on a free port: its default, 8787,
+    may be held by another cluster, and distributed would take another with a warning."""
+    from distributed import LocalCluster
+
+    return LocalCluster(n_workers=workers, threads_per_worker=1, processes=processes, dashboard_address=None,
+                        scheduler_kwargs={"dashboard_address": ":0"})
+
+
 def completed(futures: dict):
     """``(futures[future], result)`` of each of ``futures`` (Dask or concurrent futures, keyed to what they run) as it
     completes; ``result`` is the exception of a task lost on the cluster (a KilledWorker, an error in the task),
