@@ -27,6 +27,7 @@ from tqdm import tqdm
 import adapters
 import dem_core
 from comparisons.cases import catalogue
+from comparisons.harness.engines import NATIVE_INTEGRATORS, is_native
 from dem_core import excitation, scenes, stability
 from dem_core.engine.model import compile_model
 
@@ -37,8 +38,10 @@ WRONG = 0.10  # relative error from which a finished run counts as silently wron
 
 
 def _run(engine, scene, motion, duration, **kwargs):
-    if engine == "dem-moreau":
-        engine, kwargs = "dem", {**kwargs, "integrator": "moreau"}
+    """(result, status, message, wall time) of one run of ``engine``; a native engine name picks its
+    integrator (``NATIVE_INTEGRATORS``), the contact law is the scene's."""
+    if is_native(engine):
+        engine, kwargs = "dem", {**kwargs, "integrator": NATIVE_INTEGRATORS[engine]}
     start = time.perf_counter()
     try:
         with warnings.catch_warnings():
