@@ -190,6 +190,23 @@ def test_a_pareto_figure_whose_runs_all_lie_on_the_exact_floor_draws_without_a_w
     assert (tmp_path / "pareto.png").stat().st_size > 0
 
 
+def test_a_log_axis_whose_data_share_one_value_spans_a_decade_either_side(tmp_path):
+    """A stiffness sweep whose time step is the same at every K_n (a fixed-step integrator) draws a flat line on
+    a log axis; ``plain_log`` gives it a decade either side, in every figure, without matplotlib's warning."""
+    kn = [1e6, 1e8, 1e10]
+    rows = pd.DataFrame({"setting": [f"kn = {k:.0e}" for k in kn for _ in range(3)],
+                         "metric": ["quarter_period", "peak_decay", "dt_s"] * 3,
+                         "value": [0.01, 0.02, 1e-3] * 3})
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        figures.stiffness_figure(rows, tmp_path / "stiffness.png")
+        fig, ax = plt.subplots()
+        ax.plot(kn, [1e-3] * 3)
+        figures.plain_log(ax)
+    assert ax.get_ylim() == pytest.approx((1e-4, 1e-2))
+    assert (tmp_path / "stiffness.png").stat().st_size > 0
+
+
 class _Page(html.parser.HTMLParser):
     def __init__(self):
         super().__init__()

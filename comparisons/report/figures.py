@@ -142,9 +142,13 @@ def label_points(ax, xs, ys, labels, fontsize: float = 6) -> int:
 
 
 def plain_log(ax, axes="xy") -> None:
-    """Log scale on ``axes`` with major ticks as plain numbers and no minor tick labels (which overlap)."""
+    """Log scale on ``axes`` with major ticks as plain numbers and no minor tick labels (which overlap); an
+    axis whose data all lie on one value spans a decade either side of it."""
     for name in axes:
         axis = ax.xaxis if name == "x" else ax.yaxis
+        low, high = ax.dataLim.intervalx if name == "x" else ax.dataLim.intervaly
+        if low == high > 0:
+            (ax.set_xlim if name == "x" else ax.set_ylim)(low / 10, high * 10)
         (ax.set_xscale if name == "x" else ax.set_yscale)("log")
         axis.set_major_formatter(matplotlib.ticker.FuncFormatter(lambda v, _: f"{v:g}"))
         axis.set_minor_formatter(matplotlib.ticker.NullFormatter())
@@ -201,8 +205,6 @@ def pareto_figure(runs, case_name, metric, path, case_title: str | None = None) 
         ys += list(y)
         labels += [run_label(step, settings) for step, settings in zip(mine.step, mine.settings, strict=True)]
     _floor_line(ax, runs.error, metric)
-    if ys and min(ys) == max(ys) > 0:
-        ax.set_ylim(min(ys) / 10, max(ys) * 10)  # every run on one value (the floor): a decade either side
     title(ax, f"{case_title or case_name}: |error| against run time")
     _log_axes(ax, "wall time of the run (s)", error_label(metric), metric)
     fig.tight_layout()
