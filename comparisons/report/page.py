@@ -334,9 +334,10 @@ def _scoreboard_html(board: pd.DataFrame, records: pd.DataFrame, usual: dict) ->
 
 
 def _stress_table(stability: pd.DataFrame) -> pd.DataFrame:
-    """The stress-test rows with relative errors in percent (the other values in their units)."""
-    values = [f"{100 * v:.3g}%" if figures.is_relative_error(m) and np.isfinite(v) else
-              (f"{v:.3g}" if np.isfinite(v) else "-") for m, v in zip(stability.metric, stability.value, strict=True)]
+    """The stress-test rows with relative errors in percent (the other values in their units); "-" where the run
+    stopped, "inf" where it finished but the measure could not be taken (a rocking that died out too soon)."""
+    values = ["-" if np.isnan(v) else f"{100 * v:.3g}%" if figures.is_relative_error(m) and np.isfinite(v) else
+              f"{v:.3g}" for m, v in zip(stability.metric, stability.value, strict=True)]
     return _metric_names(stability.assign(value=values))
 
 
