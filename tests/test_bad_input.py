@@ -161,6 +161,15 @@ def test_blocks_floating_together_are_refused_and_a_settling_gap_is_not():
     assert Scene((Block("stone", rectangle(1.0, 1.0, -0.5, 0.002)),), base).block_names == ["stone"]
 
 
+@pytest.mark.parametrize("tolerance", [float("nan"), float("inf"), -1e-4])
+def test_an_overlap_tolerance_that_is_no_fraction_is_named(tolerance):
+    """NaN would pass every overlap check (a comparison with NaN is false) and a negative one refuse every
+    stack; a scene JSON can carry either (Python's json reads NaN and Infinity)."""
+    base = Block("base", rectangle(10, 1, -5, -1))
+    with pytest.raises(SceneError, match=f"overlap_tolerance must be a finite fraction >= 0, got {tolerance}"):
+        Scene((Block("stone", rectangle(1.0, 1.0, -0.5, 0.0)),), base, overlap_tolerance=tolerance)
+
+
 @pytest.mark.parametrize("make, message", [
     (lambda: scenes.column(n_drums=True), "n_drums must be a positive integer, got True"),
     (lambda: scenes.column(width="1.0"), "width must be a number, got '1.0'"),

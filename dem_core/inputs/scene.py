@@ -191,6 +191,8 @@ class Scene:
         object.__setattr__(self, "interface_friction", overrides)
         if not np.isfinite(self.gravity) or self.gravity < 0:
             raise SceneError(f"gravity must be >= 0, got {self.gravity}")
+        if not (np.isfinite(self.overlap_tolerance) and self.overlap_tolerance >= 0):
+            raise SceneError(f"overlap_tolerance must be a finite fraction >= 0, got {self.overlap_tolerance}")
         if self.slenderness is not None and not 0 < self.slenderness < np.pi / 2:
             raise SceneError(f"slenderness must be an angle in (0, pi/2) rad, got {self.slenderness}")
         self._check_start()
