@@ -361,6 +361,49 @@ def test_validation_mds_rectangular_boundary_against_housner_is_the_rocking_equa
     assert _words(said) in validation, said
 
 
+def _kn(setting: str) -> str:
+    """``kn = 1e+07`` as validation.md writes it: ``1e7``."""
+    return f"{float(setting.removeprefix('kn = ')):.0e}".replace("e+0", "e").replace("e+", "e")
+
+
+def _listed(items) -> str:
+    items = list(items)
+    return ", ".join(items[:-1]) + f" and {items[-1]}" if len(items) > 1 else "".join(items)
+
+
+def stability_claim(stability: pd.DataFrame) -> str:
+    """What docs/validation.md says of the explicit core's stability map: its step and verdict at each contact
+    stiffness of the free-rocking sweep, and where it stops on the time-step ladder (both cases)."""
+    sweep = stability[(stability.test == "free rocking, contact stiffness") & (stability.engine == "dem")]
+    steps = sweep[sweep.metric == "dt_s"]
+    decay = sweep[sweep.metric == "peak_decay"].set_index("setting")
+    parts = []
+    stopped = [_kn(k) for k in decay.index[decay.status == "stopped"]]
+    if stopped:
+        parts.append(f"stops with an error at {_listed(stopped)}")
+    wrong = decay[decay.status == "silently wrong"]
+    if len(wrong):
+        parts.append(f"finishes silently wrong at {_listed(map(_kn, wrong.index))} (peaks after five impacts off by "
+                     f"{_listed(_two_figures(abs(v)) for v in wrong.value)})")
+    ok = decay[decay.status == "ok"]
+    if len(ok):
+        parts.append(f"is within {_two_figures(ok.value.abs().max())} of the rocking equation's peaks from "
+                     f"{_kn(ok.index[0])} to {_kn(ok.index[-1])}")
+    ladder = stability[stability.test.str.endswith("at growing dt") & (stability.engine == "dem")]
+    by_step = ladder.groupby("setting", sort=False).status.agg(lambda s: s.iloc[0] if s.nunique() == 1 else "mixed")
+    factor = lambda settings: _listed(s.removesuffix(" x limit") for s in settings)  # noqa: E731
+    return (f"The explicit core (`dem`) on the free-rocking block: its automatic step falls as 1/sqrt(K_n), from "
+            f"{steps.value.iloc[0]:.2g} s at K_n = {_kn(steps.setting.iloc[0])} N/m^2 to {steps.value.iloc[-1]:.2g} s "
+            f"at {_kn(steps.setting.iloc[-1])}; it " + "; it ".join(parts) + ". On free rocking and Newmark's pulse "
+            f"it is ok at {factor(by_step.index[by_step == 'ok'])} x its stability limit and stops with an error at "
+            f"{factor(by_step.index[by_step == 'stopped'])} x.")
+
+
+def test_validation_mds_stability_map_is_the_reports(validation):
+    said = stability_claim(pd.read_csv(REPORTS / "stability.csv"))
+    assert _words(said) in validation, f"docs/validation.md should say {said!r}"
+
+
 #: the stiffness ensembles' members (``python -m comparisons stiffness-ensembles --members``), per scene
 STIFFNESS_ENSEMBLES = REPORTS / "stiffness_ensembles"
 
