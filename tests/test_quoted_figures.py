@@ -376,6 +376,8 @@ def stability_claim(stability: pd.DataFrame) -> str:
     stiffness of the free-rocking sweep, and where it stops on the time-step ladder (both cases)."""
     sweep = stability[(stability.test == "free rocking, contact stiffness") & (stability.engine == "dem")]
     steps = sweep[sweep.metric == "dt_s"]
+    root_kn = np.sqrt(steps.setting.str.removeprefix("kn = ").astype(float).to_numpy())
+    assert np.ptp(steps.value.to_numpy() * root_kn) < 1e-9 * steps.value.iloc[0] * root_kn[0], "dt is not ~ 1/sqrt(K_n)"
     decay = sweep[sweep.metric == "peak_decay"].set_index("setting")
     parts = []
     stopped = [_kn(k) for k in decay.index[decay.status == "stopped"]]
