@@ -49,9 +49,11 @@ def test_harmonic_from_peak_acceleration():
         excitation.harmonic(0.1, 1.0, pga=2.0)
 
 
-def test_record_scaled_to_a_target_pga():
-    m = excitation.record("el_centro_1940", pga=4.0, baseline=False)
-    assert m.horizontal.peak_acceleration == pytest.approx(4.0, rel=1e-12)
+@pytest.mark.parametrize("baseline", [False, True])
+def test_record_scaled_to_a_target_pga(baseline):
+    """The peak asked for is the peak of the samples the run takes, after the baseline correction."""
+    m = excitation.record("el_centro_1940", pga=4.0, baseline=baseline)
+    assert m.horizontal.peak_acceleration == pytest.approx(4.0, rel=1e-15)
     doubled = excitation.record("el_centro_1940", scale=2.0, baseline=False)
     base = excitation.record("el_centro_1940", baseline=False)
     np.testing.assert_allclose(doubled.horizontal.samples, 2.0 * base.horizontal.samples)

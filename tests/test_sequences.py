@@ -21,6 +21,7 @@ from dem_core.inputs import scene_file
 from dem_core.inputs.excitation import (
     ExcitationError,
     MotionSequence,
+    describe,
     extended,
     record,
     rectangular_pulse,
@@ -137,6 +138,19 @@ def test_a_sequence_is_a_ground_motion_whose_velocity_and_displacement_run_on():
     assert steps.tolist() == [0, round(start / 1e-3), round(motion.end_time / 1e-3)]
     assert extended(motion, 1.0).events[-1].rest == 4.0
     assert scaled(motion, 2.0).horizontal.peak_acceleration == 2.0 * motion.horizontal.peak_acceleration
+
+
+def test_a_scaled_sequence_is_described_as_its_sequence_times_the_factor():
+    """A batch's row of a scaled sequence names the sequence it scales and the factor, however often it is scaled
+    or run on; each event keeps its own factor in its motion's name."""
+    motion = sequence([EL_CENTRO, scaled(KALAMATA, 2.0)], rest=REST)
+    assert describe(motion)["record"] == motion.name and describe(motion)["scale"] == 1.0
+    for made in (scaled(scaled(motion, 1.5), 2.0), extended(scaled(motion, 3.0), 1.0),
+                 scaled(motion, 3.0).on_steps(1e-3)):
+        row = describe(made)
+        assert row["record"] == motion.name
+        assert row["scale"] == pytest.approx(3.0, rel=1e-15)
+        assert row["pga_m_s2"] == pytest.approx(3.0 * motion.horizontal.peak_acceleration, rel=1e-15)
 
 
 def test_records_of_another_sampling_interval_are_resampled_only_when_asked():

@@ -399,18 +399,23 @@ def peak_velocity(motion: GroundMotion) -> float:
 
 def describe(motion: GroundMotion) -> dict:
     """What a member's motion is, as a batch's row gives it: ``motion`` (its name), ``record`` (the name of what it
-    scales, :func:`record_name`), ``scale`` (the factor, :func:`scale_factor`), ``pga_m_s2`` and ``pgv_m_s`` (its
+    scales, :func:`record_name`), ``scale`` (the factor, :func:`scale_factor`; a sequence's
+    :attr:`MotionSequence.factor`), ``pga_m_s2`` and ``pgv_m_s`` (its
     horizontal component's, NaN for the PGV of a motion without an end)."""
     try:
         pgv = peak_velocity(motion)
     except ValueError:
         pgv = math.nan
-    return {"motion": motion.name, "record": record_name(motion), "scale": scale_factor(motion.horizontal),
+    scale = motion.factor if isinstance(motion, MotionSequence) else scale_factor(motion.horizontal)
+    return {"motion": motion.name, "record": record_name(motion), "scale": scale,
             "pga_m_s2": float(motion.horizontal.peak_acceleration), "pgv_m_s": pgv}
 
 
 def record_name(motion: GroundMotion) -> str:
-    """The name of the record ``motion`` scales: its name without the scale factors (" x1.5") :func:`scaled` adds."""
+    """The name of the record ``motion`` scales: its name without the scale factors (" x1.5") :func:`scaled` adds;
+    a sequence's is :attr:`MotionSequence.record`, the name :func:`sequence` gave it."""
+    if isinstance(motion, MotionSequence):
+        return motion.record
     return re.sub(r"( x[-+.0-9eE]+)+$", "", motion.name)
 
 
@@ -534,7 +539,8 @@ def extended(motion: GroundMotion, extra: float) -> GroundMotion:
         return motion
     if isinstance(motion, MotionSequence):
         last = motion.events[-1]
-        return _joined(motion.events[:-1] + (replace(last, rest=last.rest + float(extra)),), motion.name)
+        return _joined(motion.events[:-1] + (replace(last, rest=last.rest + float(extra)),), motion.name, motion.record,
+                       motion.factor)
     return GroundMotion(Extended(motion.horizontal, float(extra)), Extended(motion.vertical, float(extra)),
                         name=motion.name)
 
@@ -545,7 +551,8 @@ def scaled(motion: GroundMotion, factor: float) -> GroundMotion:
     factor = _positive_factor(factor, "factor", motion.name)
     name = f"{motion.name} x{factor:.4g}"
     if isinstance(motion, MotionSequence):
-        return _joined(tuple(replace(event, motion=scaled(event.motion, factor)) for event in motion.events), name)
+        return _joined(tuple(replace(event, motion=scaled(event.motion, factor)) for event in motion.events), name,
+                       motion.record, motion.factor * factor)
     return GroundMotion(Scaled(motion.horizontal, factor), Scaled(motion.vertical, factor), name=name)
 
 
@@ -623,9 +630,13 @@ class Event:
 @dataclass(frozen=True, eq=False)
 class MotionSequence(GroundMotion):
     """Ground motions one after another, each followed by the ground at rest (:func:`sequence`): ``events``
-    (:class:`Event`, ...), whose motions the components join (:class:`Joined`)."""
+    (:class:`Event`, ...), whose motions the components join (:class:`Joined`).  ``record`` is the name of the
+    sequence as :func:`sequence` made it and ``factor`` what :func:`scaled` has multiplied it by since (each event's
+    own factor stays in its motion's name)."""
 
     events: tuple = ()
+    record: str = ""
+    factor: float = 1.0
 
     def event_steps(self, dt: float) -> np.ndarray:
         """(n_events + 1,) int64: the step of ``dt`` (s) at which each event starts in a run, the first at 0 and each
@@ -642,16 +653,18 @@ class MotionSequence(GroundMotion):
         starts = self.event_steps(dt) * dt
         events = tuple(replace(event, start=float(start), rest=float(following - start - event.motion.end_time))
                        for event, start, following in zip(self.events[:-1], starts, starts[1:]))
-        return _joined(events + (replace(self.events[-1], start=float(starts[-2])),), self.name)
+        return _joined(events + (replace(self.events[-1], start=float(starts[-2])),), self.name, self.record,
+                       self.factor)
 
 
-def _joined(events: tuple, name: str) -> MotionSequence:
-    """The :class:`MotionSequence` of ``events``, which hold their starts."""
+def _joined(events: tuple, name: str, record: str | None = None, factor: float = 1.0) -> MotionSequence:
+    """The :class:`MotionSequence` of ``events``, which hold their starts, named ``name``: the sequence ``record``
+    (``name`` when None) multiplied by ``factor``."""
     starts = tuple(event.start for event in events)
     end = events[-1].start + events[-1].motion.end_time + events[-1].rest
     return MotionSequence(Joined(tuple(event.motion.horizontal for event in events), starts, end),
                           Joined(tuple(event.motion.vertical for event in events), starts, end), name=name,
-                          events=events)
+                          events=events, record=name if record is None else record, factor=factor)
 
 
 def sequence(motions, rest=0.0, resample=False) -> MotionSequence:
@@ -818,8 +831,8 @@ def record(source, dt: float | None = None, scale: float = 1.0, pga: float | Non
     dt : s, sampling interval; read from the file when it has a time column or header (a ``dt`` given
         must then agree with it, or the error names both) or from the bundled record's entry.
     scale : finite positive factor applied to both components; ignored when ``pga`` is given.
-    pga : m/s^2, finite and positive: scale the horizontal component to this peak (the vertical by
-        the same factor).
+    pga : m/s^2, finite and positive: scale the horizontal component, as run (after ``baseline``), to this
+        peak (the vertical by the same factor).
     vertical : None, a 1-based component index of the same file, another
         source (path or array, same dt), or a bundled record's own vertical with ``True``.
     units : of a text file (``"m/s^2"``, ``"g"``, ``"cm/s^2"``); AT2 files state theirs.
@@ -862,14 +875,14 @@ def record(source, dt: float | None = None, scale: float = 1.0, pga: float | Non
     for samples, which in ((horizontal, where), (vert, f"{where} (vertical)")):
         if samples is not None and len(samples) < 2:
             raise records.RecordError(f"{which}: a record needs at least 2 samples, found {len(samples)}")
+    if baseline:
+        horizontal = baseline_correct(horizontal, dt)
+        vert = None if vert is None else baseline_correct(vert, dt)
     peak = float(np.max(np.abs(horizontal)))
     if pga is not None:
         if peak == 0:
             raise records.RecordError(f"{where}: cannot scale to pga={pga}: the record is zero throughout")
         scale = pga / peak
-    if baseline:
-        horizontal = baseline_correct(horizontal, dt)
-        vert = None if vert is None else baseline_correct(vert, dt)
     h = Sampled(horizontal * scale, dt, name=name, factor=scale)
     v = Sampled(vert * scale, dt, name=name + " (vertical)", factor=scale) if vert is not None else Still()
     return GroundMotion(h, v, name=f"{name} x{scale:.4g}")
