@@ -125,6 +125,25 @@ def seconds(name: str, value) -> float:
     return float(value)
 
 
+def check_settings(*, duration=None, dt=None, output_dt=None, ground_motion: str = "inertial",
+                   safety: float = DEFAULT_SAFETY, steps_per_impact: float = DEFAULT_STEPS_PER_IMPACT,
+                   step_fraction: float = 1.0, integrator: str | None = None, theta: float = MOREAU_THETA,
+                   stop_at_overturn: bool = True) -> None:
+    """The settings of a run (:func:`simulate`'s keywords) checked without its scene: ``TypeError``/``ValueError``
+    naming the first that is out of its range (a scene file's ``[simulation]`` is checked so on reading)."""
+    for name, value in (("duration", duration), ("dt", dt), ("output_dt", output_dt)):
+        if value is not None:
+            seconds(name, value)
+    if ground_motion not in GROUND_MOTION_MODES:
+        raise ValueError(f"ground_motion must be one of {GROUND_MOTION_MODES}, got {ground_motion!r}")
+    _check_step_options(safety, steps_per_impact, step_fraction)
+    if integrator is not None:
+        _integrator_code(integrator)
+    if not 0.5 <= theta <= 1.0:
+        raise ValueError(f"theta weighs the new velocity in Moreau-Jean's position update; it must be in "
+                         f"[0.5, 1], got {theta}")
+
+
 def check_run_arguments(scene, excitation) -> GroundMotion:
     """The scene and the ground motion of a run checked at the door: ``TypeError`` naming the argument when
     either is of the wrong kind (a scene file's path or a dict where a :class:`~dem_core.Scene` is
@@ -228,12 +247,10 @@ class Simulation:
                  parallel: bool = False, integrator: str | None = None, theta: float = MOREAU_THETA,
                  scene_set_up: SceneSetUp | None = None, start: Result | None = None):
         excitation = check_run_arguments(scene, excitation)
+        check_settings(duration=duration, dt=dt, output_dt=output_dt, ground_motion=ground_motion, safety=safety,
+                       steps_per_impact=steps_per_impact, step_fraction=step_fraction, integrator=integrator,
+                       theta=theta)
         integrator = integrator_for(scene, integrator)
-        if ground_motion not in GROUND_MOTION_MODES:
-            raise ValueError(f"ground_motion must be one of {GROUND_MOTION_MODES}, got {ground_motion!r}")
-        if not 0.5 <= theta <= 1.0:
-            raise ValueError(f"theta weighs the new velocity in Moreau-Jean's position update; it must be in "
-                             f"[0.5, 1], got {theta}")
         step_options = dict(dt=dt, safety=safety, steps_per_impact=steps_per_impact, step_fraction=step_fraction,
                             stop_at_overturn=stop_at_overturn, enforce_stability_limit=enforce_stability_limit,
                             integrator=integrator)
@@ -776,13 +793,17 @@ def _check_step_fraction(step_fraction) -> None:
         raise ValueError(f"step_fraction multiplies the automatic step; it must be in (0, 1], got {step_fraction}")
 
 
-def _time_step(model, dt, limit, impact, safety, steps_per_impact, step_fraction, enforce) -> float:
+def _check_step_options(safety, steps_per_impact, step_fraction) -> None:
     if not 0.0 < safety <= 1.0:
         raise ValueError(f"safety is the fraction of the stability limit used as dt; it must be in (0, 1], "
                          f"got {safety}")
     if not steps_per_impact > 0:
         raise ValueError(f"steps_per_impact must be positive, got {steps_per_impact}")
     _check_step_fraction(step_fraction)
+
+
+def _time_step(model, dt, limit, impact, safety, steps_per_impact, step_fraction, enforce) -> float:
+    _check_step_options(safety, steps_per_impact, step_fraction)
     if dt is None:
         automatic = min(safety * limit, impact / steps_per_impact)
         return automatic if step_fraction == 1.0 else automatic * step_fraction

@@ -60,7 +60,9 @@ from typing import Any, Callable, NamedTuple
 
 from . import excitation as excitation_module
 from . import scenes
-from ..engine.contact import ContactParameters
+from ..engine.contact import LAWS, ContactParameters
+from ..engine.settings import INTEGRATORS
+from ..simulation import GROUND_MOTION_MODES, check_settings
 from .connectors import PRESETS, ConnectorKind, Placement
 from .scene import Block, Scene
 from .text_files import did_you_mean, file_errors
@@ -82,6 +84,7 @@ class ValueType(NamedTuple):
 
     description: str
     convert: Callable[[Any], Any]
+    choices: tuple = ()
 
 
 MISMATCH = object()
@@ -136,6 +139,13 @@ NUMBER = ValueType("a finite number", _as_number)
 INTEGER = ValueType("an integer", _as_integer)
 STRING = ValueType("a string", lambda v: v if isinstance(v, str) else MISMATCH)
 BOOLEAN = ValueType("true or false", lambda v: v if isinstance(v, bool) else MISMATCH)
+
+
+def one_of(choices: tuple) -> ValueType:
+    """A string that is one of ``choices``; an error suggests the nearest."""
+    return ValueType(f"one of {', '.join(map(repr, choices))}", lambda v: v if v in choices else MISMATCH, choices)
+
+
 PAIR = ValueType("a pair of numbers [a, b]", _as_pair)
 POINTS = ValueType("a list of [x, y] points (numbers, m)", _as_points)
 RECORD_SOURCE = ValueType("a bundled record name, a file path, a list of accelerations or a list of record names "
@@ -186,7 +196,7 @@ SCENE_TYPES = {
 EXPLICIT_BLOCKS_KEYS = {"builder", "interface_friction", "slenderness", "allow_free_blocks"}
 #: the builders' keywords a scene file gives elsewhere than as [scene] keys: [contact], and [[connector]] tables
 BUILDER_TABLE_KEYWORDS = {"contact", "interface_friction", "connectors"}
-CONTACT_TYPES = {**{f.name: NUMBER for f in fields(ContactParameters)}, "law": STRING}
+CONTACT_TYPES = {**{f.name: NUMBER for f in fields(ContactParameters)}, "law": one_of(LAWS)}
 EXCITATION_TYPES = {
     "kind": STRING, "source": RECORD_SOURCE, "vertical": VERTICAL, "units": STRING, "component": INTEGER,
     "baseline": BOOLEAN, "resample": BOOLEAN, "dt": NUMBER, "scale": NUMBER, "pga": NUMBER, "amplitude": NUMBER,
@@ -195,8 +205,9 @@ EXCITATION_TYPES = {
 }
 #: [excitation] keys of kind "record" beyond record()'s own: the rest after each record, which makes a sequence
 SEQUENCE_KEYS = {"rest"}
-SIMULATION_TYPES = {"duration": NUMBER, "dt": NUMBER, "output_dt": NUMBER, "ground_motion": STRING,
-                    "safety": NUMBER, "stop_at_overturn": BOOLEAN, "integrator": STRING, "theta": NUMBER}
+SIMULATION_TYPES = {"duration": NUMBER, "dt": NUMBER, "output_dt": NUMBER, "ground_motion": one_of(GROUND_MOTION_MODES),
+                    "safety": NUMBER, "stop_at_overturn": BOOLEAN, "integrator": one_of(INTEGRATORS),
+                    "theta": NUMBER}
 OUTPUT_TYPES = {"format": STRING, "plots": BOOLEAN}
 CONNECTOR_PLACES = ValueType("\"all\", \"capital\" or a list of [block, block] pairs",
                              lambda v: v if isinstance(v, str) else (
@@ -250,6 +261,10 @@ def from_dict(data: dict, path=Path("<scene>")) -> SceneFile:
         contact = ContactParameters(**tables["contact"])
     except ValueError as exc:
         raise SceneFileError(f"{path}: [contact]: {exc}") from None
+    try:
+        check_settings(**tables["simulation"])
+    except ValueError as exc:
+        raise SceneFileError(f"{path}: [simulation] {exc}") from None
     scene = _scene(tables, path, contact)
     motion = _excitation(tables["excitation"], path)
     _refuse_extreme(tables["excitation"], motion, tables["simulation"], path)
@@ -337,13 +352,15 @@ def _typed(path, where: str, key: str, value, expected: ValueType):
             _typed(path, f"{where} {key}", name, entry, TABLE_ENTRIES[expected])
     if converted is MISMATCH:
         raise SceneFileError(f"{path}: {where} {key}: expected {expected.description}, got {_given(value)}"
-                             f"{_quoting_hint(value, expected)}")
+                             f"{_value_hint(value, expected)}")
     return converted
 
 
-def _quoting_hint(value, expected: ValueType) -> str:
+def _value_hint(value, expected: ValueType) -> str:
     if not isinstance(value, str):
         return ""
+    if expected.choices:
+        return did_you_mean(value, expected.choices)
     if expected is BOOLEAN and value.strip().lower() in ("true", "false"):
         return " (write true or false without quotes)"
     if expected in (NUMBER, INTEGER):
