@@ -459,3 +459,13 @@ def test_every_number_is_checked_before_any_run(argv, option, tmp_path, scene, c
     assert cli.main([a.format(scene=scene) for a in argv]) == 2
     err = capsys.readouterr().err
     assert len(err.splitlines()) == 1 and err.startswith("error: ") and option in err, err
+
+
+@pytest.mark.parametrize("command", ["run", "animate", "records"])
+def test_an_unknown_option_points_at_its_commands_help(command, capsys):
+    """An option the command does not have is refused in one line that sends the user to that command's --help,
+    where its options are listed (the top-level help lists only the commands)."""
+    from dem_core import cli
+
+    assert cli.main([command, "--bogus"] if command == "records" else [command, "scene.toml", "--bogus"]) == 2
+    assert capsys.readouterr().err.strip().endswith(f"unrecognized arguments: --bogus (see dem-core {command} --help)")

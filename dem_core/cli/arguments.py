@@ -52,6 +52,16 @@ class Parser(argparse.ArgumentParser):
     def error(self, message):
         raise ArgumentError(f"{message} (see {self.prog} --help)")
 
+    def parse_args(self, args=None, namespace=None):
+        """As argparse's, except that arguments a command does not know are refused by that command's parser,
+        whose ``--help`` lists the options it does know."""
+        parsed, unknown = self.parse_known_args(args, namespace)
+        if unknown:
+            commands = [a for a in self._actions if isinstance(a, argparse._SubParsersAction)]
+            chosen = commands[0].choices.get(getattr(parsed, commands[0].dest, None)) if commands else None
+            (chosen or self).error(f"unrecognized arguments: {' '.join(unknown)}")
+        return parsed
+
 
 def _number(parse, test, requirement: str):
     """An argparse ``type`` that parses with ``parse`` and refuses values failing ``test``: NaN, infinities and
