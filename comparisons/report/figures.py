@@ -407,18 +407,24 @@ def stability_map_figure(rows, test_name, wrong, path) -> None:
 
 
 def stiffness_figure(rows, path) -> None:
-    """Free-rocking errors and the automatic time step of the native core against K_n."""
+    """Free-rocking errors and the automatic time step of the explicit core against K_n; a dotted line marks each
+    K_n whose run stopped with an error (it has no error to plot)."""
     kn = rows.setting.str.removeprefix("kn = ").astype(float)
     fig, (ax, ax_dt) = plt.subplots(1, 2, figsize=(9, 3.5))
     for metric in ("quarter_period", "peak_decay"):
         pick = rows.metric == metric
         ax.loglog(kn[pick], 100 * np.abs(rows.value[pick]), "o-", label=AXIS_NAMES.get(metric, metric))
+    for stopped in sorted(set(kn[(rows.status == "stopped") & (rows.metric != "dt_s")])):
+        ax.axvline(stopped, color="C3", linestyle=":")
+        ax.text(stopped, 0.5, " stopped", transform=ax.get_xaxis_transform(), color="C3", fontsize=8,
+                rotation=90, va="center")
     pick = rows.metric == "dt_s"
     ax_dt.loglog(kn[pick], rows.value[pick], "s-", color="0.3")
     plain_log(ax)
     plain_log(ax_dt)
+    ax.set_xlim(*ax_dt.get_xlim())
     ax.set(xlabel="K_n (N/m^2)", ylabel="|error| (%)")
-    title(ax, "Free rocking, native core: errors against contact stiffness")
+    title(ax, "Free rocking, explicit core: errors against contact stiffness")
     ax_dt.set(xlabel="K_n (N/m^2)", ylabel="automatic dt (s)")
     title(ax_dt, "Its automatic time step")
     ax.legend(fontsize=8)
