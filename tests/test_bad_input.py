@@ -118,6 +118,21 @@ def test_record_of_one_sample(tmp_path):
         excitation.record(path)
 
 
+@pytest.mark.parametrize("samples, message", [
+    (np.zeros(100), "the record is zero throughout"),
+    (np.full(100, 0.3), "the baseline correction leaves nothing of the record"),
+    (np.linspace(-0.2, 0.4, 100), "the baseline correction leaves nothing of the record"),
+])
+def test_a_record_with_nothing_to_scale_is_refused_a_pga(samples, message):
+    """pga= scales the corrected samples; a constant or a straight line corrects to rounding, which a factor of
+    1e15 would blow up to the PGA asked for: refused, naming why."""
+    with pytest.raises(RecordError, match=message):
+        excitation.record(samples, dt=0.01, pga=2.0)
+    if samples.any():
+        uncorrected = excitation.record(samples, dt=0.01, pga=2.0, baseline=False)
+        assert uncorrected.horizontal.peak_acceleration == pytest.approx(2.0, rel=1e-15)
+
+
 # --- geometry ----------------------------------------------------------------------------------------
 
 def test_tilted_stack_accepts_its_own_round_off_and_real_overlaps_are_still_refused():
@@ -200,8 +215,8 @@ def load_text(tmp_path, text):
     (BLOCK_FILE + '[simulation]\noutput_dt = "0.01"\n',
      r"\[simulation\] output_dt: expected a finite number, got the string '0\.01'"),
     (BLOCK_FILE + "[simulation]\nduration = -5.0\n",
-     r"\[simulation\] duration must be positive and finite, got -5\.0"),
-    (BLOCK_FILE + "[simulation]\ntheta = 2.0\n", r"\[simulation\] theta .* must be in \[0\.5, 1\], got 2\.0"),
+     r"\[simulation\]: duration must be positive and finite, got -5\.0"),
+    (BLOCK_FILE + "[simulation]\ntheta = 2.0\n", r"\[simulation\]: theta .* must be in \[0\.5, 1\], got 2\.0"),
     (BLOCK_FILE + '[simulation]\nintegrator = "moreu"\n',
      r"\[simulation\] integrator: expected one of 'explicit', 'moreau', got the string 'moreu' "
      r"\(did you mean 'moreau'\?\)"),

@@ -277,6 +277,11 @@ def _integrate_piecewise_linear(a, dt):
     return v, u
 
 
+#: a record whose peak after :func:`baseline_correct` is below this fraction of its peak before is a constant or a
+#: straight line that the correction has taken away (what is left is rounding): :func:`record` refuses to scale it
+BASELINE_REMAINDER = 1e-9
+
+
 def baseline_correct(a, dt):
     """Subtract the linear baseline ``c0 + c1 t`` that brings the ground back to rest where it started.
 
@@ -875,13 +880,18 @@ def record(source, dt: float | None = None, scale: float = 1.0, pga: float | Non
     for samples, which in ((horizontal, where), (vert, f"{where} (vertical)")):
         if samples is not None and len(samples) < 2:
             raise records.RecordError(f"{which}: a record needs at least 2 samples, found {len(samples)}")
+    raw_peak = float(np.max(np.abs(horizontal)))
     if baseline:
         horizontal = baseline_correct(horizontal, dt)
         vert = None if vert is None else baseline_correct(vert, dt)
     peak = float(np.max(np.abs(horizontal)))
     if pga is not None:
-        if peak == 0:
+        if raw_peak == 0:
             raise records.RecordError(f"{where}: cannot scale to pga={pga}: the record is zero throughout")
+        if peak <= BASELINE_REMAINDER * raw_peak:
+            raise records.RecordError(f"{where}: cannot scale to pga={pga}: the baseline correction leaves nothing "
+                                      f"of the record (a constant or a straight line): turn the correction off "
+                                      f"(baseline false), or give a record that shakes")
         scale = pga / peak
     h = Sampled(horizontal * scale, dt, name=name, factor=scale)
     v = Sampled(vert * scale, dt, name=name + " (vertical)", factor=scale) if vert is not None else Still()
