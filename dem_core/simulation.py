@@ -190,8 +190,9 @@ def set_up_scene(scene, dt: float | None = None, *, safety: float = DEFAULT_SAFE
                  stop_at_overturn: bool = True, enforce_stability_limit: bool = True,
                  integrator: str | None = None) -> SceneSetUp:
     """The :class:`SceneSetUp` of ``scene`` with the step options of :class:`Simulation` (the same names and
-    defaults); ``ValueError`` naming a wrong option (Moreau-Jean's step options are checked with the motion, by
+    defaults); ``ValueError`` naming a wrong option (Moreau-Jean's ``dt`` is checked with the motion, by
     :func:`moreau_time_step`), and the warning of a step beyond the stability limit."""
+    _check_step_options(safety, steps_per_impact, step_fraction)
     integrator = integrator_for(scene, integrator)
     options = dict(dt=dt, safety=safety, steps_per_impact=steps_per_impact, step_fraction=step_fraction,
                    stop_at_overturn=stop_at_overturn, enforce_stability_limit=enforce_stability_limit,

@@ -422,7 +422,9 @@ def stiffness_figure(rows, path) -> None:
     ax_dt.loglog(kn[pick], rows.value[pick], "s-", color="0.3")
     plain_log(ax)
     plain_log(ax_dt)
-    ax.set_xlim(*ax_dt.get_xlim())
+    limits = np.concatenate((ax.get_xlim(), ax_dt.get_xlim()))
+    for a in (ax, ax_dt):
+        a.set_xlim(limits.min(), limits.max())
     ax.set(xlabel="K_n (N/m^2)", ylabel="|error| (%)")
     title(ax, "Free rocking, explicit core: errors against contact stiffness")
     ax_dt.set(xlabel="K_n (N/m^2)", ylabel="automatic dt (s)")

@@ -55,11 +55,13 @@ class Parser(argparse.ArgumentParser):
     def parse_args(self, args=None, namespace=None):
         """As argparse's, except that arguments a command does not know are refused by that command's parser,
         whose ``--help`` lists the options it does know."""
-        parsed, unknown = self.parse_known_args(args, namespace)
+        given = sys.argv[1:] if args is None else list(args)
+        parsed, unknown = self.parse_known_args(given, namespace)
         if unknown:
             commands = [a for a in self._actions if isinstance(a, argparse._SubParsersAction)]
-            chosen = commands[0].choices.get(getattr(parsed, commands[0].dest, None)) if commands else None
-            (chosen or self).error(f"unrecognized arguments: {' '.join(unknown)}")
+            name = getattr(parsed, commands[0].dest, None) if commands else None
+            after_name = name in given and not set(unknown) & set(given[:given.index(name)])
+            (commands[0].choices[name] if after_name else self).error(f"unrecognized arguments: {' '.join(unknown)}")
         return parsed
 
 

@@ -264,7 +264,7 @@ def from_dict(data: dict, path=Path("<scene>")) -> SceneFile:
     try:
         check_settings(**tables["simulation"])
     except ValueError as exc:
-        raise SceneFileError(f"{path}: [simulation] {exc}") from None
+        raise SceneFileError(f"{path}: [simulation]: {exc}") from None
     scene = _scene(tables, path, contact)
     motion = _excitation(tables["excitation"], path)
     _refuse_extreme(tables["excitation"], motion, tables["simulation"], path)
@@ -276,8 +276,8 @@ def from_dict(data: dict, path=Path("<scene>")) -> SceneFile:
 def check(data: dict, path=Path("<scene>")) -> dict:
     """The tables of a scene file with every key checked for its name and type and converted (integers
     to int, numbers to float, pairs to tuples); raises :class:`SceneFileError` naming the file, the
-    table, the key, the type expected and the value given.  Values are not judged here (a negative
-    width is the builder's to refuse)."""
+    table, the key, the type expected and the value given.  Values are not judged here beyond a choice among
+    names (a contact law, an integrator: :func:`one_of`); a negative width is the builder's to refuse."""
     path = Path(path)
     unknown = set(data) - TOP_LEVEL
     if unknown:
