@@ -185,6 +185,21 @@ def test_an_overlap_tolerance_that_is_no_fraction_is_named(tolerance):
         Scene((Block("stone", rectangle(1.0, 1.0, -0.5, 0.0)),), base, overlap_tolerance=tolerance)
 
 
+@pytest.mark.parametrize("options, message", [
+    ({"gravity": "9.81"}, "gravity must be a number, got str '9.81'"),
+    ({"overlap_tolerance": None}, "overlap_tolerance must be a number, got NoneType None"),
+    ({"slenderness": True}, "slenderness must be a number, got bool True"),
+    ({"interface_friction": {("base", "stone"): "0.5"}},
+     r"interface friction \('base', 'stone'\): mu must be a number, got str '0.5'"),
+])
+def test_a_scene_number_that_is_no_number_is_named(options, message):
+    """A string, None or a boolean where a Scene takes a number is a SceneError naming the field and the value,
+    not numpy's TypeError."""
+    base = Block("base", rectangle(10, 1, -5, -1))
+    with pytest.raises(SceneError, match=message):
+        Scene((Block("stone", rectangle(1.0, 1.0, -0.5, 0.0)),), base, **options)
+
+
 @pytest.mark.parametrize("make, message", [
     (lambda: scenes.column(n_drums=True), "n_drums must be a positive integer, got True"),
     (lambda: scenes.column(width="1.0"), "width must be a number, got '1.0'"),

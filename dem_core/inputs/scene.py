@@ -6,6 +6,7 @@ lives in the simulation state (see :mod:`dem_core.simulation`).  Every engine
 """
 
 import dataclasses
+import numbers
 from dataclasses import dataclass, field
 from functools import cached_property
 
@@ -128,6 +129,13 @@ def _friction_key(a: str, b: str) -> tuple[str, str]:
     return (a, b) if a <= b else (b, a)
 
 
+
+def _real(value, what: str) -> float:
+    """``value`` as a float; :class:`SceneError` naming ``what`` and the value for anything not a real number."""
+    if isinstance(value, bool) or not isinstance(value, numbers.Real):
+        raise SceneError(f"{what} must be a number, got {type(value).__name__} {value!r:.40}")
+    return float(value)
+
 @dataclass(frozen=True, eq=False)
 class Scene:
     """A complete model: blocks resting on a base, contact law, friction overrides.
@@ -184,11 +192,13 @@ class Scene:
                     raise SceneError(f"interface friction ({a!r}, {b!r}): no block named '{n}'")
             if a == b:
                 raise SceneError(f"interface friction ({a!r}, {b!r}): a block has no interface with itself")
-            mu = float(mu)
+            mu = _real(mu, f"interface friction ({a!r}, {b!r}): mu")
             if not np.isfinite(mu) or mu < 0:
                 raise SceneError(f"interface friction ({a!r}, {b!r}): mu must be >= 0, got {mu}")
             overrides[_friction_key(a, b)] = mu
         object.__setattr__(self, "interface_friction", overrides)
+        for name in ("gravity", "overlap_tolerance") + (("slenderness",) if self.slenderness is not None else ()):
+            _real(getattr(self, name), name)
         if not np.isfinite(self.gravity) or self.gravity < 0:
             raise SceneError(f"gravity must be >= 0, got {self.gravity}")
         if not (np.isfinite(self.overlap_tolerance) and self.overlap_tolerance >= 0):
