@@ -13,7 +13,6 @@ import bisect
 import contextlib
 import hashlib
 import math
-import numbers
 import os
 import signal
 import sys
@@ -62,20 +61,14 @@ from .engine.state import (
     initial_state,
 )
 from .inputs.excitation import GroundMotion, MotionSequence, refuse_extreme, still
+from .inputs.run_settings import (DEFAULT_SAFETY, DEFAULT_STEPS_PER_IMPACT, check_settings, check_step_fraction,
+                                  check_step_options, integrator_code, seconds)
 from .inputs.scene import Scene
 
-#: largest fraction of the stability limit used when dt is not given (the scheme is stable up to the
-#: limit: mirror-image runs stay mirror images to round-off there)
-DEFAULT_SAFETY = 0.8
-#: time steps per shortest impact when dt is not given: resolving impacts matters for the energy they take.
-#: The lagged dashpots make the loss first order in dt, and where an impact falls within a step scatters it
-#: (docs/method.md 1.7 gives the rocking peaks' error at 10, 15 and 20 steps)
-DEFAULT_STEPS_PER_IMPACT = 15
 #: a block moving faster than this multiple of the fastest physical speed stops the run
 SPEED_LIMIT_FACTOR = 10.0
 #: energy gained beyond the ground's work, as a fraction of sum(m g R) plus the gross ground work, that stops the run
 ENERGY_TOLERANCE = 0.05
-GROUND_MOTION_MODES = ("inertial", "moving_base")
 #: with stop_at_overturn=False, while a block is overturned (past its critical angle or fallen), central differences
 #: take each step in substeps no longer than this fraction of the automatic step for toppled blocks: a pile of fallen
 #: blocks has more and stiffer contacts than the standing scene the stability limit is computed for (the 8-drum
@@ -114,34 +107,6 @@ def run_duration(excitation: GroundMotion, duration: float | None) -> float:
         if not np.isfinite(duration) or duration <= 0:
             raise ValueError(f"give a duration: the excitation '{excitation.name}' has no natural end")
     return seconds("duration", duration)
-
-
-def seconds(name: str, value) -> float:
-    """``value`` as a positive, finite number of seconds; ``TypeError``/``ValueError`` naming ``name``."""
-    if isinstance(value, bool) or not isinstance(value, numbers.Real):
-        raise TypeError(f"{name} must be a number of seconds, got {type(value).__name__} {value!r}")
-    if not (math.isfinite(value) and value > 0):
-        raise ValueError(f"{name} must be positive and finite, got {value}")
-    return float(value)
-
-
-def check_settings(*, duration=None, dt=None, output_dt=None, ground_motion: str = "inertial",
-                   safety: float = DEFAULT_SAFETY, steps_per_impact: float = DEFAULT_STEPS_PER_IMPACT,
-                   step_fraction: float = 1.0, integrator: str | None = None, theta: float = MOREAU_THETA,
-                   stop_at_overturn: bool = True) -> None:
-    """The settings of a run (:func:`simulate`'s keywords) checked without its scene: ``TypeError``/``ValueError``
-    naming the first that is out of its range (a scene file's ``[simulation]`` is checked so on reading)."""
-    for name, value in (("duration", duration), ("dt", dt), ("output_dt", output_dt)):
-        if value is not None:
-            seconds(name, value)
-    if ground_motion not in GROUND_MOTION_MODES:
-        raise ValueError(f"ground_motion must be one of {GROUND_MOTION_MODES}, got {ground_motion!r}")
-    _check_step_options(safety, steps_per_impact, step_fraction)
-    if integrator is not None:
-        _integrator_code(integrator)
-    if not 0.5 <= theta <= 1.0:
-        raise ValueError(f"theta weighs the new velocity in Moreau-Jean's position update; it must be in "
-                         f"[0.5, 1], got {theta}")
 
 
 def check_run_arguments(scene, excitation) -> GroundMotion:
@@ -192,12 +157,12 @@ def set_up_scene(scene, dt: float | None = None, *, safety: float = DEFAULT_SAFE
     """The :class:`SceneSetUp` of ``scene`` with the step options of :class:`Simulation` (the same names and
     defaults); ``ValueError`` naming a wrong option (Moreau-Jean's ``dt`` is checked with the motion, by
     :func:`moreau_time_step`), and the warning of a step beyond the stability limit."""
-    _check_step_options(safety, steps_per_impact, step_fraction)
+    check_step_options(safety, steps_per_impact, step_fraction)
     integrator = integrator_for(scene, integrator)
     options = dict(dt=dt, safety=safety, steps_per_impact=steps_per_impact, step_fraction=step_fraction,
                    stop_at_overturn=stop_at_overturn, enforce_stability_limit=enforce_stability_limit,
                    integrator=integrator)
-    if _integrator_code(integrator) == MOREAU and scene.contact.law != "corner":
+    if integrator_code(integrator) == MOREAU and scene.contact.law != "corner":
         raise ValueError(f"the Moreau-Jean integrator works on the corner law's contact points; the scene's "
                          f"contact law is {scene.contact.law!r}")
     given = scene.contact.explicit_restitution
@@ -207,7 +172,7 @@ def set_up_scene(scene, dt: float | None = None, *, safety: float = DEFAULT_SAFE
                          f"Moreau-Jean, which gives any restitution")
     stacks = find_stacks(scene)
     model = compile_model(scene, stacks)
-    if _integrator_code(integrator) == MOREAU:
+    if integrator_code(integrator) == MOREAU:
         return SceneSetUp(scene, options, stacks, model, model_arrays(model), columns(scene, stacks), math.inf,
                           math.nan, None, 1)
     limit = stability.stability_limit(model)
@@ -269,7 +234,7 @@ class Simulation:
         self.stacks = scene_set_up.stacks
         self.columns = scene_set_up.columns
         self.integrator = integrator
-        code = _integrator_code(integrator)
+        code = integrator_code(integrator)
         self.limit, self.impact = scene_set_up.limit, scene_set_up.impact
         auto_dt = dt is None
         substeps = scene_set_up.substeps
@@ -763,7 +728,7 @@ def moreau_time_step(model, excitation: GroundMotion, dt: float | None = None, s
     """Moreau-Jean's step, s: ``dt`` if given, else ``MOREAU_DT``, or ``MOREAU_TIME_FRACTION`` of the shortest time
     of the motion (:attr:`GroundMotion.time_scale`) or of the scene (``1/p = sqrt(4 R / (3 g))`` of its smallest
     block, R the circumradius) where that is shorter, times ``step_fraction``."""
-    _check_step_fraction(step_fraction)
+    check_step_fraction(step_fraction)
     if dt is not None:
         if step_fraction != 1.0:
             raise ValueError(f"step_fraction ({step_fraction}) applies to the automatic step; give it or dt, not both")
@@ -778,33 +743,12 @@ def integrator_for(scene, integrator: str | None = None) -> str:
     (docs/method.md 1.8), and the explicit core for the overlap-area law, whose only integrator it is."""
     if integrator is None:
         return INTEGRATORS[MOREAU] if scene.contact.law == "corner" else INTEGRATORS[EXPLICIT]
-    _integrator_code(integrator)
+    integrator_code(integrator)
     return integrator
 
 
-def _integrator_code(integrator: str) -> int:
-    """The code of ``integrator`` (its position in ``INTEGRATORS``); ``ValueError`` naming the choices."""
-    if integrator not in INTEGRATORS:
-        raise ValueError(f"integrator must be one of {INTEGRATORS}, got {integrator!r}")
-    return INTEGRATORS.index(integrator)
-
-
-def _check_step_fraction(step_fraction) -> None:
-    if not 0.0 < step_fraction <= 1.0:
-        raise ValueError(f"step_fraction multiplies the automatic step; it must be in (0, 1], got {step_fraction}")
-
-
-def _check_step_options(safety, steps_per_impact, step_fraction) -> None:
-    if not 0.0 < safety <= 1.0:
-        raise ValueError(f"safety is the fraction of the stability limit used as dt; it must be in (0, 1], "
-                         f"got {safety}")
-    if not steps_per_impact > 0:
-        raise ValueError(f"steps_per_impact must be positive, got {steps_per_impact}")
-    _check_step_fraction(step_fraction)
-
-
 def _time_step(model, dt, limit, impact, safety, steps_per_impact, step_fraction, enforce) -> float:
-    _check_step_options(safety, steps_per_impact, step_fraction)
+    check_step_options(safety, steps_per_impact, step_fraction)
     if dt is None:
         automatic = min(safety * limit, impact / steps_per_impact)
         return automatic if step_fraction == 1.0 else automatic * step_fraction

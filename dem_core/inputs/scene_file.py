@@ -62,8 +62,8 @@ from . import excitation as excitation_module
 from . import scenes
 from ..engine.contact import LAWS, ContactParameters
 from ..engine.settings import INTEGRATORS
-from ..simulation import GROUND_MOTION_MODES, check_settings
 from .connectors import PRESETS, ConnectorKind, Placement
+from .run_settings import GROUND_MOTION_MODES, check_settings
 from .scene import Block, Scene
 from .text_files import did_you_mean, file_errors
 
