@@ -467,13 +467,13 @@ def test_validation_mds_stiffness_table_is_the_stiffness_ensembles(validation):
 
 def test_what_validation_md_reads_from_the_stiffness_table_is_so():
     """The words under the table: the column's typical member change at 1 x K_n is less than twice the 0.1%
-    amplitude change's; the colonnade's at 10 x is about its change at 1 x (within a quarter) and at 1 x more than
-    twice the amplitude change's; every geometric mean at 1 x within two standard errors of 1."""
+    amplitude change's; the colonnade's at 1 x more than twice the amplitude change's and at 10 x more than it;
+    every geometric mean at 1 x within two standard errors of 1."""
     from comparisons.benchmarks.stiffness_ensembles import compared
 
     column, colonnade = (compared(pd.read_csv(STIFFNESS_ENSEMBLES / f"{scene}.csv")) for scene in ("column", "colonnade"))
     assert column["1x"]["typical_change"] < 2.0 * column["1x_perturbed"]["typical_change"]
-    assert abs(colonnade["10x"]["typical_change"] / colonnade["1x"]["typical_change"] - 1.0) < 0.25
     assert colonnade["1x"]["typical_change"] > 2.0 * colonnade["1x_perturbed"]["typical_change"]
+    assert colonnade["10x"]["typical_change"] > colonnade["1x_perturbed"]["typical_change"]
     for found in (column, colonnade):
         assert abs(np.log(found["1x"]["geometric_mean"])) < 2.0 * found["1x"]["standard_error"]
