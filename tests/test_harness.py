@@ -196,7 +196,7 @@ def test_a_log_axis_whose_data_share_one_value_spans_a_decade_either_side(tmp_pa
     kn = [1e6, 1e8, 1e10]
     rows = pd.DataFrame({"setting": [f"kn = {k:.0e}" for k in kn for _ in range(3)],
                          "metric": ["quarter_period", "peak_decay", "dt_s"] * 3,
-                         "value": [0.01, 0.02, 1e-3] * 3})
+                         "value": [0.01, 0.02, 1e-3] * 3, "status": "ok"})
     with warnings.catch_warnings():
         warnings.simplefilter("error")
         figures.stiffness_figure(rows, tmp_path / "stiffness.png")
