@@ -20,18 +20,18 @@ refuse a scene that has any.
 
 import itertools
 import math
-import numbers
 from dataclasses import dataclass
 
 from ..engine.stacks import find_stacks
 from .errors import SceneError
+from .real_numbers import is_real
 
 #: where a kind of connector goes at every joint of each column, or at the joint under each column's top block
 PLACES = ("all", "capital")
 
 
 def _quantity(kind: str, name: str, value, *, allow_zero: bool = False, allow_inf: bool = False) -> float:
-    if isinstance(value, bool) or not isinstance(value, numbers.Real) or math.isnan(value):
+    if not is_real(value) or math.isnan(value):
         raise SceneError(f"connector '{kind}': {name} must be a number, got {value!r}")
     value = float(value)
     if value < 0 or (value == 0 and not allow_zero) or (math.isinf(value) and not allow_inf):
@@ -133,8 +133,7 @@ class Connector:
         object.__setattr__(self, "between", between)
         if not isinstance(self.kind, ConnectorKind):
             raise SceneError(f"connector between {between}: kind must be a ConnectorKind, got {self.kind!r}")
-        if isinstance(self.position, bool) or not isinstance(self.position, numbers.Real) \
-                or not math.isfinite(self.position):
+        if not is_real(self.position) or not math.isfinite(self.position):
             raise SceneError(f"connector between {between}: position must be a number of m, got {self.position!r}")
         object.__setattr__(self, "position", float(self.position))
 

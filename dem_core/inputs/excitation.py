@@ -11,7 +11,6 @@ at ``A omega`` (the blocks then start at rest relative to the ground).
 
 import functools
 import math
-import numbers
 import re
 from dataclasses import dataclass, field, replace
 from pathlib import Path
@@ -19,6 +18,7 @@ from pathlib import Path
 import numpy as np
 
 from . import records
+from .real_numbers import is_real
 
 
 class ExcitationError(ValueError):
@@ -537,7 +537,7 @@ def extended(motion: GroundMotion, extra: float) -> GroundMotion:
     """``motion`` with both components run ``extra`` s (finite, at least 0) past its natural end, under its own
     name: a record followed by the ground at rest, for what a run leaves once the shaking is over (a
     :class:`MotionSequence`'s last rest lengthened)."""
-    if isinstance(extra, bool) or not isinstance(extra, numbers.Real) or not (math.isfinite(extra) and extra >= 0):
+    if not is_real(extra) or not (math.isfinite(extra) and extra >= 0):
         raise ValueError(f"{motion.name}: the time past the motion's end must be a finite number of seconds, at least "
                          f"0, got {extra!r}")
     if extra == 0:
@@ -703,7 +703,7 @@ def sequence(motions, rest=0.0, resample=False) -> MotionSequence:
                                   f"only motions that end (records, pulses) can follow one another", keys=("source",))
     rests = _per_motion(rest, motions, "rest")
     for motion, value in zip(motions, rests):
-        if isinstance(value, bool) or not isinstance(value, numbers.Real) or not (math.isfinite(value) and value >= 0):
+        if not is_real(value) or not (math.isfinite(value) and value >= 0):
             raise ExcitationError(f"sequence: the rest after '{motion.name}' must be a finite number of seconds, at "
                                   f"least 0, got {value!r}", keys=("rest",))
     resamples = _per_motion(resample, motions, "resample")
@@ -930,7 +930,7 @@ def _load(source, dt, units, component, resample=False):
 
 def _finite(value, what: str) -> float:
     """``value`` as a float if it is a finite number; else ValueError naming ``what``."""
-    if isinstance(value, bool) or not isinstance(value, numbers.Real) or not math.isfinite(value):
+    if not is_real(value) or not math.isfinite(value):
         raise ValueError(f"{what} must be a finite number, got {value!r}")
     return float(value)
 
@@ -949,7 +949,7 @@ def _source_name(source) -> str:
 
 
 def _positive_factor(value, what: str, where: str) -> float:
-    if isinstance(value, bool) or not isinstance(value, numbers.Real) or not (math.isfinite(value) and value > 0):
+    if not is_real(value) or not (math.isfinite(value) and value > 0):
         raise records.RecordError(f"{where}: {what} must be a finite positive number, got {value!r}")
     return float(value)
 

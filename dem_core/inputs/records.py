@@ -24,6 +24,7 @@ from pathlib import Path
 
 import numpy as np
 
+from .real_numbers import is_real
 from .text_files import file_errors
 
 G_STANDARD = 9.80665  # m/s^2, the g that record files in units of g refer to
@@ -106,7 +107,7 @@ def sampling_source(entry: BundledRecord, dt: float) -> str:
 def check_dt(dt, where: str, what: str = "dt") -> float:
     """``dt`` (s) as a float if it is a usable sampling interval: a finite number of at least
     :data:`MIN_DT`; otherwise :class:`RecordError` naming ``where`` and ``what``."""
-    if isinstance(dt, bool) or not isinstance(dt, numbers.Real):
+    if not is_real(dt):
         raise RecordError(f"{where}: {what} must be a number of seconds, got {dt!r}")
     if not (math.isfinite(dt) and dt >= MIN_DT):
         raise RecordError(f"{where}: {what} must be a finite sampling interval of at least {MIN_DT:g} s, "

@@ -2,9 +2,9 @@
 need no scene: a scene file's ``[simulation]`` is checked by them on reading, a run by them before anything else."""
 
 import math
-import numbers
 
 from ..engine.settings import INTEGRATORS, MOREAU_THETA
+from .real_numbers import is_real
 
 #: largest fraction of the stability limit used when dt is not given (the scheme is stable up to the
 #: limit: mirror-image runs stay mirror images to round-off there)
@@ -19,7 +19,7 @@ GROUND_MOTION_MODES = ("inertial", "moving_base")
 
 def seconds(name: str, value) -> float:
     """``value`` as a positive, finite number of seconds; ``TypeError``/``ValueError`` naming ``name``."""
-    if isinstance(value, bool) or not isinstance(value, numbers.Real):
+    if not is_real(value):
         raise TypeError(f"{name} must be a number of seconds, got {type(value).__name__} {value!r}")
     if not (math.isfinite(value) and value > 0):
         raise ValueError(f"{name} must be positive and finite, got {value}")

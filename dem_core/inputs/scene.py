@@ -6,7 +6,6 @@ lives in the simulation state (see :mod:`dem_core.simulation`).  Every engine
 """
 
 import dataclasses
-import numbers
 from dataclasses import dataclass, field
 from functools import cached_property
 
@@ -16,6 +15,7 @@ from ..engine import geometry
 from ..engine.contact import ContactParameters
 from .connectors import Connector
 from .errors import SceneError
+from .real_numbers import is_real
 from .text_files import did_you_mean
 
 #: relative gap within which two blocks count as touching at the start (of the smaller block's size)
@@ -129,12 +129,13 @@ def _friction_key(a: str, b: str) -> tuple[str, str]:
     return (a, b) if a <= b else (b, a)
 
 
-
-def _real(value, what: str) -> float:
-    """``value`` as a float; :class:`SceneError` naming ``what`` and the value for anything not a real number."""
-    if isinstance(value, bool) or not isinstance(value, numbers.Real):
-        raise SceneError(f"{what} must be a number, got {type(value).__name__} {value!r:.40}")
+def real_number(name: str, value) -> float:
+    """``value`` as a float; :class:`SceneError` naming ``name`` and the value (its type too) for anything not a
+    real number (:func:`~dem_core.inputs.real_numbers.is_real`)."""
+    if not is_real(value):
+        raise SceneError(f"{name} must be a number, got {type(value).__name__} {value!r:.40}")
     return float(value)
+
 
 @dataclass(frozen=True, eq=False)
 class Scene:
@@ -192,13 +193,13 @@ class Scene:
                     raise SceneError(f"interface friction ({a!r}, {b!r}): no block named '{n}'")
             if a == b:
                 raise SceneError(f"interface friction ({a!r}, {b!r}): a block has no interface with itself")
-            mu = _real(mu, f"interface friction ({a!r}, {b!r}): mu")
+            mu = real_number(f"interface friction ({a!r}, {b!r}): mu", mu)
             if not np.isfinite(mu) or mu < 0:
                 raise SceneError(f"interface friction ({a!r}, {b!r}): mu must be >= 0, got {mu}")
             overrides[_friction_key(a, b)] = mu
         object.__setattr__(self, "interface_friction", overrides)
         for name in ("gravity", "overlap_tolerance") + (("slenderness",) if self.slenderness is not None else ()):
-            _real(getattr(self, name), name)
+            real_number(name, getattr(self, name))
         if not np.isfinite(self.gravity) or self.gravity < 0:
             raise SceneError(f"gravity must be >= 0, got {self.gravity}")
         if not (np.isfinite(self.overlap_tolerance) and self.overlap_tolerance >= 0):

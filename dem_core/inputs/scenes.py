@@ -28,7 +28,7 @@ import numpy as np
 from ..engine.contact import ContactParameters
 from ..engine.geometry import rectangle, transform
 from .connectors import Placement
-from .scene import TOUCHING_GAP, Block, Scene, SceneError
+from .scene import TOUCHING_GAP, Block, Scene, SceneError, real_number
 from .text_files import did_you_mean
 
 BASE_HEIGHT = 1.0  # m; the base is kinematic, its thickness only places its centroid
@@ -309,10 +309,8 @@ def _check_joints(blocks, joints, shifts, base_width) -> None:
 
 
 def _number(name: str, value) -> float:
-    """``value`` as a float if it is a finite number (not a boolean, not a string)."""
-    if isinstance(value, bool) or not isinstance(value, numbers.Real):
-        raise SceneError(f"{name} must be a number, got {value!r}")
-    if not np.isfinite(value):
+    """``value`` as a float if it is a finite number (:func:`~dem_core.inputs.scene.real_number`)."""
+    if not np.isfinite(real_number(name, value)):
         raise SceneError(f"{name} must be finite, got {value}")
     return float(value)
 
