@@ -78,6 +78,17 @@ def fragilities(records: dict) -> dict:
             for variant in VARIANTS}
 
 
+def fragility_cost(studies: dict, seconds: float) -> str:
+    """How many fragility runs this invocation ran and in how long, and how many it read from the study's log
+    instead (their time is not in it)."""
+    read = sum(study.resumed for study in studies.values())
+    ran = sum(len(study.runs) for study in studies.values()) - read
+    logged = f"read from `.study_cache/{NAME}/`, where an earlier invocation logged them"
+    if not ran:
+        return f"{read} fragility runs {logged}"
+    return f"{ran} fragility runs in {seconds:.0f} s" + (f" ({read} {logged})" if read else "")
+
+
 def sequences(records: dict) -> pd.DataFrame:
     """One row per variant, pair and event: the residual dislocation (mm, the largest over the joints) and tilt (rad)
     after it, infinite where the column overturned by then."""
@@ -287,8 +298,8 @@ def main():
         if (stiffness.stiffness_change < stiffness.perturbation_floor).all() else
         "The bars' stiffness moves the peaks more than a perturbation of the amplitudes does (third table): read "
         "the connectors' results with their stiffness in mind.",
-        f"{sum(len(s.runs) for s in studies.values())} fragility runs in {fragility_time:.0f} s, "
-        f"{len(pairs) // 2} sequence runs in {sequence_time:.0f} s ({machine()}).",
+        f"{fragility_cost(studies, fragility_time)}, {len(pairs) // 2} sequence runs in {sequence_time:.0f} s "
+        f"({machine()}).",
     ]
     write_readme(NAME, "What a restoration changes: connectors in the 8-drum column", findings,
                  [("fragility.png", "Probability of exceedance against PGA, overturning and a residual dislocation of "
