@@ -28,6 +28,7 @@ from .batch_gpu import gpu_available
 from .gpu_kernels import load_named_kernels
 from .engine.result import Result
 from .inputs.excitation import GroundMotion, MotionSequence, describe, strong_motion_cuts
+from .inputs.number_types import is_integer
 from .simulation import Simulation, SimulationUnstable, check_run_arguments, set_up_scene, warn_caller
 
 #: where a batch can run: ``"auto"`` takes the GPU where numba-cuda finds one and the batch has at least
@@ -441,7 +442,7 @@ def _batch(rows: dict, kept: dict, device: str, started: float) -> Batch:
 def _thread_count(threads) -> int:
     if threads is None:
         return numba.get_num_threads()
-    if isinstance(threads, bool) or not isinstance(threads, (int, np.integer)) or threads < 1:
+    if not is_integer(threads) or threads < 1:
         raise ValueError(f"threads must be a whole number of at least 1, got {threads!r}")
     return int(threads)
 
@@ -449,7 +450,7 @@ def _thread_count(threads) -> int:
 def _members(histories, count: int) -> set:
     keep = set()
     for m in histories:
-        if isinstance(m, bool) or not isinstance(m, (int, np.integer)) or not 0 <= m < count:
+        if not is_integer(m) or not 0 <= m < count:
             raise ValueError(f"histories names member {m!r}; members are 0 to {count - 1}")
         keep.add(int(m))
     return keep

@@ -20,6 +20,7 @@ import numpy as np
 from .engine.contact import ContactParameters
 from .inputs.connectors import Connector, ConnectorKind
 from .inputs.errors import SceneError
+from .inputs.number_types import is_real
 from .inputs.scene import Block, Scene
 from .output_files import replacing
 
@@ -84,7 +85,7 @@ def _read_connector(data, where: str) -> Connector:
 
 def _number(data: dict, key: str, none: bool = False):
     value = data[key]
-    if (value is None and none) or (isinstance(value, (int, float)) and not isinstance(value, bool)):
+    if (value is None and none) or is_real(value):
         return value
     raise SceneError(f"the scene's JSON: {key!r} is {value!r}, not a number")
 

@@ -16,6 +16,7 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 import dem_core
+from dem_core.analyses.fragility_study import stripes
 from dem_core.inputs.connectors import ConnectorKind
 from dem_core.engine.model import compile_model
 from dem_core.simulation import RunTooLarge, Simulation
@@ -25,6 +26,7 @@ from dem_core.inputs.records import RecordError
 from dem_core.inputs import scene_file
 from dem_core.inputs.scene import Block, Scene, SceneError
 from dem_core.inputs.scene_file import SceneFileError
+from dem_core.inputs.synthetic import Scenario, synthetic_suite
 
 AT2 = "HEAD\nEVENT\nACCELERATION TIME SERIES IN UNITS OF G\nNPTS=    4, DT= {dt} SEC\n .1 .2\n -.1 .05\n"
 
@@ -508,3 +510,16 @@ def test_a_ramp_rate_that_is_not_positive_is_named_with_its_unit(rate, shown):
 
     with pytest.raises(ValueError, match=rf"ramp rate must be positive and finite, got {shown} m/s\^2 per s"):
         onset_under_ramp(scenes.column(2), rate)
+
+
+@pytest.mark.parametrize("call, message", [
+    (lambda n: stripes(n, 1.0), "at least 2 intensity levels"),
+    (lambda n: synthetic_suite(Scenario(6.5, 20.0, 400.0), n), "a whole number of motions"),
+    (lambda n: scenes.column(n_drums=n), "n_drums must be a positive integer"),
+])
+def test_a_count_takes_numpys_integers_and_refuses_a_boolean(call, message):
+    """One rule (:mod:`dem_core.inputs.number_types`) for every count: ``True`` is an int to Python but no count a
+    user means, while a numpy integer (from ``np.arange``, a table) is one."""
+    with pytest.raises((ValueError, SceneError), match=message):
+        call(True)
+    assert call(np.int64(3)) is not None

@@ -21,6 +21,7 @@ import numpy as np
 import pandas as pd
 
 from ..inputs.excitation import GroundMotion, extended, peak_velocity, record_name, scaled, unscaled
+from ..inputs.number_types import is_integer
 from ..inputs.records import G_STANDARD
 from ..output_files import replacing
 from ..simulation import integrator_for, warn_caller
@@ -270,7 +271,7 @@ def exceeds(value, overturned, state) -> np.ndarray:
 
 def stripes(count: int, top: float) -> np.ndarray:
     """``count`` intensity levels evenly spaced from ``top / count`` to ``top``."""
-    if isinstance(count, bool) or not isinstance(count, (int, np.integer)) or count < 2:
+    if not is_integer(count) or count < 2:
         raise ValueError(f"a fragility needs at least 2 intensity levels, got {count!r}")
     if not (math.isfinite(top) and top > 0):
         raise ValueError(f"the highest intensity level must be positive and finite, got {top!r}")

@@ -52,7 +52,6 @@ import copy
 import dataclasses
 import itertools
 import json
-import numbers
 import os
 import sys
 import time
@@ -70,6 +69,7 @@ from ..simulation import SimulationUnstable, simulate
 from ..inputs import scene_file
 from ..inputs.text_files import did_you_mean
 from ..inputs.excitation import GroundMotion, strong_motion_cuts
+from ..inputs.number_types import is_integer, is_real
 from ..inputs.scene import Scene
 from ..output_files import PARTIAL, OutputPathError, output_folder, replacing
 from . import run_identity
@@ -175,7 +175,7 @@ def _values(spec, where):
         start, stop = (_sweep_number(spec[k], f"{where} {k}") for k in ("start", "stop"))
         if "num" in spec:
             num = spec["num"]
-            if isinstance(num, bool) or not isinstance(num, int) or num < 1:
+            if not is_integer(num) or num < 1:
                 raise SweepError(f"{where}: num must be a positive integer, got {num!r}")
             return [float(v) for v in np.linspace(start, stop, num)]
         step = _sweep_number(spec["step"], f"{where} step")
@@ -188,7 +188,7 @@ def _values(spec, where):
 
 
 def _sweep_number(value, where) -> float:
-    if isinstance(value, bool) or not isinstance(value, (int, float)) or not np.isfinite(value):
+    if not is_real(value) or not np.isfinite(value):
         raise SweepError(f"{where}: expected a finite number, got {value!r}")
     return float(value)
 
@@ -516,7 +516,7 @@ def run_sweep(sweep: Sweep, out, *, workers: int | None = None, scheduler=None, 
     0 for a point that could not be built.
     """
     out = Path(out)
-    if workers is not None and (isinstance(workers, bool) or not isinstance(workers, numbers.Integral) or workers < 1):
+    if workers is not None and (not is_integer(workers) or workers < 1):
         raise SweepError(f"workers must be a whole number of at least 1, got {workers!r}")
     points = _plan(sweep)
     for said in strong_motion_cuts((p.spec.excitation, p.spec.simulation.get("duration")) for p in points

@@ -21,6 +21,7 @@ import numpy as np
 import pandas as pd
 
 from ..inputs.records import G_STANDARD
+from ..inputs.number_types import is_integer
 from .spectra import response_spectrum
 
 #: Eurocode 8's ground types: {spectrum type: {ground type: (S, T_B s, T_C s, T_D s)}} (EN 1998-1 Tables 3.2, 3.3)
@@ -111,7 +112,7 @@ def select_and_scale(motions: dict, periods, target, count: int, *, largest_fact
     least 1 that lifts the selected records' mean spectrum to at least ``floor`` times the target everywhere."""
     periods = np.asarray(periods, dtype=float)
     target = np.asarray(target, dtype=float)
-    if isinstance(count, bool) or not isinstance(count, int) or not 1 <= count <= len(motions):
+    if not is_integer(count) or not 1 <= count <= len(motions):
         raise ValueError(f"count must be a whole number from 1 to the suite's {len(motions)} records, got {count!r}")
     if target.shape != periods.shape or not np.all(target > 0):
         raise ValueError("the target must give a positive acceleration at every period")

@@ -29,6 +29,7 @@ import numpy as np
 from ..simulation import SimulationUnstable, simulate
 from ..engine.model import compile_model, interface_history, result_states
 from ..inputs.excitation import ramp
+from ..inputs.number_types import is_real
 from ..inputs.scene import Scene
 from .study_members import LOST, run_members
 
@@ -373,7 +374,7 @@ def onset_under_ramp(scene: Scene, rate: float = 0.5, duration: float | None = N
     duration : s, default long enough to reach 1 g; peak : cap of the ramp (m/s^2), default none.
     The run goes on after the first overturn only if ``stop_at_overturn=False`` is given.
     """
-    if isinstance(rate, bool) or not isinstance(rate, (int, float, np.number)):
+    if not is_real(rate):
         raise ValueError(f"ramp rate must be a number of m/s^2 per s, got {rate!r}")
     if not 0 < rate < np.inf:
         raise ValueError(f"ramp rate must be positive and finite, got {rate:g} m/s^2 per s")

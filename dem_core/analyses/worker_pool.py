@@ -10,7 +10,6 @@ when the parent is gone, so killing the parent ends its workers too.
 """
 
 import multiprocessing
-import numbers
 import os
 import signal
 import threading
@@ -18,6 +17,8 @@ import time
 import traceback
 from collections import Counter, deque
 from multiprocessing.connection import wait
+
+from ..inputs.number_types import is_integer
 
 #: s between a worker's checks that the process that started it is still its parent
 PARENT_POLL_S = 0.2
@@ -43,7 +44,7 @@ def run_tasks(tasks, workers: int, retries: int = 1):
     Closing the generator (or an exception in the caller, Ctrl-C) stops every worker.
     ``ValueError`` when ``workers`` is not a whole number of at least 1 (no task could ever start).
     """
-    if isinstance(workers, bool) or not isinstance(workers, numbers.Integral) or workers < 1:
+    if not is_integer(workers) or workers < 1:
         raise ValueError(f"workers must be a whole number of at least 1, got {workers!r}")
     queue = deque(tasks)
     attempts = Counter()

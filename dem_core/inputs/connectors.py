@@ -24,7 +24,7 @@ from dataclasses import dataclass
 
 from ..engine.stacks import find_stacks
 from .errors import SceneError
-from .real_numbers import is_real
+from .number_types import is_real
 
 #: where a kind of connector goes at every joint of each column, or at the joint under each column's top block
 PLACES = ("all", "capital")

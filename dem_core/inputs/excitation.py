@@ -18,7 +18,7 @@ from pathlib import Path
 import numpy as np
 
 from . import records
-from .real_numbers import is_real
+from .number_types import is_integer, is_real
 
 
 class ExcitationError(ValueError):
@@ -867,7 +867,7 @@ def record(source, dt: float | None = None, scale: float = 1.0, pga: float | Non
         vertical = bundled.vertical_component
     if vertical is None or vertical is False:
         vert = None
-    elif isinstance(vertical, (int, np.integer)) and not isinstance(vertical, bool):
+    elif is_integer(vertical):
         vert, vdt, _, _ = _load(source, dt, units, int(vertical), resample)
     else:
         vert, vdt, _, _ = _load(vertical, dt, units, None, resample)

@@ -16,7 +16,6 @@ refused naming its line, its time and its value.
 
 import difflib
 import math
-import numbers
 import re
 from dataclasses import dataclass
 from importlib import resources
@@ -24,7 +23,7 @@ from pathlib import Path
 
 import numpy as np
 
-from .real_numbers import is_real
+from .number_types import is_integer, is_real
 from .text_files import file_errors
 
 G_STANDARD = 9.80665  # m/s^2, the g that record files in units of g refer to
@@ -214,7 +213,7 @@ def read_text_record(path, *, dt=None, units="m/s^2", component=1, time_column=N
     path = Path(path)
     if dt is not None:
         dt = check_dt(dt, str(path))
-    if isinstance(component, bool) or not isinstance(component, numbers.Integral):
+    if not is_integer(component):
         raise RecordError(f"{path}: component must be a 1-based column number, got {component!r}")
     factor = _unit_factor(units, str(path))
     data, line_numbers = _read_rows(path)

@@ -4,7 +4,7 @@ need no scene: a scene file's ``[simulation]`` is checked by them on reading, a 
 import math
 
 from ..engine.settings import INTEGRATORS, MOREAU_THETA
-from .real_numbers import is_real
+from .number_types import is_real
 
 #: largest fraction of the stability limit used when dt is not given (the scheme is stable up to the
 #: limit: mirror-image runs stay mirror images to round-off there)

@@ -15,7 +15,7 @@ from ..engine import geometry
 from ..engine.contact import ContactParameters
 from .connectors import Connector
 from .errors import SceneError
-from .real_numbers import is_real
+from .number_types import is_real
 from .text_files import did_you_mean
 
 #: relative gap within which two blocks count as touching at the start (of the smaller block's size)
@@ -131,7 +131,7 @@ def _friction_key(a: str, b: str) -> tuple[str, str]:
 
 def real_number(name: str, value) -> float:
     """``value`` as a float; :class:`SceneError` naming ``name`` and the value (its type too) for anything not a
-    real number (:func:`~dem_core.inputs.real_numbers.is_real`)."""
+    real number (:func:`~dem_core.inputs.number_types.is_real`)."""
     if not is_real(value):
         raise SceneError(f"{name} must be a number, got {type(value).__name__} {value!r:.40}")
     return float(value)

@@ -63,6 +63,7 @@ from . import scenes
 from ..engine.contact import LAWS, ContactParameters
 from ..engine.settings import INTEGRATORS
 from .connectors import PRESETS, ConnectorKind, Placement
+from .number_types import is_real
 from .run_settings import GROUND_MOTION_MODES, check_settings
 from .scene import Block, Scene
 from .text_files import did_you_mean, file_errors
@@ -91,13 +92,13 @@ MISMATCH = object()
 
 
 def _as_number(value):
-    if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value):
+    if not is_real(value) or not math.isfinite(value):
         return MISMATCH
     return float(value)
 
 
 def _as_integer(value):
-    if isinstance(value, bool) or not isinstance(value, (int, float)):
+    if not is_real(value):
         return MISMATCH
     if isinstance(value, float) and not value.is_integer():
         return MISMATCH

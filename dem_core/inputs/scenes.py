@@ -19,7 +19,6 @@ prefixes.  The base is ``base``.
 import dataclasses
 import functools
 import inspect
-import numbers
 from collections.abc import Mapping
 from dataclasses import dataclass, fields
 
@@ -28,6 +27,7 @@ import numpy as np
 from ..engine.contact import ContactParameters
 from ..engine.geometry import rectangle, transform
 from .connectors import Placement
+from .number_types import is_integer, is_real
 from .scene import TOUCHING_GAP, Block, Scene, SceneError, real_number
 from .text_files import did_you_mean
 
@@ -323,8 +323,8 @@ def _positive(**values):
 
 def _count(name: str, value, minimum: int) -> int:
     """``value`` as an int if it is a whole number (a float without fraction too, not a boolean) >= ``minimum``."""
-    whole = isinstance(value, numbers.Integral) or (isinstance(value, numbers.Real) and float(value).is_integer())
-    if isinstance(value, bool) or not whole or value < minimum:
+    whole = is_integer(value) or (is_real(value) and float(value).is_integer())
+    if not whole or value < minimum:
         raise SceneError(f"{name} must be {'a positive integer' if minimum == 1 else f'an integer >= {minimum}'}, "
                          f"got {value!r}")
     return int(value)

@@ -25,6 +25,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .excitation import GroundMotion, Sampled, Still, baseline_correct
+from .number_types import is_integer, is_real
 from .records import G_STANDARD
 
 #: the Saragoni-Hart envelope's shape (Boore 2003, eq. 9-10): the envelope peaks at EPSILON of its length and
@@ -63,7 +64,7 @@ class Scenario:
         for what, value, low, high in (("magnitude", self.magnitude, 3.0, 8.0),
                                        ("distance_km", self.distance_km, 0.0, 300.0),
                                        ("vs30", self.vs30, 180.0, 1500.0)):
-            if isinstance(value, bool) or not isinstance(value, (int, float)) or not low <= value <= high:
+            if not is_real(value) or not low <= value <= high:
                 raise ValueError(f"scenario {what} must be a number from {low:g} to {high:g} (the range of the "
                                  f"ground-motion models), got {value!r}")
         if self.mechanism not in MECHANISMS:
@@ -248,7 +249,7 @@ def synthetic_suite(scenario: Scenario, count: int, seed: int = 0, *, pulses: bo
     """``count`` synthetic motions of ``scenario`` in one call: ``{name: GroundMotion}``, stochastic
     (:func:`stochastic_motion`) or, with ``pulses``, near-fault (:func:`near_fault_motion`).  Motion k depends only
     on ``seed`` and k, so a larger suite of the same seed begins with the smaller one."""
-    if isinstance(count, bool) or not isinstance(count, int) or count < 1:
+    if not is_integer(count) or count < 1:
         raise ValueError(f"a synthetic suite needs a whole number of motions, at least 1, got {count!r}")
     motions = {}
     for index in range(count):
