@@ -6,6 +6,7 @@ prelude that patches the operating-system calls (``os.mkdir``, ``os.open``, ``op
 entry point runs; an unstable run by a prelude that has ``Simulation.result`` raise after a real run."""
 
 import json
+import re
 import os
 import signal
 import subprocess
@@ -289,6 +290,21 @@ def test_an_unstable_run_writes_what_it_reached_marked_stopped(tmp_path, scene):
     assert summary["status"] == "stopped" and "gained energy" in summary["stop_reason"]
     assert ".partial" not in summary["stop_reason"]
     assert (out / "time_history.csv").is_file()
+
+
+def test_a_run_that_ends_at_its_first_overturn_is_complete_and_says_where_it_ended(tmp_path):
+    """summary.json does not put a run's ``info["stopped"]`` (its end at the first overturn) beside ``status``
+    "complete" under a name that reads as a loss of stability: it is ``ended_at_overturn``."""
+    from dem_core import cli
+
+    scene = tmp_path / "falls.toml"
+    scene.write_text(COLUMN.replace("pga = 2.0", "pga = 20.0").replace("duration = 0.5", "duration = 3.0"))
+    assert cli.main(["run", str(scene), "--out", str(tmp_path / "out"), "--no-plots"]) == 0
+    summary = json.loads((tmp_path / "out" / "summary.json").read_text())
+    assert summary["status"] == "complete" and summary["stop_reason"] is None and "stopped" not in summary
+    assert re.fullmatch(r"(block 'drum\d' overturned|the stack drum1..drum2 tipped past its base) at t = [\d.]+ s",
+                        summary["ended_at_overturn"]), summary["ended_at_overturn"]
+    assert summary["end_time_s"] < 3.0
 
 
 @pytest.mark.parametrize("command", [("stiffness", "--factors", "1"), ("ramp", "--rate", "20")])
