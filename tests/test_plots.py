@@ -199,7 +199,8 @@ def overturning_colonnade_result():
 @pytest.mark.parametrize("figure", [plots.rotations, plots.displacements, plots.sliding, plots.epistyles])
 def test_labels_of_run_figures_lie_inside_the_figure(figure):
     result = overturning_colonnade_result()
-    fig = figure(result, excitation.harmonic(pga=2.0, frequency=0.5), title="a long title: " + "x" * 40)
+    motion = excitation.harmonic(pga=2.0, frequency=0.5)
+    fig = figure(result, motion, title="a long title: " + "x" * 40)
     assert_text_inside(fig)
     ax = fig.axes[0]
     label = next(t for t in ax.texts if "overturns" in t.get_text())
@@ -207,6 +208,8 @@ def test_labels_of_run_figures_lie_inside_the_figure(figure):
     extent = label.get_window_extent()
     marker = ax.transData.transform((9.9, 0.0))[0]
     assert ax.bbox.x0 < extent.x0 and extent.x1 < marker - 2 and extent.y1 <= ax.bbox.y1  # clear of the line
+    # the ground's panel names the motion and its peak, so that a figure read alone says what shook the scene
+    assert f"{motion.name}: peak ground acceleration 2 m/s$^2$ (0.204 g)" in [a.get_title(loc="left") for a in fig.axes]
 
 
 def test_labels_of_the_spectrum_and_the_snapshots_lie_inside_their_figures():
