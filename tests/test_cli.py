@@ -9,6 +9,7 @@ import re
 import subprocess
 import sys
 import textwrap
+from pathlib import Path
 
 import numpy as np
 import pandas as pd
@@ -19,6 +20,8 @@ from dem_core import cli
 from dem_core.analyses import thresholds
 from dem_core.cli import main
 from dem_core.inputs.suites import load_suite
+
+REPOSITORY = Path(__file__).resolve().parents[1]
 
 ACCELERATION = r"-?\d[\d.e+-]* m/s\^2 \(-?\d[\d.e+-]* g\)"
 
@@ -496,3 +499,30 @@ def test_a_bar_weighted_by_each_runs_work_writes_its_share_not_a_count(capsys):
                                 clock=lambda: next(clock)) as bar:
         bar.update(1.0 + 10**0.5)
     assert capsys.readouterr().err.splitlines() == ["runs: 29.4%, 12 s, about 29 s left"]
+
+
+@pytest.mark.parametrize("integrator", ["moreau", "explicit"])
+def test_every_key_of_summary_json_is_explained_in_cli_md(integrator, tmp_path):
+    """docs/cli.md's table of summary.json explains every key a run writes (here one that overturns, under either
+    integrator), and names no key the code does not write."""
+    scene = tmp_path / "falls.toml"
+    scene.write_text(textwrap.dedent("""
+        [scene]
+        builder = "column"
+        n_drums = 2
+        [excitation]
+        kind = "harmonic"
+        frequency = 1.0
+        pga = 20.0
+        [simulation]
+        duration = 3.0
+    """))
+    assert main(["run", str(scene), "--out", str(tmp_path / "out"), "--no-plots", "--integrator", integrator]) == 0
+    written = set(json.loads((tmp_path / "out" / "summary.json").read_text()))
+    page = (REPOSITORY / "docs" / "cli.md").read_text()
+    table = page[page.index("### summary.json, key by key"):]
+    table = table[:table.index("\n\n", table.index("| --- |"))]
+    explained = set(re.findall(r"`([a-z_]+)`", "\n".join(line.split("|")[1] for line in table.splitlines()[4:])))
+    assert written <= explained, f"summary.json keys docs/cli.md does not explain: {sorted(written - explained)}"
+    sources = "".join(path.read_text() for path in (REPOSITORY / "dem_core").rglob("*.py"))
+    assert not [key for key in explained if f'"{key}"' not in sources], "docs/cli.md explains keys no code writes"
