@@ -512,14 +512,24 @@ def test_a_ramp_rate_that_is_not_positive_is_named_with_its_unit(rate, shown):
         onset_under_ramp(scenes.column(2), rate)
 
 
-@pytest.mark.parametrize("call, message", [
-    (lambda n: stripes(n, 1.0), "at least 2 intensity levels"),
-    (lambda n: synthetic_suite(Scenario(6.5, 20.0, 400.0), n), "a whole number of motions"),
-    (lambda n: scenes.column(n_drums=n), "n_drums must be a positive integer"),
+@pytest.mark.parametrize("call, size, message", [
+    (lambda n: stripes(n, 1.0), len, "at least 2 intensity levels"),
+    (lambda n: synthetic_suite(Scenario(6.5, 20.0, 400.0), n), len, "a whole number of motions"),
+    (lambda n: scenes.column(n_drums=n), lambda scene: len(scene.blocks), "n_drums must be a positive integer"),
 ])
-def test_a_count_takes_numpys_integers_and_refuses_a_boolean(call, message):
+def test_a_count_takes_numpys_integers_and_refuses_a_boolean(call, size, message):
     """One rule (:mod:`dem_core.inputs.number_types`) for every count: ``True`` is an int to Python but no count a
     user means, while a numpy integer (from ``np.arange``, a table) is one."""
     with pytest.raises((ValueError, SceneError), match=message):
         call(True)
-    assert call(np.int64(3)) is not None
+    assert size(call(np.int64(3))) == 3
+
+
+@pytest.mark.parametrize("value", [np.float32(2.5), 2.5, np.float32("inf"), True])
+def test_a_scene_file_count_with_a_fraction_is_refused_not_cut(value):
+    """A count in a scene file's dictionary (``scene_file.from_dict``, which a script may fill with numpy values) is a
+    whole number: 2.5, in any float type, is refused, not cut to 2; 3.0 is 3."""
+    with pytest.raises(SceneFileError, match="n_drums"):
+        scene_file.from_dict({"scene": {"builder": "column", "n_drums": value}})
+    spec = scene_file.from_dict({"scene": {"builder": "column", "n_drums": np.float32(3.0)}})
+    assert len(spec.scene.blocks) == 3

@@ -21,7 +21,7 @@ import numpy as np
 import pandas as pd
 
 from ..inputs.excitation import GroundMotion, extended, peak_velocity, record_name, scaled, unscaled
-from ..inputs.number_types import is_integer
+from ..inputs.number_types import is_integer, is_real
 from ..inputs.records import G_STANDARD
 from ..output_files import replacing
 from ..simulation import integrator_for, warn_caller
@@ -231,7 +231,7 @@ def intensity(motion: GroundMotion, im: str, period: float | None = None) -> flo
 def check_period(motion: GroundMotion, period) -> None:
     """``ValueError`` naming ``motion`` where its spectrum cannot be read at ``period`` s: none given, or outside
     SHORTEST_PERIOD_SAMPLES of its sampling intervals to its length."""
-    if period is None or not (isinstance(period, (int, float, np.number)) and math.isfinite(period) and period > 0):
+    if not (is_real(period) and math.isfinite(period) and period > 0):
         raise ValueError(f"Sa(T) needs a period, a positive number of seconds; got {period!r}")
     dt, end = getattr(unscaled(motion.horizontal), "dt", None), motion.end_time
     if dt is not None and period < SHORTEST_PERIOD_SAMPLES * dt:
@@ -317,7 +317,7 @@ def fragility_study(scene, records: dict, levels, states=DEFAULT_STATES, *, im: 
                          f"overturning), got {states}")
     families = {"peak": states, **_residual_states(residual)}
     rest = (RESIDUAL_REST if len(families) > 1 else 0.0) if rest is None else rest
-    if not (isinstance(rest, (int, float)) and math.isfinite(rest) and rest >= 0):
+    if not (is_real(rest) and math.isfinite(rest) and rest >= 0):
         raise ValueError(f"rest must be a finite number of seconds, at least 0, got {rest!r}")
     if rest and duration is not None:
         raise ValueError(f"a rest of {rest:g} s follows each whole record: give no duration, or no rest")

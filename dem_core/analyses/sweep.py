@@ -52,6 +52,7 @@ import copy
 import dataclasses
 import itertools
 import json
+import math
 import os
 import sys
 import time
@@ -188,7 +189,7 @@ def _values(spec, where):
 
 
 def _sweep_number(value, where) -> float:
-    if not is_real(value) or not np.isfinite(value):
+    if not is_real(value) or not math.isfinite(value):
         raise SweepError(f"{where}: expected a finite number, got {value!r}")
     return float(value)
 

@@ -21,7 +21,7 @@ import numpy as np
 import pandas as pd
 
 from ..inputs.records import G_STANDARD
-from ..inputs.number_types import is_integer
+from ..inputs.number_types import is_integer, is_real
 from .spectra import response_spectrum
 
 #: Eurocode 8's ground types: {spectrum type: {ground type: (S, T_B s, T_C s, T_D s)}} (EN 1998-1 Tables 3.2, 3.3)
@@ -51,7 +51,7 @@ def ec8_spectrum(periods, ag: float, ground: str = "B", spectrum_type: int = 1, 
         raise ValueError(f"Eurocode 8 spectrum type must be 1 or 2, got {spectrum_type!r}")
     if ground not in EC8_GROUND[spectrum_type]:
         raise ValueError(f"Eurocode 8 ground type must be one of {', '.join(EC8_GROUND[1])}, got {ground!r}")
-    if not (isinstance(ag, (int, float)) and math.isfinite(ag) and ag > 0):
+    if not (is_real(ag) and math.isfinite(ag) and ag > 0):
         raise ValueError(f"the design ground acceleration a_g must be a positive number of m/s^2, got {ag!r}")
     t = np.asarray(periods, dtype=float)
     if np.any(t < 0) or np.any(t > 4.0):

@@ -13,3 +13,9 @@ def is_real(value) -> bool:
 def is_integer(value) -> bool:
     """Whether ``value`` is an integer (Python's or numpy's) and not a boolean."""
     return isinstance(value, numbers.Integral) and not isinstance(value, bool)
+
+
+def is_whole(value) -> bool:
+    """Whether ``value`` is an integer or a real number with no fraction (2.0, as a count from a file), not a
+    boolean."""
+    return is_integer(value) or (is_real(value) and float(value).is_integer())

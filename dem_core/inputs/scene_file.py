@@ -63,7 +63,7 @@ from . import scenes
 from ..engine.contact import LAWS, ContactParameters
 from ..engine.settings import INTEGRATORS
 from .connectors import PRESETS, ConnectorKind, Placement
-from .number_types import is_real
+from .number_types import is_real, is_whole
 from .run_settings import GROUND_MOTION_MODES, check_settings
 from .scene import Block, Scene
 from .text_files import did_you_mean, file_errors
@@ -98,11 +98,7 @@ def _as_number(value):
 
 
 def _as_integer(value):
-    if not is_real(value):
-        return MISMATCH
-    if isinstance(value, float) and not value.is_integer():
-        return MISMATCH
-    return int(value)
+    return int(value) if is_whole(value) else MISMATCH
 
 
 def _as_pair(value):

@@ -27,7 +27,7 @@ import numpy as np
 from ..engine.contact import ContactParameters
 from ..engine.geometry import rectangle, transform
 from .connectors import Placement
-from .number_types import is_integer, is_real
+from .number_types import is_whole
 from .scene import TOUCHING_GAP, Block, Scene, SceneError, real_number
 from .text_files import did_you_mean
 
@@ -310,9 +310,10 @@ def _check_joints(blocks, joints, shifts, base_width) -> None:
 
 def _number(name: str, value) -> float:
     """``value`` as a float if it is a finite number (:func:`~dem_core.inputs.scene.real_number`)."""
-    if not np.isfinite(real_number(name, value)):
+    number = real_number(name, value)
+    if not np.isfinite(number):
         raise SceneError(f"{name} must be finite, got {value}")
-    return float(value)
+    return number
 
 
 def _positive(**values):
@@ -323,8 +324,7 @@ def _positive(**values):
 
 def _count(name: str, value, minimum: int) -> int:
     """``value`` as an int if it is a whole number (a float without fraction too, not a boolean) >= ``minimum``."""
-    whole = is_integer(value) or (is_real(value) and float(value).is_integer())
-    if not whole or value < minimum:
+    if not is_whole(value) or value < minimum:
         raise SceneError(f"{name} must be {'a positive integer' if minimum == 1 else f'an integer >= {minimum}'}, "
                          f"got {value!r}")
     return int(value)

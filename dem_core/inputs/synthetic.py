@@ -180,9 +180,9 @@ def pulse_acceleration(t, amplitude: float, period: float, gamma: float = 2.0, p
 
 def _pulse_times(period: float, gamma: float, peak_time: float | None) -> tuple[float, float]:
     """``(t_0, half length)`` s of a pulse, after checking its parameters."""
-    if not (isinstance(period, (int, float)) and math.isfinite(period) and period > 0):
+    if not (is_real(period) and math.isfinite(period) and period > 0):
         raise ValueError(f"pulse period must be a positive number of seconds, got {period!r}")
-    if not (isinstance(gamma, (int, float)) and math.isfinite(gamma) and gamma > 1):
+    if not (is_real(gamma) and math.isfinite(gamma) and gamma > 1):
         raise ValueError(f"pulse gamma must be a number above 1 (Mavroeidis and Papageorgiou 2003), got {gamma!r}")
     half = gamma * period / 2.0
     return (half if peak_time is None else float(peak_time)), half
