@@ -31,7 +31,7 @@ def run_summary(result, scene: Path, stopped: str, setup: float | None = None) -
     ``compile_time_s`` is ``setup``, the seconds this run took to set up and compile its engine (or load it
     from numba's cache), when given."""
     measures = {k: (v.item() if isinstance(v, np.generic) else v) for k, v in result.summary().items()}
-    if "stopped" in measures:  # the end of a run that stops at its first overturn: no loss of stability
+    if "stopped" in measures:
         measures["ended_at_overturn"] = measures.pop("stopped")
     if setup is not None:
         measures["compile_time_s"] = float(setup)

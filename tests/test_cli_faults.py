@@ -6,8 +6,8 @@ prelude that patches the operating-system calls (``os.mkdir``, ``os.open``, ``op
 entry point runs; an unstable run by a prelude that has ``Simulation.result`` raise after a real run."""
 
 import json
-import re
 import os
+import re
 import signal
 import subprocess
 import sys

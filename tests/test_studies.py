@@ -72,7 +72,6 @@ def test_rigid_references_of_the_studies(load_study):
     assert heavy.p == pytest.approx(monolith.p * np.sqrt(3.0 / 4.0)) and heavy.alpha == pytest.approx(monolith.alpha)
 
 
-
 def test_restoration_says_which_fragility_runs_it_read_from_its_log(load_study):
     """Runs resumed from the study's log took no time in this invocation: the README names them as read, so that
     a rerun from the cache is not reported as 2,560 runs in 2 s."""
@@ -82,7 +81,8 @@ def test_restoration_says_which_fragility_runs_it_read_from_its_log(load_study):
         return FragilityStudy(pd.DataFrame({"level": np.zeros(runs)}), {}, "pga", resumed=resumed)
 
     all_read = study.fragility_cost({"plain": variant(4, 4), "bars": variant(6, 6)}, 2.0)
-    assert all_read == "10 fragility runs read from `.study_cache/restoration/`, where an earlier invocation logged them"
+    assert all_read == ("10 fragility runs read from `.study_cache/restoration/`, where an earlier invocation "
+                        "logged them")
     some_read = study.fragility_cost({"plain": variant(4, 4), "bars": variant(6, 0)}, 30.0)
     assert some_read.startswith("6 fragility runs in 30 s (4 read from `.study_cache/restoration/`")
     assert study.fragility_cost({"plain": variant(4, 0)}, 30.0) == "4 fragility runs in 30 s"

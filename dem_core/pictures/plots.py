@@ -12,7 +12,6 @@ The rotation axis fits the response: the critical angle is drawn when it is with
 :data:`CRITICAL_IN_VIEW` times the peak rotation, and otherwise named in the legend, off the axis.
 """
 
-import math
 from pathlib import Path
 
 import matplotlib
@@ -23,7 +22,7 @@ import numpy as np
 
 from ..analyses.damage import critical_angles
 from ..analyses.thresholds import SLIP_THRESHOLD
-from ..inputs.excitation import peak_acceleration
+from ..inputs.excitation import GroundMotion, peak_acceleration
 from ..inputs.records import G_STANDARD
 from ..output_files import replacing
 
@@ -43,14 +42,14 @@ OVERTURN = "crimson"
 
 
 def _ground_panel(ax, result, excitation):
-    """The ground's horizontal acceleration under a figure's panels, named with its peak (m/s^2 and g) above it; the
-    base's displacement where no motion is given."""
+    """The ground's horizontal acceleration under a figure's panels, named with its peak (m/s^2 and g; a ramp's at
+    the run's end) above it; the base's displacement where no motion is given."""
     if excitation is not None:
         a_x, _ = excitation.acceleration(result.t)
         ax.plot(result.t, a_x, color="0.3", lw=0.8)
-        peak = peak_acceleration(excitation, float(result.t[-1]))
-        ax.set_title(f"{excitation.name}: peak ground acceleration {peak:.3g} m/s$^2$ ({peak / G_STANDARD:.3g} g)"
-                     if math.isfinite(peak) else excitation.name, loc="left", fontsize=8)
+        peak = peak_acceleration(GroundMotion(excitation.horizontal), float(result.t[-1]))
+        ax.set_title(f"{excitation.name}: peak ground acceleration {peak:.3g} m/s$^2$ ({peak / G_STANDARD:.3g} g)",
+                     loc="left", fontsize=8)
         ax.set_ylabel("ground acc.\n(m/s$^2$)")
         in_g = ax.secondary_yaxis("right", functions=(lambda a: a / G_STANDARD, lambda g: g * G_STANDARD))
         in_g.set_ylabel("(g)")
