@@ -23,6 +23,15 @@ def housner_scene():
 STUDIES = Path(__file__).parents[1] / "examples" / "studies"
 
 
+@pytest.fixture
+def overturning_scene_file(tmp_path):
+    """A scene file of a 2-drum column under a 20 m/s^2 harmonic for 3 s: it overturns within the first second."""
+    path = tmp_path / "falls.toml"
+    path.write_text("[scene]\nbuilder = \"column\"\nn_drums = 2\n[excitation]\nkind = \"harmonic\"\nfrequency = 1.0\n"
+                    "pga = 20.0\n[simulation]\nduration = 3.0\n")
+    return path
+
+
 @pytest.fixture(scope="session")
 def load_study():
     """``load_study(name)``: the study script ``examples/studies/<name>.py`` as a module, imported with its folder

@@ -454,8 +454,8 @@ def test_a_runs_solves_left_short_of_their_tolerance_are_said_or_nothing():
 
     assert _solver_lines(SimpleNamespace(info={"unconverged_steps": 32, "steps": 53710})) == [
         "contact solve: 32 solves in 53,710 steps ended short of their tolerance after the sweeps a step allows; "
-        "a step keeps such a solve only where its last sweep changed no velocity by more than 0.1 g dt, and takes the others "
-        "again or stops the run (unconverged_steps in summary.json; docs/method.md 1.8)"]
+        "a step keeps such a solve only where its last sweep changed no velocity by more than 0.1 g dt, and takes the "
+        "others again or stops the run (unconverged_steps in summary.json; docs/method.md 1.8)"]
     assert _solver_lines(SimpleNamespace(info={"unconverged_steps": 0, "steps": 53710})) == []
     assert _solver_lines(SimpleNamespace(info={"steps": 53710})) == []
 
@@ -502,25 +502,14 @@ def test_a_bar_weighted_by_each_runs_work_writes_its_share_not_a_count(capsys):
     assert capsys.readouterr().err.splitlines() == ["runs: 29.4%, 12 s, about 29 s left"]
 
 
-def test_every_key_of_summary_json_is_explained_in_cli_md(tmp_path):
+def test_every_key_of_summary_json_is_explained_in_cli_md(overturning_scene_file, tmp_path):
     """docs/cli.md's table of summary.json explains every key that runs of an overturning column write under either
     integrator, and no other key but the one these runs cannot write (a step asked beyond the stability limit)."""
-    scene = tmp_path / "falls.toml"
-    scene.write_text(textwrap.dedent("""
-        [scene]
-        builder = "column"
-        n_drums = 2
-        [excitation]
-        kind = "harmonic"
-        frequency = 1.0
-        pga = 20.0
-        [simulation]
-        duration = 3.0
-    """))
     written = set()
     for integrator in ("moreau", "explicit"):
         out = tmp_path / integrator
-        assert main(["run", str(scene), "--out", str(out), "--no-plots", "--integrator", integrator]) == 0
+        argv = ["run", str(overturning_scene_file), "--out", str(out), "--no-plots", "--integrator", integrator]
+        assert main(argv) == 0
         written |= set(json.loads((out / "summary.json").read_text()))
     page = (REPOSITORY / "docs" / "cli.md").read_text()
     table = page[page.index("### summary.json, key by key"):]

@@ -292,14 +292,12 @@ def test_an_unstable_run_writes_what_it_reached_marked_stopped(tmp_path, scene):
     assert (out / "time_history.csv").is_file()
 
 
-def test_a_run_that_ends_at_its_first_overturn_is_complete_and_says_where_it_ended(tmp_path):
+def test_a_run_that_ends_at_its_first_overturn_is_complete_and_says_where_it_ended(overturning_scene_file, tmp_path):
     """summary.json does not put a run's ``info["stopped"]`` (its end at the first overturn) beside ``status``
     "complete" under a name that reads as a loss of stability: it is ``ended_at_overturn``."""
     from dem_core import cli
 
-    scene = tmp_path / "falls.toml"
-    scene.write_text(COLUMN.replace("pga = 2.0", "pga = 20.0").replace("duration = 0.5", "duration = 3.0"))
-    assert cli.main(["run", str(scene), "--out", str(tmp_path / "out"), "--no-plots"]) == 0
+    assert cli.main(["run", str(overturning_scene_file), "--out", str(tmp_path / "out"), "--no-plots"]) == 0
     summary = json.loads((tmp_path / "out" / "summary.json").read_text())
     assert summary["status"] == "complete" and summary["stop_reason"] is None and "stopped" not in summary
     assert re.fullmatch(r"(block 'drum\d' overturned|the stack drum1..drum2 tipped past its base) at t = [\d.]+ s",
