@@ -60,7 +60,7 @@ from .engine.state import (
     empty_outputs,
     initial_state,
 )
-from .inputs.excitation import GroundMotion, MotionSequence, refuse_extreme, still
+from .inputs.excitation import GroundMotion, MotionSequence, refuse_extreme, still, velocity_range
 from .inputs.run_settings import (DEFAULT_SAFETY, DEFAULT_STEPS_PER_IMPACT, check_settings, check_step_fraction,
                                   check_step_options, integrator_code, seconds)
 from .inputs.scene import Scene
@@ -764,13 +764,11 @@ def _time_step(model, dt, limit, impact, safety, steps_per_impact, step_fraction
 def _speed_limit(model, excitation, duration) -> float:
     """Bound on any block's speed relative to the ground (m/s) that no stable run reaches.
 
-    ``SPEED_LIMIT_FACTOR`` times the free-fall speed from the top of the scene
-    plus the largest ground velocity change over the run (sampled every millisecond or finer).
+    ``SPEED_LIMIT_FACTOR`` times the free-fall speed from the top of the scene plus the largest ground velocity
+    change over the run (:func:`~dem_core.inputs.excitation.velocity_range`) plus 1 mm/s.
     """
     fall = np.sqrt(2.0 * model.gravity * max(model.top, 0.0))
-    vx, vy = excitation.velocity(np.linspace(0.0, duration, int(min(max(duration / 1e-3, 2), 1e6)) + 1))
-    ground = np.ptp(vx) + np.ptp(vy)
-    return float(SPEED_LIMIT_FACTOR * (fall + ground + 1e-3))
+    return float(SPEED_LIMIT_FACTOR * (fall + velocity_range(excitation, duration) + 1e-3))
 
 
 def run_settings(model: Model, integrator: int, dt: float, last_step: int, stride: int, speed_limit: float,

@@ -83,6 +83,23 @@ def test_horizontal_and_vertical_components_together():
     assert ratio == pytest.approx(0.0373 / 0.1712, rel=5e-3)
 
 
+@pytest.mark.parametrize("motion", [
+    excitation.scaled(excitation.record("mexico_city_1985", vertical=True), 1.7),
+    excitation.scaled(excitation.extended(excitation.record("kalamata_1986"), 4.0), 0.3),
+    excitation.harmonic(0.05, 1.5),
+    excitation.sequence([excitation.record("kalamata_1986"), excitation.sine_pulse(3.0, 0.5)], rest=1.0),
+], ids=lambda m: m.name)
+@pytest.mark.parametrize("duration", [0.0005, 12.0, 60.0])
+def test_the_velocity_range_is_the_sampled_velocitys_max_less_min(motion, duration):
+    """velocity_range, which takes a record's range once for all the factors that scale it, is the sum over the
+    components of max - min of the velocity sampled every VELOCITY_SAMPLING s (2 samples at the least), to
+    rounding: past a record's end too, and across a sequence's events."""
+    t = np.linspace(0.0, duration, max(round(duration / excitation.VELOCITY_SAMPLING), 2) + 1)
+    vx, vy = motion.velocity(t)
+    for _ in range(2):
+        assert excitation.velocity_range(motion, duration) == pytest.approx(np.ptp(vx) + np.ptp(vy), rel=1e-14)
+
+
 def test_array_record_needs_dt():
     with pytest.raises(ValueError, match="dt"):
         excitation.record(np.zeros(10))

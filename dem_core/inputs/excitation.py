@@ -402,6 +402,26 @@ def peak_velocity(motion: GroundMotion) -> float:
     return factor * speed
 
 
+def _velocity_range(component: Component, duration: float, samples: int) -> float:
+    return float(np.ptp(component.velocity(np.linspace(0.0, duration, samples))))
+
+
+#: an unscaled component's velocity range, found once for all the motions that scale it
+_unscaled_velocity_range = functools.lru_cache(maxsize=64)(_velocity_range)
+
+
+def velocity_range(motion: GroundMotion, duration: float) -> float:
+    """m/s: the sum over ``motion``'s two components of max - min of the ground's velocity over ``[0, duration]``
+    (s), sampled every :data:`VELOCITY_SAMPLING` s (at least 2 samples and at most 1e6).  A scaled component's is
+    the |factor| times that of the component it scales, found once for all the factors of a batch."""
+    samples = int(min(max(duration / VELOCITY_SAMPLING, 2), 1e6)) + 1
+    total = 0.0
+    for component in (motion.horizontal, motion.vertical):
+        inner, factor = _unwrapped(component)
+        total += abs(factor) * _unscaled_velocity_range(inner, float(duration), samples)
+    return total
+
+
 def describe(motion: GroundMotion) -> dict:
     """What a member's motion is, as a batch's row gives it: ``motion`` (its name), ``record`` (the name of what it
     scales, :func:`record_name`), ``scale`` (the factor, :func:`scale_factor`; a sequence's
