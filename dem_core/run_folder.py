@@ -25,14 +25,11 @@ RUN_FILES = ("summary.json", "scene.json", "time_history.csv", "time_history.par
 
 def run_summary(result, scene: Path, stopped: str, setup: float | None = None) -> dict:
     """What summary.json holds: the scene file, whether the run is complete (``status``: "incomplete" until
-    every file is written, then "complete", or "stopped" with ``stop_reason``), its measures and run facts (a run's
-    ``info["stopped"]``, where a run that stops at its first overturn ended, as ``ended_at_overturn``: no loss of
-    stability);
+    every file is written, then "complete", or "stopped" with ``stop_reason``), its measures and run facts (among
+    them ``ended_at_overturn``, where a run that stops at its first overturn ended: no loss of stability);
     ``compile_time_s`` is ``setup``, the seconds this run took to set up and compile its engine (or load it
     from numba's cache), when given."""
     measures = {k: (v.item() if isinstance(v, np.generic) else v) for k, v in result.summary().items()}
-    if "stopped" in measures:
-        measures["ended_at_overturn"] = measures.pop("stopped")
     if setup is not None:
         measures["compile_time_s"] = float(setup)
     summary = {"scene": str(scene.resolve()), "status": "incomplete", "stop_reason": stopped or None,

@@ -456,7 +456,7 @@ class Simulation:
             whole = [k for k in tipped if stack_step[k] == step and self.stacks[k].blocks[0] == i - 1]
             what = (f"the stack {_stack_label(scene, self.stacks[whole[0]])} tipped past its base"
                     if whole else f"block '{bodies[i].name}' overturned")
-            info["stopped"] = f"{what} at t = {step * dt:.6g} s"
+            info["ended_at_overturn"] = f"{what} at t = {step * dt:.6g} s"
         overturn_step = state.overturn_step[1:]
         over_t = np.where(overturn_step >= 0, overturn_step * dt, np.nan)
         pairs = interface_pairs(self.model)
@@ -585,8 +585,8 @@ def _check_start(start, scene, model: Model, integrator: str) -> None:
     if start.lost_stability:
         raise ValueError(f"start: the result's run lost stability, so its final state is not one to go on from: "
                          f"{start.lost_stability}")
-    if "stopped" in start.info:
-        raise ValueError(f"start: the result's run stopped when {start.info['stopped']}: run it with "
+    if "ended_at_overturn" in start.info:
+        raise ValueError(f"start: the result's run stopped when {start.info['ended_at_overturn']}: run it with "
                          f"stop_at_overturn=False to go on through the collapse")
     if tuple(start.names) != tuple(scene.block_names):
         raise ValueError(f"start: the result is of a scene with blocks {', '.join(start.names)}, this scene's are "
@@ -652,7 +652,7 @@ def simulate(scene, excitation: GroundMotion | None = None, duration: float | No
         ``base_x`` the ground displacement.
     stop_at_overturn : end the run when a block first overturns (passes its
         critical angle or falls half its size) or a column tips past its base; the result then
-        ends at that time and ``info["stopped"]`` says why.  With False the run goes on
+        ends at that time and ``info["ended_at_overturn"]`` says why.  With False the run goes on
         through the collapse.  Central differences then take every step during which a block is
         overturned in ``info["collapse_substeps"]`` substeps, each short enough for blocks lying on
         their long sides (see :func:`dem_core.engine.stability.stability_limit`) and for piles of

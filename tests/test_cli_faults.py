@@ -293,8 +293,8 @@ def test_an_unstable_run_writes_what_it_reached_marked_stopped(tmp_path, scene):
 
 
 def test_a_run_that_ends_at_its_first_overturn_is_complete_and_says_where_it_ended(overturning_scene_file, tmp_path):
-    """summary.json does not put a run's ``info["stopped"]`` (its end at the first overturn) beside ``status``
-    "complete" under a name that reads as a loss of stability: it is ``ended_at_overturn``."""
+    """Where a run ended at its first overturn (``Result.info["ended_at_overturn"]``) is written under that name
+    in summary.json beside ``status`` "complete": never under a name that reads as a loss of stability."""
     from dem_core import cli
 
     assert cli.main(["run", str(overturning_scene_file), "--out", str(tmp_path / "out"), "--no-plots"]) == 0

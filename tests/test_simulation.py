@@ -62,7 +62,7 @@ def test_overturn_stops_the_run_and_says_when():
     assert r.overturned
     assert r.t[-1] == pytest.approx(r.time_of_overturn)
     assert abs(r.theta[-1, 0]) >= scene.blocks[0].critical_angle
-    assert "overturned" in r.info["stopped"]
+    assert "overturned" in r.info["ended_at_overturn"]
     goes_on = dem_core.simulate(scene, excitation.sine_pulse(3.5, 1.0), duration=4.0, stop_at_overturn=False)
     assert goes_on.t[-1] == pytest.approx(4.0, abs=goes_on.dt * 2)
     assert abs(goes_on.theta[-1, 0]) == pytest.approx(np.pi / 2, abs=0.01)  # lying on its side
