@@ -88,6 +88,8 @@ def test_residual_states_are_fitted_each_measure_together_after_a_rest():
 @pytest.mark.parametrize(("options", "said"), [
     ({"residual": {"drift": (1.0,)}}, "residual states are set on dislocation or tilt"),
     ({"residual": {"tilt": (-0.1,)}}, "residual tilt states must be positive thresholds in rad"),
+    ({"residual": {"tilt": True}}, "residual tilt states must be positive thresholds in rad, got True"),
+    ({"residual": {"dislocation": (5.0, True)}}, r"must be positive thresholds in mm, got \(5.0, True\)"),
     ({"residual": {"tilt": (0.01,)}, "duration": 1.0}, "follows each whole record: give no duration"),
     ({"rest": -1.0}, "rest must be a finite number of seconds"),
 ])

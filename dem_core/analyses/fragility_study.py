@@ -386,11 +386,11 @@ def _residual_states(residual) -> dict:
         if measure not in DAMAGE_MEASURES or measure == "peak":
             raise ValueError(f"residual states are set on {' or '.join(m for m in DAMAGE_MEASURES if m != 'peak')}, "
                              f"got {measure!r}")
-        values = sorted(float(t) for t in ([thresholds] if isinstance(thresholds, (int, float)) else thresholds))
-        if not values or not all(math.isfinite(t) and t > 0 for t in values):
+        given = list(thresholds) if isinstance(thresholds, (list, tuple, np.ndarray)) else [thresholds]
+        if not given or not all(is_real(t) and math.isfinite(t) and t > 0 for t in given):
             raise ValueError(f"residual {measure} states must be positive thresholds in "
-                             f"{DAMAGE_MEASURES[measure][2]}, got {list(thresholds)}")
-        found[measure] = values
+                             f"{DAMAGE_MEASURES[measure][2]}, got {thresholds!r}")
+        found[measure] = sorted(float(t) for t in given)
     return found
 
 
