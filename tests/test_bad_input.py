@@ -206,6 +206,7 @@ def test_a_scene_number_that_is_no_number_is_named(options, message):
     (lambda: scenes.column(n_drums=True), "n_drums must be a positive integer, got True"),
     (lambda: scenes.column(width="1.0"), "width must be a number, got str '1.0'"),
     (lambda: scenes.block(1.0, 2.0, density="2700"), "density must be a number, got str '2700'"),
+    (lambda: scenes.block(1.0, 2.0, density="2" * 80), r"density must be a number, got str '2{56}\.\.\.$"),
     (lambda: scenes.colonnade(n_columns="3"), "n_columns must be an integer >= 2, got '3'"),
     (lambda: scenes.two_tier_colonnade(upper_drums=0), "upper_drums must be a positive integer, got 0"),
     (lambda: scenes.stack([(1.0, 0.05), (2.0, 1.0)], tilt=0.3), r"block2 \(2 m wide\) reaches .* below the base top"),

@@ -475,6 +475,20 @@ def test_every_number_is_checked_before_any_run(argv, option, tmp_path, scene, c
     assert len(err.splitlines()) == 1 and err.startswith("error: ") and option in err, err
 
 
+@pytest.mark.parametrize("argv, said", [
+    (["run", "scene.toml", "--integrater", "moreau"], "--integrater moreau (did you mean '--integrator'?)"),
+    (["run", "scene.toml", "--ouput=x"], "--ouput=x (did you mean '--out'?)"),
+    (["fragility", "scene.toml", "--out", "o", "--disclocation", "5"],
+     "--disclocation 5 (did you mean '--dislocation'?)"),
+])
+def test_a_mistyped_option_is_refused_with_the_nearest_option_of_its_command(argv, said, capsys):
+    """The nearest of the command's own options is suggested, compared without the "--" they all share."""
+    from dem_core import cli
+
+    assert cli.main(argv) == 2
+    assert f"unrecognized arguments: {said} (see dem-core {argv[0]} --help)" in capsys.readouterr().err
+
+
 @pytest.mark.parametrize("argv, prog", [
     (["run", "scene.toml", "--bogus"], "dem-core run"),
     (["animate", "scene.toml", "--bogus"], "dem-core animate"),

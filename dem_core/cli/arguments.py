@@ -13,6 +13,7 @@ from pathlib import Path
 
 from ..engine.settings import INTEGRATORS
 from ..inputs.scene_file import SceneFileError, load
+from ..inputs.text_files import did_you_mean
 
 DEFAULT_SCENE = "column_el_centro.toml"
 
@@ -54,14 +55,18 @@ class Parser(argparse.ArgumentParser):
 
     def parse_args(self, args=None, namespace=None):
         """As argparse's, except that arguments a command does not know are refused by that command's parser,
-        whose ``--help`` lists the options it does know."""
+        whose ``--help`` lists the options it does know, and the nearest of those options is suggested for a
+        mistyped one."""
         given = sys.argv[1:] if args is None else list(args)
         parsed, unknown = self.parse_known_args(given, namespace)
         if unknown:
             commands = [a for a in self._actions if isinstance(a, argparse._SubParsersAction)]
             name = getattr(parsed, commands[0].dest, None) if commands else None
             after_name = name in given and not set(unknown) & set(given[:given.index(name)])
-            (commands[0].choices[name] if after_name else self).error(f"unrecognized arguments: {' '.join(unknown)}")
+            parser = commands[0].choices[name] if after_name else self
+            options = [option for action in parser._actions for option in action.option_strings]
+            near = did_you_mean([u.split("=", 1)[0] for u in unknown if u.startswith("--")], options, prefix="--")
+            parser.error(f"unrecognized arguments: {' '.join(unknown)}{near}")
         return parsed
 
 

@@ -16,7 +16,7 @@ from ..engine.contact import ContactParameters
 from .connectors import Connector
 from .errors import SceneError
 from .number_types import is_real
-from .text_files import did_you_mean
+from .text_files import did_you_mean, shown
 
 #: relative gap within which two blocks count as touching at the start (of the smaller block's size)
 TOUCHING_GAP = 1e-6
@@ -133,7 +133,7 @@ def real_number(name: str, value) -> float:
     """``value`` as a float; :class:`SceneError` naming ``name`` and the value (its type too) for anything not a
     real number (:func:`~dem_core.inputs.number_types.is_real`)."""
     if not is_real(value):
-        raise SceneError(f"{name} must be a number, got {type(value).__name__} {value!r:.40}")
+        raise SceneError(f"{name} must be a number, got {type(value).__name__} {shown(value)}")
     return float(value)
 
 

@@ -66,7 +66,7 @@ from .connectors import PRESETS, ConnectorKind, Placement
 from .number_types import is_real, is_whole
 from .run_settings import GROUND_MOTION_MODES, check_settings
 from .scene import Block, Scene
-from .text_files import did_you_mean, file_errors
+from .text_files import did_you_mean, file_errors, shown
 
 
 class SceneFileError(ValueError):
@@ -385,15 +385,8 @@ def _given(value) -> str:
         return f"the string {value!r}"
     if isinstance(value, (int, float)):
         return f"the number {value!r}"
-    text = repr(value)
     kind = {list: "the array", dict: "the table"}.get(type(value), type(value).__name__)
-    return f"{kind} {text if len(text) <= 60 else text[:57] + '...'}"
-
-
-def _short(value) -> str:
-    """``repr(value)``, cut to 60 characters."""
-    text = repr(value)
-    return text if len(text) <= 60 else text[:57] + "..."
+    return f"{kind} {shown(value)}"
 
 
 def _interface_friction(entries, path) -> dict:
@@ -587,6 +580,6 @@ def _refuse_extreme(spec: dict, motion, simulation: dict, path) -> None:
         excitation_module.refuse_extreme(motion, simulation.get("duration"))
     except excitation_module.ExcitationError as exc:
         keys = [key for key in SIZE_KEYS if key in spec] or [key for key in ("source",) if key in spec]
-        given = ", ".join(f"{key} = {_short(spec[key])}" for key in keys)
+        given = ", ".join(f"{key} = {shown(spec[key])}" for key in keys)
         raise SceneFileError(f"{path}: [excitation] {given}: {exc} (pga, peak and a pulse's amplitude are in m/s^2, "
                              f"a harmonic's amplitude in m, a ramp's rate in m/s^2 per s)", keys=keys) from None

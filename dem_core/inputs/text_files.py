@@ -20,16 +20,17 @@ def file_errors(path, error: type[Exception], what: str, hint: Callable[[], str]
         raise error(f"{path}: not a text file ({exc.reason} at byte {exc.start})") from None
 
 
-def did_you_mean(names, allowed) -> str:
+def did_you_mean(names, allowed, prefix: str = "") -> str:
     """How an error suggests the nearest of ``allowed`` for each of ``names`` that it does not hold (close
-    matches by :func:`difflib.get_close_matches`, ignoring case; a name of 3 letters or fewer may differ by one):
+    matches by :func:`difflib.get_close_matches`, ignoring case and a leading ``prefix``, such as an option's
+    ``"--"``, that every option shares; a name of 3 letters or fewer may differ by one):
     ``" (did you mean 'mode'?)"``, ``" (did you mean 'n_drums' for 'n_drum' and 'width' for 'widht'?)"``, or
     ``""`` when none is close."""
     names = [names] if isinstance(names, str) else sorted(names, key=str)
-    by_lower = {str(a).lower(): str(a) for a in sorted(allowed, key=str)}
+    by_lower = {str(a).lower().removeprefix(prefix): str(a) for a in sorted(allowed, key=str)}
 
     def nearest(name):
-        name = str(name).lower()
+        name = str(name).lower().removeprefix(prefix)
         close = difflib.get_close_matches(name, by_lower, n=1, cutoff=0.5 if len(name) <= 3 else 0.6)
         return by_lower[close[0]] if close else None
 
@@ -39,3 +40,9 @@ def did_you_mean(names, allowed) -> str:
     if len(names) == 1:
         return f" (did you mean {pairs[0][1]!r}?)"
     return f" (did you mean {' and '.join(f'{match!r} for {name!r}' for name, match in pairs)}?)"
+
+
+def shown(value, width: int = 60) -> str:
+    """``repr(value)`` as an error message shows it: cut to ``width`` characters, ending "..." where cut."""
+    text = repr(value)
+    return text if len(text) <= width else text[:width - 3] + "..."
