@@ -9,7 +9,8 @@ The load of step k is the ground's mean acceleration over the step's cell, the d
 velocity over dt: ``[t_k - dt/2, t_k + dt/2]``, which the velocity update of central differences spans, or
 ``[t_k, t_k+1]``, Moreau-Jean's; so the impulse the blocks receive is exact whatever the motion (a pulse that
 ends between steps, a record's piecewise-linear samples).  A moving base is placed at the ground's
-displacement of the step and moves at its velocity of the half step before it.
+displacement of the step and moves at its velocity where the step's velocity update ends: the half step before it
+for central differences, the step itself for Moreau-Jean (the same lead as the load's cell).
 """
 
 import numba as nb
@@ -23,14 +24,14 @@ def ground_samples(excitation, dt: float, inertial: bool, lead: float, first: in
     inertial : the blocks move relative to the ground under its inertial load: rows 0, 1 are the ground's
     velocity x, y (m/s) at the ``steps + 2`` cell edges ``(first + i - lead) dt`` (lead 0.5 for central
     differences, 0 for Moreau-Jean); rows 2, 3 are zero.  Otherwise (a moving base) rows 0, 1 are the velocity
-    at the half step before each step and rows 2, 3 the displacement x, y (m) at each step, the last column
+    ``lead`` steps before each step and rows 2, 3 the displacement x, y (m) at each step, the last column
     unused."""
     samples = np.zeros((4, steps + 2))
     if inertial:
         samples[0:2] = np.array(excitation.velocity((first + np.arange(steps + 2) - lead) * dt))
     else:
         t = (first + np.arange(steps + 1)) * dt
-        samples[0:2, :-1] = np.array(excitation.velocity(t - 0.5 * dt))
+        samples[0:2, :-1] = np.array(excitation.velocity(t - lead * dt))
         samples[2:4, :-1] = np.array(excitation.displacement(t))
     return samples
 
