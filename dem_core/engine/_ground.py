@@ -8,9 +8,9 @@ next, from which :func:`place_base` and :func:`place_base_within` place the base
 The load of step k is the ground's mean acceleration over the step's cell, the difference of its exact
 velocity over dt: ``[t_k - dt/2, t_k + dt/2]``, which the velocity update of central differences spans, or
 ``[t_k, t_k+1]``, Moreau-Jean's; so the impulse the blocks receive is exact whatever the motion (a pulse that
-ends between steps, a record's piecewise-linear samples).  A moving base is placed at the ground's
-displacement of the step and moves at its velocity where the step's velocity update ends: the half step before it
-for central differences, the step itself for Moreau-Jean (the same lead as the load's cell).
+ends between steps, a record's piecewise-linear samples).  A moving base is placed at the ground's displacement
+of each step, with the ground's velocity at the start of the step's cell (``lead`` steps before it), and the step's
+velocity update takes it to the ground's velocity at the cell's end.
 """
 
 import numba as nb
@@ -69,7 +69,7 @@ def place_base(pos, vel, window, column):
 @nb.njit(cache=True, inline="always")
 def place_base_within(pos, vel, window, fraction):
     """The base ``fraction`` of the way from the step of ``window[:, 0]`` to the next, ``window[:, 1]``, moving at the
-    velocity of the next one's half step."""
+    velocity of the next one's half step (central differences' substeps: lead 0.5)."""
     pos[0, 0] = window[2, 0] + fraction * (window[2, 1] - window[2, 0])
     pos[0, 1] = window[3, 0] + fraction * (window[3, 1] - window[3, 0])
     vel[0, 0] = window[4, 1]

@@ -196,8 +196,8 @@ def first_meeting(rows, n, remaining, active_gap, shortest):
 
 @nb.njit(cache=True, inline="always")
 def free_velocities(vel, inv_mass, load_x, load_y, base_vx, base_vy, h):
-    """Step 2: every block's velocity after the smooth impulse of the step (gravity and the ground's inertial
-    load, per unit mass); the base moving with the ground's velocity over the step."""
+    """Step 2: every block's velocity after the smooth impulse of the part (gravity and the ground's inertial
+    load, per unit mass); the base at the ground's velocity (base_vx, base_vy) of the part's end."""
     vel[0, 0] = base_vx
     vel[0, 1] = base_vy
     vel[0, 2] = 0.0
@@ -408,17 +408,21 @@ def keep_impulses(rows, ints, n, normal_impulse, tangential_impulse, pair_slip, 
 
 
 @nb.njit(cache=True, inline="always")
-def contact_impulses(settings, scratch, counters, vel, inv_mass, inv_inertia, n, tau, load_x, load_y, relaxation,
-                     passes, connector_law, connectors):
-    """Steps 2 and 3 over a part of ``tau`` s: the smooth impulse, the warm start, the connectors' coefficients
-    for the part (:func:`~._connectors.connector_coefficients`), the direct solve by statuses
-    (``passes`` at most) and, where its statuses did not hold, Gauss-Seidel (``relaxation`` of each update), which
-    sweeps on where it is far from a solution.  Returns ``(whether the statuses held, whether the solve failed, the
+def contact_impulses(settings, scratch, counters, vel, inv_mass, inv_inertia, n, tau, left, load_x, load_y,
+                     relaxation, passes, connector_law, connectors):
+    """Steps 2 and 3 over a part of ``tau`` s that leaves ``left`` s of the step after it (a moving base then moves
+    at the ground's velocity there, on the line between the step's ends): the smooth impulse, the warm start, the
+    connectors' coefficients for the part (:func:`~._connectors.connector_coefficients`), the direct solve by
+    statuses (``passes`` at most) and, where its statuses did not hold, Gauss-Seidel (``relaxation`` of each
+    update), which sweeps on where it is far from a solution.  Returns ``(whether the statuses held, whether the solve failed, the
     block where it changed most)``; the counters count passes, fallbacks, sweeps and unconverged solves."""
     real, integer = settings.real, settings.integer
     rows, ints = scratch.point_rows, scratch.point_ints
     tolerance = real[SOLVER_TOLERANCE] * tau / real[DT]
-    free_velocities(vel, inv_mass, load_x, load_y - real[GRAVITY], scratch.window[4, 1], scratch.window[5, 1], tau)
+    window, fraction = scratch.window, left / real[DT]
+    base_vx = window[4, 1] - fraction * (window[4, 1] - window[4, 0])
+    base_vy = window[5, 1] - fraction * (window[5, 1] - window[5, 0])
+    free_velocities(vel, inv_mass, load_x, load_y - real[GRAVITY], base_vx, base_vy, tau)
     warm_start(vel, inv_mass, inv_inertia, rows, ints, n)
     connector_coefficients(vel, rows, ints, n, tau, real[THETA], connector_law, connectors)
     held, done = solve_statuses(vel, inv_mass, inv_inertia, rows, ints, n, tolerance, passes, scratch.point_status,
@@ -495,7 +499,8 @@ def moreau_part(model, settings, state, scratch, part, remaining, load_x, load_y
                 rows[c, PN] = 0.0
                 rows[c, PT] = 0.0
         held, failed, worst = contact_impulses(settings, scratch, counters, vel, inv_mass, inv_inertia, n, tau,
-                                               load_x, load_y, relaxation, passes_allowed, connector_law, connectors)
+                                               remaining - tau, load_x, load_y, relaxation, passes_allowed,
+                                               connector_law, connectors)
         if not failed:
             break
         if attempt + 1 == tries:

@@ -14,9 +14,10 @@ import numpy as np
 #: (docs/method.md 1.6) and Moreau-Jean at the velocity level (1.8)
 INTEGRATORS = ("explicit", "moreau")
 EXPLICIT, MOREAU = range(2)
-#: per integrator, how far (in steps) the cell of a step's ground load starts before the step: central differences'
-#: velocity update spans [t - dt/2, t + dt/2], and its velocities are those of the half step before; Moreau-Jean's
-#: spans [t, t + dt], its velocities those of the step (docs/method.md section 2)
+#: per integrator, how far (in steps) the cell of a step's ground load, and the ground velocity a moving base is placed
+#: with, start before the step: central differences' velocity update spans [t - dt/2, t + dt/2], and its velocities
+#: are those of the half step before; Moreau-Jean's spans [t, t + dt], its velocities those of the step
+#: (docs/method.md section 2)
 LOAD_CELL_LEAD = (0.5, 0.0)
 
 #: the real settings, in their columns' order: the step (s); a block's speed (m/s) relative to the ground that no
