@@ -64,6 +64,7 @@ from .inputs.excitation import GroundMotion, MotionSequence, refuse_extreme, sti
 from .inputs.run_settings import (DEFAULT_SAFETY, DEFAULT_STEPS_PER_IMPACT, check_settings, check_step_fraction,
                                   check_step_options, integrator_code, seconds)
 from .inputs.scene import Scene
+from .inputs.text_files import shown
 
 #: a block moving faster than this multiple of the fastest physical speed stops the run
 SPEED_LIMIT_FACTOR = 10.0
@@ -120,13 +121,13 @@ def check_run_arguments(scene, excitation) -> GroundMotion:
         elif isinstance(scene, dict):
             hint = "a dict: build a Scene with dem_core.scenes (column, colonnade, ...) or dem_core.Scene(...)"
         else:
-            hint = f"{type(scene).__name__} {scene!r:.60}"
+            hint = f"{type(scene).__name__} {shown(scene)}"
         raise TypeError(f"scene must be a dem_core.Scene, got {hint}")
     if excitation is None:
         return still()
     if not isinstance(excitation, GroundMotion):
         raise TypeError(f"excitation must be a ground motion (dem_core.excitation.record(...), harmonic(...), "
-                        f"sine_pulse(...), ...) or None, got {type(excitation).__name__} {excitation!r:.60}")
+                        f"sine_pulse(...), ...) or None, got {type(excitation).__name__} {shown(excitation)}")
     return excitation
 
 
@@ -398,7 +399,8 @@ class Simulation:
 
     @property
     def ground_lead(self) -> float:
-        """Steps by which a step's load cell starts before it (the integrator's ``LOAD_CELL_LEAD``)."""
+        """Steps by which a step's load cell, and a moving base's velocity, start before it (the integrator's
+        ``LOAD_CELL_LEAD``)."""
         return LOAD_CELL_LEAD[self.settings.integrator]
 
     def result(self) -> Result:
@@ -578,7 +580,7 @@ def _check_start(start, scene, model: Model, integrator: str) -> None:
     cannot go on from ``start``: not a result, a result without the native engine's final state, of a run that lost
     stability or stopped at an overturn, of another scene or another integrator."""
     if not isinstance(start, Result):
-        raise TypeError(f"start must be a Result of dem_core.simulate, got {type(start).__name__} {start!r:.60}")
+        raise TypeError(f"start must be a Result of dem_core.simulate, got {type(start).__name__} {shown(start)}")
     if start.final_state is None:
         raise ValueError(f"start: the result carries no final state (engine {start.info.get('engine', '?')!r}): only "
                          f"the native engine's results (dem_core.simulate) can be gone on from")
@@ -764,8 +766,8 @@ def _time_step(model, dt, limit, impact, safety, steps_per_impact, step_fraction
 def _speed_limit(model, excitation, duration) -> float:
     """Bound on any block's speed relative to the ground (m/s) that no stable run reaches.
 
-    ``SPEED_LIMIT_FACTOR`` times the free-fall speed from the top of the scene plus the largest ground velocity
-    change over the run (:func:`~dem_core.inputs.excitation.velocity_range`) plus 1 mm/s.
+    ``SPEED_LIMIT_FACTOR`` times the sum of the free-fall speed from the top of the scene, the largest ground
+    velocity change over the run (:func:`~dem_core.inputs.excitation.velocity_range`) and 1 mm/s.
     """
     fall = np.sqrt(2.0 * model.gravity * max(model.top, 0.0))
     return float(SPEED_LIMIT_FACTOR * (fall + velocity_range(excitation, duration) + 1e-3))

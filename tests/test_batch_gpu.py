@@ -32,7 +32,8 @@ def _assert_same_run(cpu, gpu):
         assert np.array_equal(getattr(cpu, name), getattr(gpu, name)), name
     assert np.array_equal(cpu.overturn_time, gpu.overturn_time, equal_nan=True)
     assert cpu.interface_slip == gpu.interface_slip
-    for key in ("steps", "stopped", "substepped_steps", "tipped_stacks", "pair_lists", "narrow_phase_per_step"):
+    for key in ("steps", "ended_at_overturn", "substepped_steps", "tipped_stacks", "pair_lists",
+                "narrow_phase_per_step"):
         assert cpu.info.get(key) == gpu.info.get(key), key
     assert np.array_equal(cpu.connector_history, gpu.connector_history)
     assert (cpu.connectors is None) == (gpu.connectors is None)

@@ -89,15 +89,24 @@ def test_horizontal_and_vertical_components_together():
     excitation.harmonic(0.05, 1.5),
     excitation.sequence([excitation.record("kalamata_1986"), excitation.sine_pulse(3.0, 0.5)], rest=1.0),
 ], ids=lambda m: m.name)
-@pytest.mark.parametrize("duration", [0.0005, 12.0, 60.0])
+@pytest.mark.parametrize("duration", [0.0005, 0.7, 12.0, 60.0])
 def test_the_velocity_range_is_the_sampled_velocitys_max_less_min(motion, duration):
     """velocity_range, which takes a record's range once for all the factors that scale it, is the sum over the
     components of max - min of the velocity sampled every VELOCITY_SAMPLING s (2 samples at the least), to
     rounding: past a record's end too, and across a sequence's events."""
-    t = np.linspace(0.0, duration, max(round(duration / excitation.VELOCITY_SAMPLING), 2) + 1)
+    t = np.linspace(0.0, duration, int(max(duration / excitation.VELOCITY_SAMPLING, 2)) + 1)
     vx, vy = motion.velocity(t)
     for _ in range(2):
         assert excitation.velocity_range(motion, duration) == pytest.approx(np.ptp(vx) + np.ptp(vy), rel=1e-14)
+
+
+def test_a_records_velocity_range_is_found_once_for_all_its_factors():
+    record = excitation.record("kalamata_1986")
+    first = excitation.velocity_range(excitation.scaled(record, 0.5), 10.0)
+    found = excitation._record_velocity_range.cache_info()
+    assert excitation.velocity_range(excitation.scaled(record, 2.0), 10.0) == pytest.approx(4.0 * first, rel=1e-15)
+    after = excitation._record_velocity_range.cache_info()
+    assert (after.hits, after.misses) == (found.hits + 1, found.misses)
 
 
 def test_array_record_needs_dt():

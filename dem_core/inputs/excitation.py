@@ -19,6 +19,7 @@ import numpy as np
 
 from . import records
 from .number_types import is_integer, is_real
+from .text_files import shown
 
 
 class ExcitationError(ValueError):
@@ -406,19 +407,22 @@ def _velocity_range(component: Component, duration: float, samples: int) -> floa
     return float(np.ptp(component.velocity(np.linspace(0.0, duration, samples))))
 
 
-#: an unscaled component's velocity range, found once for all the motions that scale it
-_unscaled_velocity_range = functools.lru_cache(maxsize=64)(_velocity_range)
+#: a record's velocity range, found once for all the motions that scale it
+_record_velocity_range = functools.lru_cache(maxsize=64)(_velocity_range)
 
 
 def velocity_range(motion: GroundMotion, duration: float) -> float:
     """m/s: the sum over ``motion``'s two components of max - min of the ground's velocity over ``[0, duration]``
-    (s), sampled every :data:`VELOCITY_SAMPLING` s (at least 2 samples and at most 1e6).  A scaled component's is
-    the |factor| times that of the component it scales, found once for all the factors of a batch."""
+    (s), sampled every :data:`VELOCITY_SAMPLING` s (at least 2 samples and at most 1e6).  A scaled record's is the
+    |factor| times its record's, found once for all the factors of a batch."""
     samples = int(min(max(duration / VELOCITY_SAMPLING, 2), 1e6)) + 1
     total = 0.0
     for component in (motion.horizontal, motion.vertical):
         inner, factor = _unwrapped(component)
-        total += abs(factor) * _unscaled_velocity_range(inner, float(duration), samples)
+        if isinstance(inner, Sampled):
+            total += abs(factor) * _record_velocity_range(inner, float(duration), samples)
+        elif not isinstance(inner, Still):
+            total += _velocity_range(component, float(duration), samples)
     return total
 
 
@@ -714,7 +718,7 @@ def sequence(motions, rest=0.0, resample=False) -> MotionSequence:
     for k, motion in enumerate(motions):
         if not isinstance(motion, GroundMotion):
             raise TypeError(f"sequence: motion {k + 1} must be a ground motion (record(...), sine_pulse(...), ...), "
-                            f"got {type(motion).__name__} {motion!r:.60}")
+                            f"got {type(motion).__name__} {shown(motion)}")
         if isinstance(motion, MotionSequence):
             raise ExcitationError(f"sequence: motion {k + 1} '{motion.name}' is a sequence itself: give its motions "
                                   f"one by one", keys=("source",))
