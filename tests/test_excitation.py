@@ -1,5 +1,7 @@
 """Ground motion: exact integrals, scaling, baseline correction, horizontal and vertical together."""
 
+import dataclasses
+
 import numpy as np
 import pytest
 
@@ -98,6 +100,26 @@ def test_the_velocity_range_is_the_sampled_velocitys_max_less_min(motion, durati
     vx, vy = motion.velocity(t)
     for _ in range(2):
         assert excitation.velocity_range(motion, duration) == pytest.approx(np.ptp(vx) + np.ptp(vy), rel=1e-14)
+
+
+def test_only_a_records_velocity_range_is_kept_and_any_component_is_taken():
+    """A motion of the user's own that cannot be hashed (a plain dataclass) has its range computed, and neither it
+    nor a harmonic or a sequence, whose members each build their own components, holds a place in the records'
+    cache."""
+    @dataclasses.dataclass
+    class Steady(excitation.Component):
+        speed: float
+
+        def velocity(self, t):
+            return self.speed * np.minimum(np.asarray(t, dtype=float), 1.0)
+
+    kept = excitation._record_velocity_range.cache_info().currsize
+    motions = [excitation.GroundMotion(Steady(0.3)), excitation.harmonic(0.05, 1.5),
+               excitation.sequence([excitation.sine_pulse(3.0, 0.5)] * 2, rest=1.0)]
+    assert excitation.velocity_range(motions[0], 2.0) == pytest.approx(0.3, rel=1e-15)
+    for motion in motions[1:]:
+        excitation.velocity_range(excitation.scaled(motion, 1.5), 2.0)
+    assert excitation._record_velocity_range.cache_info().currsize == kept
 
 
 def test_a_records_velocity_range_is_found_once_for_all_its_factors():
