@@ -45,8 +45,8 @@ def test_under_moreau_jean_the_two_ways_converge_together_at_second_order(scene,
     to the second order in dt."""
     coarse = _mode_difference(scene, motion, duration, integrator="moreau")
     fine = _mode_difference(scene, motion, duration, refine=2, integrator="moreau")
-    assert coarse < 1e-3
-    assert fine < 0.3 * coarse
+    assert coarse < 2e-4
+    assert fine < 0.3 * coarse  # second order gives 0.25, first order 0.5
 
 
 def test_the_two_ways_of_applying_ground_motion_converge_together():
