@@ -55,9 +55,10 @@ first time (numba caches it for later runs) and is announced on stderr when it t
   "stopped" when the run lost stability, with ``stop_reason``, the files then holding the run up to
   ``end_time_s``; "incomplete" while the files are written, so a folder left by Ctrl-C or a full
   disk says so), where a run that stops at its first overturn ended (``ended_at_overturn``: "block
-  'drum3' overturned at t = 4.2 s"; the run is complete there), the files written (``files``), scene-level
-  measures and run facts (time step and stability limit, steps, ``compile_time_s``: the seconds this run took to set up and compile its
-  engine or load it from numba's cache, and the run's wall time ``run_time_s``);
+  'drum3' overturned at t = 4.2 s"; the run is complete there), the files written (``files``),
+  scene-level measures and run facts (time step and stability limit, steps, ``compile_time_s``: the
+  seconds this run took to set up and compile its engine or load it from numba's cache, and the run's
+  wall time ``run_time_s``);
 * ``rotations.png``, ``displacements.png``, ``sliding.png`` (and ``epistyles.png`` for colonnades).
 
 A folder that holds an earlier run of the same scene file has it replaced whole (its files are
