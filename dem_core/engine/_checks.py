@@ -4,7 +4,7 @@ that has lost stability.
 Private module.  :func:`end_step` is the driver's last stage each step; the overturn rule is shared with the other
 engines' driver (every output, :mod:`adapters._driver`), so that every engine counts an overturn by the same rule
 (docs/method.md section 3): a block overturns when it passes its critical angle or its centre of
-mass falls half its smaller extent; a column (a stack, :mod:`dem_core.engine.stacks`) when the
+mass falls half its smaller extent relative to the base; a column (a stack, :mod:`dem_core.engine.stacks`) when the
 centre of mass of its blocks passes an end of its bottom block's base.
 """
 
@@ -24,9 +24,10 @@ from .state import LAST_SUBSTEPS, STEP, SUBSTEPPED
 
 @nb.njit(cache=True, inline="always")
 def block_overturned(pos, b, critical_angle, y_start, drop_limit):
-    """Whether body ``b`` at ``pos`` (nb, 3) is past its critical angle or its centre of mass has fallen more than
-    ``drop_limit[b]`` below ``y_start[b]``."""
-    return abs(pos[b, 2]) > critical_angle[b] or y_start[b] - pos[b, 1] > drop_limit[b]
+    """Whether body ``b`` at ``pos`` (nb, 3; row 0 the base) is past its critical angle or its centre of mass has
+    fallen more than ``drop_limit[b]`` (m) relative to the base: below ``y_start[b]`` moved by as much as the base
+    has moved from ``y_start[0]``, so that a ground that sinks carries its blocks without a fall."""
+    return abs(pos[b, 2]) > critical_angle[b] or y_start[b] - pos[b, 1] + (pos[0, 1] - y_start[0]) > drop_limit[b]
 
 
 @nb.njit(cache=True, inline="always")

@@ -21,7 +21,9 @@ Per step:
 
 Per part:
 
-5. geometry: world vertices, normals and boxes (:func:`~._world.world_geometry`, :func:`~._world.bounding_boxes`);
+5. geometry: after the first part, the base placed where the ground has it then
+   (:func:`~._ground.place_base_within`); world vertices, normals and boxes (:func:`~._world.world_geometry`,
+   :func:`~._world.bounding_boxes`);
 6. broad phase: the pairs listed again when a body has moved half a skin (:func:`~._broadphase.needs_relist`,
    :func:`~._broadphase.list_pairs`), and their incidence and order (:func:`pairs_listed`);
 7. the integrator's stage: the contact forces and central differences (:func:`~._explicit.explicit_part`), or
@@ -29,8 +31,9 @@ Per part:
 
 After the step:
 
-8. checks: the counters, a lost state, the overturns and the energy balance (:func:`~._checks.end_step`); an
-   overturn that ends the run writes the state as the last output.
+8. checks, with the base where the ground has it at the step's end: the counters, a lost state, the overturns and
+   the energy balance (:func:`~._checks.end_step`); an overturn that ends the run writes the state as the last
+   output.
 
 Every stage takes scalars and arrays, or the named tuples of arrays above, and allocates nothing, so that the loop
 compiles for numba's CPU and CUDA targets alike.  The serial build is compiled without numba's reference counting
@@ -47,7 +50,7 @@ from ._broadphase import incidence, list_pairs, needs_relist
 from ._build import ENGINE_DIGEST, variant
 from ._checks import end_step
 from ._explicit import explicit_part, explicit_parts
-from ._ground import ground_at, place_base
+from ._ground import ground_at, place_base, place_base_within
 from ._interfaces import follow_interfaces
 from ._moreau import moreau_part
 from ._outputs import write_due, write_output
@@ -109,6 +112,8 @@ def drive(model, settings, state, outputs, scratch, samples, n_steps):
         remaining = dt
         taken = 0
         for part in range(parts):
+            if part > 0:
+                place_base_within(pos, window, (dt - remaining) / dt)
             world_geometry(pos, model.vertices[LOCAL_X], model.vertices[LOCAL_Y], model.vertices[NORMAL_X],
                            model.vertices[NORMAL_Y], model.vstart, world[0], world[1], world[2], world[3])
             bounding_boxes(world[0], world[1], model.vstart, boxes)
@@ -121,7 +126,7 @@ def drive(model, settings, state, outputs, scratch, samples, n_steps):
                 status, i, j, tau = moreau_part(model, settings, state, scratch, part, remaining, window[0, 0],
                                                 window[1, 0])
             else:
-                status, i, j = explicit_part(model, settings, state, scratch, part, parts, h, kick, window[0, 0],
+                status, i, j = explicit_part(model, settings, state, scratch, part, h, kick, window[0, 0],
                                              window[1, 0])
                 tau = h
             if status != STATUS_OK:
@@ -130,9 +135,9 @@ def drive(model, settings, state, outputs, scratch, samples, n_steps):
             remaining -= tau
             if remaining <= 0.0:
                 break
+        place_base(pos, vel, window, 1)
         status, b = end_step(model, settings, state, scratch, taken)
         if status == STATUS_OVERTURNED:
-            place_base(pos, vel, window, 1)
             follow_interfaces(pos, model.interface_keys, model.interface_geometry, state.interface_offset,
                               state.interface_slip)
             write_output(state, outputs)

@@ -26,7 +26,6 @@ from ._broadphase import forget_pair
 from ._checks import any_block_overturned, ground_work
 from ._connectors import connector_forces
 from ._contact_law import CORNER, dashpot, effective_mass, normal_force, tangential_force
-from ._ground import place_base_within
 from ._manifold import FACE_BITS, corner_manifold
 from ._polygon import clip_convex, contact_frame, polygon_moments
 from ._tally import tally_slip
@@ -259,14 +258,15 @@ def explicit_parts(model, settings, state):
 
 
 @nb.njit(cache=True, inline="always")  # a compiled call, passing the run's arrays, costs more than a block's step
-def explicit_part(model, settings, state, scratch, part, parts, h, kick, load_x, load_y):
-    """The explicit integrator's stage: part ``part`` of ``parts`` of a step, ``h`` (s) long, its first part's
+def explicit_part(model, settings, state, scratch, part, h, kick, load_x, load_y):
+    """The explicit integrator's stage: part ``part`` of a step, ``h`` (s) long, its first part's
     velocity update spanning ``kick`` (s) (:func:`explicit_parts`), under the ground's inertial load (load_x,
     load_y) m/s^2, by the steps of the module docstring.  Returns ``(status, i, j)``: STATUS_OK, or
     STATUS_DEEP_OVERLAP and the pair's bodies."""
     pos, vel, counters = state.pos, state.vel, state.counters
-    if part > 0:
-        place_base_within(pos, vel, scratch.window, part / parts)
+    if part > 0:  # the base at the ground's velocity of the next half step (lead 0.5), as the step's last kick
+        vel[0, 0] = scratch.window[4, 1]
+        vel[0, 1] = scratch.window[5, 1]
     corner = settings.integer[CONTACT_LAW] == CORNER
     ids, constants, memory, spring_force = state.pair_ids, state.pair_constants, state.pair_memory, state.spring_force
     normal_impulse, tangential_impulse, pair_slip = state.normal_impulse, state.tangential_impulse, state.pair_slip

@@ -3,7 +3,7 @@
 Private module, the driver's ground stage.  A chunk of steps ``first .. first + steps`` of ``dt`` (s) reads the
 motion through :func:`ground_samples` once, and each step's input follows from those samples by :func:`ground_at`
 (on a GPU, each member of a scaled record scales the record's shared samples), into a window of the step and the
-next, from which :func:`place_base` and :func:`place_base_within` place the base.
+next, from which :func:`place_base` places the base at a step and :func:`place_base_within` within it.
 
 The load of step k is the ground's mean acceleration over the step's cell, the difference of its exact
 velocity over dt: ``[t_k - dt/2, t_k + dt/2]``, which the velocity update of central differences spans, or
@@ -67,10 +67,8 @@ def place_base(pos, vel, window, column):
 
 
 @nb.njit(cache=True, inline="always")
-def place_base_within(pos, vel, window, fraction):
-    """The base ``fraction`` of the way from the step of ``window[:, 0]`` to the next, ``window[:, 1]``, moving at the
-    velocity of the next one's half step (central differences' substeps: lead 0.5)."""
+def place_base_within(pos, window, fraction):
+    """The base ``fraction`` of the way from the step of ``window[:, 0]`` to the next, ``window[:, 1]``: where a part
+    of a step after its first starts.  Its velocity is the integrator's to set (the part's velocity update)."""
     pos[0, 0] = window[2, 0] + fraction * (window[2, 1] - window[2, 0])
     pos[0, 1] = window[3, 0] + fraction * (window[3, 1] - window[3, 0])
-    vel[0, 0] = window[4, 1]
-    vel[0, 1] = window[5, 1]

@@ -84,7 +84,7 @@ def _no_explicit_parts(model, settings, state):
 
 
 @nb.njit(inline="always")
-def _no_explicit_part(model, settings, state, scratch, part, parts, h, kick, load_x, load_y):
+def _no_explicit_part(model, settings, state, scratch, part, h, kick, load_x, load_y):
     """The explicit stage where a build takes only Moreau-Jean runs: never called."""
     return STATUS_OK, 0, 0
 

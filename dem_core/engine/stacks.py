@@ -115,8 +115,10 @@ def first_overturns(model, x, y, theta) -> tuple:
     kernel applies every step (:func:`dem_core.engine._checks.mark_overturns`): ``(blocks
     (n_blocks,), stacks (n_stacks,))`` int64, -1 if never.  ``model`` : the compiled scene
     (:class:`~dem_core.engine.model.Model`).  ``x``, ``y``, ``theta`` (n, n_blocks) relative to the
-    base, as a :class:`~dem_core.engine.result.Result` holds them less the ground."""
-    states = np.zeros((len(x), len(model.bodies.mass), 3))
+    base, as a :class:`~dem_core.engine.result.Result` holds them less the ground, so the base stays where it
+    started."""
+    states = np.empty((len(x), len(model.bodies.mass), 3))
+    states[:, 0] = [*model.bodies.centroid0[0], model.bodies.angle0[0]]
     states[:, 1:, 0], states[:, 1:, 1], states[:, 1:, 2] = x, y, theta
     blocks, stacks = _first_overturns(states, model.bodies, model.stacks)
     return blocks[1:], stacks
