@@ -161,3 +161,17 @@ def test_the_solve_converges_on_a_column_under_a_record():
                                integrator="moreau")
     assert result.info["steps"] == 5000 and np.isnan(result.time_of_overturn)
     assert np.max(np.abs(result.theta[:, -1])) > 1e-3
+
+
+def test_a_step_split_where_a_point_meets_its_face_ends_within_the_step():
+    """The shortest part (SHORTEST_SUBSTEP of the step) gives way to what is left of the step: a point that meets
+    its face before the step ends splits it there, but never past its end."""
+    from dem_core.engine._moreau import first_meeting
+    from dem_core.engine._points import GAP, N_COLUMNS, U0
+    rows = np.zeros((1, N_COLUMNS))
+    rows[0, GAP], rows[0, U0] = 1e-6, -1.0  # meets its face 1e-6 s on
+    assert first_meeting(rows, 1, 1e-3, 0.0, 2e-5) == 2e-5  # no part shorter than the shortest
+    assert first_meeting(rows, 1, 1e-5, 0.0, 2e-5) == 1e-5  # nor longer than what is left
+    assert first_meeting(rows, 1, 5e-7, 0.0, 2e-8) == 5e-7  # it meets its face after the step
+    rows[0, GAP], rows[0, U0] = 1e-4, -1.0
+    assert first_meeting(rows, 1, 1e-3, 0.0, 2e-5) == 1e-4

@@ -180,9 +180,9 @@ def point_blocks(rows, ints, inv_mass, inv_inertia, n):
 @nb.njit(cache=True, inline="always")
 def first_meeting(rows, n, remaining, active_gap, shortest):
     """Step 1: how long (s) to step so that no point apart by more than ``active_gap`` meets its face inside the
-    step: the earliest time a point's gap closes at its present approach, if that is within ``remaining`` and no
-    shorter than ``shortest``; else ``remaining``.  A step split there has each impact at its start, where
-    Newton's law meets the velocity of the instant, and the reactions of the points in contact act until then."""
+    step: the earliest time a point's gap closes at its present approach, but no shorter than ``shortest`` and no
+    longer than ``remaining``.  A step split there has each impact at its start, where Newton's law meets the
+    velocity of the instant, and the reactions of the points in contact act until then."""
     tau = remaining
     for c in range(n):
         gap = rows[c, GAP]
@@ -191,7 +191,7 @@ def first_meeting(rows, n, remaining, active_gap, shortest):
             meet = -gap / u_n
             if meet < tau:
                 tau = meet
-    return max(tau, shortest) if tau < remaining else remaining
+    return min(max(tau, shortest), remaining)
 
 
 @nb.njit(cache=True, inline="always")
@@ -414,8 +414,9 @@ def contact_impulses(settings, scratch, counters, vel, inv_mass, inv_inertia, n,
     at the ground's velocity there, on the line between the step's ends): the smooth impulse, the warm start, the
     connectors' coefficients for the part (:func:`~._connectors.connector_coefficients`), the direct solve by
     statuses (``passes`` at most) and, where its statuses did not hold, Gauss-Seidel (``relaxation`` of each
-    update), which sweeps on where it is far from a solution.  Returns ``(whether the statuses held, whether the solve failed, the
-    block where it changed most)``; the counters count passes, fallbacks, sweeps and unconverged solves."""
+    update), which sweeps on where it is far from a solution.  Returns ``(whether the statuses held, whether the
+    solve failed, the block where it changed most)``; the counters count passes, fallbacks, sweeps and unconverged
+    solves."""
     real, integer = settings.real, settings.integer
     rows, ints = scratch.point_rows, scratch.point_ints
     tolerance = real[SOLVER_TOLERANCE] * tau / real[DT]
