@@ -1,6 +1,7 @@
 """Ground motion: exact integrals, scaling, baseline correction, horizontal and vertical together."""
 
 import dataclasses
+import math
 
 import numpy as np
 import pytest
@@ -96,7 +97,7 @@ def test_the_velocity_range_is_the_sampled_velocitys_max_less_min(motion, durati
     """velocity_range, which takes a record's range once for all the factors that scale it, is the sum over the
     components of max - min of the velocity sampled every VELOCITY_SAMPLING s (2 samples at the least), to
     rounding: past a record's end too, and across a sequence's events."""
-    t = np.linspace(0.0, duration, int(max(duration / excitation.VELOCITY_SAMPLING, 2)) + 1)
+    t = np.linspace(0.0, duration, math.ceil(max(duration / excitation.VELOCITY_SAMPLING, 2)) + 1)
     vx, vy = motion.velocity(t)
     for _ in range(2):
         assert excitation.velocity_range(motion, duration) == pytest.approx(np.ptp(vx) + np.ptp(vy), rel=1e-14)
@@ -113,21 +114,21 @@ def test_only_a_records_velocity_range_is_kept_and_any_component_is_taken():
         def velocity(self, t):
             return self.speed * np.minimum(np.asarray(t, dtype=float), 1.0)
 
-    kept = excitation._record_velocity_range.cache_info().currsize
+    kept = excitation._record_measure.cache_info().currsize
     motions = [excitation.GroundMotion(Steady(0.3)), excitation.harmonic(0.05, 1.5),
                excitation.sequence([excitation.sine_pulse(3.0, 0.5)] * 2, rest=1.0)]
     assert excitation.velocity_range(motions[0], 2.0) == pytest.approx(0.3, rel=1e-15)
     for motion in motions[1:]:
         excitation.velocity_range(excitation.scaled(motion, 1.5), 2.0)
-    assert excitation._record_velocity_range.cache_info().currsize == kept
+    assert excitation._record_measure.cache_info().currsize == kept
 
 
 def test_a_records_velocity_range_is_found_once_for_all_its_factors():
     record = excitation.record("kalamata_1986")
     first = excitation.velocity_range(excitation.scaled(record, 0.5), 10.0)
-    found = excitation._record_velocity_range.cache_info()
+    found = excitation._record_measure.cache_info()
     assert excitation.velocity_range(excitation.scaled(record, 2.0), 10.0) == pytest.approx(4.0 * first, rel=1e-15)
-    after = excitation._record_velocity_range.cache_info()
+    after = excitation._record_measure.cache_info()
     assert (after.hits, after.misses) == (found.hits + 1, found.misses)
 
 

@@ -378,6 +378,20 @@ def scale_factor(component: Component) -> float:
     return factor * (inner.factor if isinstance(inner, Sampled) else 1.0)
 
 
+@functools.lru_cache(maxsize=128)
+def _record_measure(measure, record, *args) -> float:
+    return measure(record, *args)
+
+
+def _speed_measure(measure, component: Component, *args) -> float:
+    """``measure(component, *args)`` of a measure of speed, which scales with |factor|: a scaled record's is the
+    |factor| times its record's, found once for all the factors of a batch; any other component's is computed."""
+    inner, factor = _unwrapped(component)
+    if isinstance(inner, Sampled):
+        return abs(factor) * _record_measure(measure, inner, *args)
+    return measure(component, *args)
+
+
 def _peak_speed(component: Component) -> float:
     end = component.end_time
     if not math.isfinite(end):
@@ -387,43 +401,28 @@ def _peak_speed(component: Component) -> float:
     return float(np.max(np.abs(component.velocity(t))))
 
 
-#: a record's peak |velocity|, found once for all the motions that scale it
-_record_peak_speed = functools.lru_cache(maxsize=64)(_peak_speed)
-
-
 def peak_velocity(motion: GroundMotion) -> float:
     """PGV (m/s): the peak |velocity| of ``motion``'s horizontal component, sampled every
     :data:`VELOCITY_SAMPLING` s or 1/50 of its shortest time; ``ValueError`` naming a motion without an end (a
-    harmonic, a ramp).  A scaled record's is its record's times the factor."""
-    inner, factor = _unwrapped(motion.horizontal)
+    harmonic, a ramp).  A scaled record's is its record's times |factor|."""
     try:
-        speed = _record_peak_speed(inner) if isinstance(inner, Sampled) else _peak_speed(inner)
+        return _speed_measure(_peak_speed, motion.horizontal)
     except ValueError as error:
         raise ValueError(f"{motion.name}: {error}") from None
-    return factor * speed
 
 
 def _velocity_range(component: Component, duration: float, samples: int) -> float:
     return float(np.ptp(component.velocity(np.linspace(0.0, duration, samples))))
 
 
-#: a record's velocity range, found once for all the motions that scale it
-_record_velocity_range = functools.lru_cache(maxsize=64)(_velocity_range)
-
-
 def velocity_range(motion: GroundMotion, duration: float) -> float:
     """m/s: the sum over ``motion``'s two components of max - min of the ground's velocity over ``[0, duration]``
     (s), sampled every :data:`VELOCITY_SAMPLING` s (at least 2 samples and at most 1e6).  A scaled record's is the
     |factor| times its record's, found once for all the factors of a batch."""
-    samples = int(min(max(duration / VELOCITY_SAMPLING, 2), 1e6)) + 1
-    total = 0.0
-    for component in (motion.horizontal, motion.vertical):
-        inner, factor = _unwrapped(component)
-        if isinstance(inner, Sampled):
-            total += abs(factor) * _record_velocity_range(inner, float(duration), samples)
-        elif not isinstance(inner, Still):
-            total += _velocity_range(component, float(duration), samples)
-    return total
+    samples = math.ceil(min(max(duration / VELOCITY_SAMPLING, 2), 1e6)) + 1
+    return float(sum(_speed_measure(_velocity_range, component, float(duration), samples)
+                     for component in (motion.horizontal, motion.vertical)
+                     if not isinstance(unscaled(component), Still)))
 
 
 def describe(motion: GroundMotion) -> dict:
