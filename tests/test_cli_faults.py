@@ -478,11 +478,13 @@ def test_every_number_is_checked_before_any_run(argv, option, tmp_path, scene, c
 @pytest.mark.parametrize("argv, said", [
     (["run", "scene.toml", "--integrater", "moreau"], "--integrater moreau (did you mean '--integrator'?)"),
     (["run", "scene.toml", "--ouput=x"], "--ouput=x (did you mean '--out'?)"),
+    (["run", "scene.toml", "-integrater", "moreau"], "-integrater moreau (did you mean '--integrator'?)"),
     (["fragility", "scene.toml", "--out", "o", "--disclocation", "5"],
      "--disclocation 5 (did you mean '--dislocation'?)"),
 ])
 def test_a_mistyped_option_is_refused_with_the_nearest_option_of_its_command(argv, said, capsys):
-    """The nearest of the command's own options is suggested, compared without the "--" they all share."""
+    """The nearest of the command's own options is suggested, compared without their dashes (one dash too few
+    finds it too)."""
     from dem_core import cli
 
     assert cli.main(argv) == 2

@@ -23,6 +23,7 @@ import pandas as pd
 from ..inputs.excitation import GroundMotion, extended, peak_velocity, record_name, scaled, unscaled
 from ..inputs.number_types import is_integer, is_real
 from ..inputs.records import G_STANDARD
+from ..inputs.text_files import shown
 from ..output_files import replacing
 from ..simulation import integrator_for, warn_caller
 from .damage import residual_dislocation, residual_tilt, still_at_end
@@ -389,7 +390,7 @@ def _residual_states(residual) -> dict:
         given = list(thresholds) if isinstance(thresholds, (list, tuple, np.ndarray)) else [thresholds]
         if not given or not all(is_real(t) and math.isfinite(t) and t > 0 for t in given):
             raise ValueError(f"residual {measure} states must be positive thresholds in "
-                             f"{DAMAGE_MEASURES[measure][2]}, got {thresholds!r}")
+                             f"{DAMAGE_MEASURES[measure][2]}, got {shown(thresholds)}")
         found[measure] = sorted(float(t) for t in given)
     return found
 

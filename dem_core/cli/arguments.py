@@ -65,7 +65,8 @@ class Parser(argparse.ArgumentParser):
             after_name = name in given and not set(unknown) & set(given[:given.index(name)])
             parser = commands[0].choices[name] if after_name else self
             options = [option for action in parser._actions for option in action.option_strings]
-            near = did_you_mean([u.split("=", 1)[0] for u in unknown if u.startswith("--")], options, prefix="--")
+            typed = [u.split("=", 1)[0] for u in unknown if u[:1] == "-" and u.lstrip("-")[:1].isalpha()]
+            near = did_you_mean(typed, options, prefix="-")
             parser.error(f"unrecognized arguments: {' '.join(unknown)}{near}")
         return parsed
 

@@ -22,15 +22,15 @@ def file_errors(path, error: type[Exception], what: str, hint: Callable[[], str]
 
 def did_you_mean(names, allowed, prefix: str = "") -> str:
     """How an error suggests the nearest of ``allowed`` for each of ``names`` that it does not hold (close
-    matches by :func:`difflib.get_close_matches`, ignoring case and a leading ``prefix``, such as an option's
-    ``"--"``, that every option shares; a name of 3 letters or fewer may differ by one):
+    matches by :func:`difflib.get_close_matches`, ignoring case and leading ``prefix`` characters, such as an
+    option's dashes, so that ``-integrater`` finds ``--integrator``; a name of 3 letters or fewer may differ by one):
     ``" (did you mean 'mode'?)"``, ``" (did you mean 'n_drums' for 'n_drum' and 'width' for 'widht'?)"``, or
     ``""`` when none is close."""
     names = [names] if isinstance(names, str) else sorted(names, key=str)
-    by_lower = {str(a).lower().removeprefix(prefix): str(a) for a in sorted(allowed, key=str)}
+    by_lower = {str(a).lower().lstrip(prefix): str(a) for a in sorted(allowed, key=str)}
 
     def nearest(name):
-        name = str(name).lower().removeprefix(prefix)
+        name = str(name).lower().lstrip(prefix)
         close = difflib.get_close_matches(name, by_lower, n=1, cutoff=0.5 if len(name) <= 3 else 0.6)
         return by_lower[close[0]] if close else None
 
