@@ -177,3 +177,15 @@ def test_a_scaled_motion_is_the_motion_times_the_factor():
         1.7 * base.horizontal.peak_acceleration)
     with pytest.raises(ValueError, match="factor must be a finite positive number"):
         excitation.scaled(base, 0.0)
+
+
+def test_a_reversed_record_has_the_peak_ground_velocity_of_its_record():
+    """PGV is a peak |velocity|: a record turned the other way (a negative factor) has its record's, times the
+    factor's size, taken from the record's once found."""
+    record = excitation.record("kalamata_1986")
+    reversed_twice = excitation.GroundMotion(excitation.Scaled(record.horizontal, -2.0), name="reversed")
+    own = excitation.peak_velocity(record)
+    found = excitation._record_measure.cache_info()
+    assert excitation.peak_velocity(reversed_twice) == 2.0 * own > 0.0
+    after = excitation._record_measure.cache_info()
+    assert (after.hits, after.misses) == (found.hits + 1, found.misses)

@@ -61,16 +61,16 @@ def test_the_two_ways_of_applying_ground_motion_converge_together():
 @pytest.mark.parametrize("integrator", ["explicit", "moreau"])
 def test_a_ground_that_sinks_carries_the_block_on_it_without_a_fall(integrator):
     """A ground accelerating down at 2 m/s^2 (under g) for 0.5 s, then sinking on at 1 m/s, carries the 0.25 x 1 m
-    block on it unturned: no overturn in 1 s either way, the base 0.75 m down at the end (6 times the fall the
-    overturn rule allows, measured from the base) and the block on it."""
+    block on it unturned: no overturn in 1 s either way, the block 0.75 m down at the end, still on the base (the
+    overturn rule's fall is measured from the base)."""
     motion = excitation.GroundMotion(vertical=excitation.Pulse(-2.0, 0.5), name="sinking ground")
     for ground_motion in ("inertial", "moving_base"):
         run = dem_core.simulate(scenes.block(0.25, 1.0), motion, duration=1.0, ground_motion=ground_motion,
                                 integrator=integrator)
         assert "ended_at_overturn" not in run.info, (ground_motion, run.info["ended_at_overturn"])
         assert np.max(np.abs(run.theta)) < 1e-9
-        assert run.base_y[-1] == pytest.approx(motion.displacement(run.t[-1])[1], abs=1e-12)
-        assert run.base_y[-1] <= -0.75
+        assert run.y[0, 0] - run.y[-1, 0] > 0.7  # down with the ground, 5.6 times the fall the rule allows
+        # on the base: no more than the contact's give (explicit's springs 1.3e-7 m under the block's weight)
         assert run.y[-1, 0] - run.base_y[-1] == pytest.approx(run.y[0, 0] - run.base_y[0], abs=1e-6)
 
 

@@ -13,7 +13,7 @@ a step (:func:`explicit_part`, the driver's integrator stage under ``EXPLICIT``)
 3. the ground's work (:func:`~._checks.ground_work`), then velocities and positions advance (:func:`move`).
 
 While a block is overturned and the run goes on past overturns, a step is taken in ``substeps`` parts
-(:func:`explicit_parts`), the base placed between its places at the step's ends.  The loops over pairs and bodies
+(:func:`explicit_parts`); the driver places the base between its places at the step's ends before each part.  The loops over pairs and bodies
 run over ``prange``, ``range`` here and numba's ``prange`` in the driver's threaded build (:mod:`._driver`); their
 bodies read arrays, not the named tuples, which numba cannot lower in a parallel loop.
 """
@@ -264,7 +264,7 @@ def explicit_part(model, settings, state, scratch, part, h, kick, load_x, load_y
     load_y) m/s^2, by the steps of the module docstring.  Returns ``(status, i, j)``: STATUS_OK, or
     STATUS_DEEP_OVERLAP and the pair's bodies."""
     pos, vel, counters = state.pos, state.vel, state.counters
-    if part > 0:  # the base at the ground's velocity of the next half step (lead 0.5), as the step's last kick
+    if part > 0:  # the base at the ground's velocity of the half step after this one (lead 0.5)
         vel[0, 0] = scratch.window[4, 1]
         vel[0, 1] = scratch.window[5, 1]
     corner = settings.integer[CONTACT_LAW] == CORNER

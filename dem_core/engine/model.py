@@ -38,8 +38,9 @@ class Bodies(NamedTuple):
     area : (nb,) m^2.  width : (nb,) m, horizontal extent at the start.  size : (nb,) m, the smaller
     of width and height.  depth : (nb,) m.  friction : (nb,) the blocks' own coefficients.
     critical_angle : (nb,) rad, atan(b/h) of each block.  y_start : (nb,) m, height of the centre of
-    mass at the start.  drop_limit : (nb,) m, a centre of mass this far below its start has fallen (inf for a block
-    that starts free, :attr:`~dem_core.Scene.free_bodies`).
+    mass at the start (the base's, ``y_start[0]``, where the base starts).  drop_limit : (nb,) m, a centre of mass
+    this far below its start, relative to the base, has fallen (inf for a block that starts free,
+    :attr:`~dem_core.Scene.free_bodies`).
     angle0 : (nb,) rad, starting angles.  centroid0 : (nb, 2) m, starting centres of mass.
     """
 

@@ -380,6 +380,7 @@ def scale_factor(component: Component) -> float:
 
 @functools.lru_cache(maxsize=128)
 def _record_measure(measure, record, *args) -> float:
+    """``measure(record, *args)``, kept for the other motions that scale ``record``."""
     return measure(record, *args)
 
 
@@ -405,8 +406,9 @@ def peak_velocity(motion: GroundMotion) -> float:
     """PGV (m/s): the peak |velocity| of ``motion``'s horizontal component, sampled every
     :data:`VELOCITY_SAMPLING` s or 1/50 of its shortest time; ``ValueError`` naming a motion without an end (a
     harmonic, a ramp).  A scaled record's is its record's times |factor|."""
+    inner, factor = _unwrapped(motion.horizontal)
     try:
-        return _speed_measure(_peak_speed, motion.horizontal)
+        return abs(factor) * _speed_measure(_peak_speed, inner)
     except ValueError as error:
         raise ValueError(f"{motion.name}: {error}") from None
 
