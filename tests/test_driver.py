@@ -19,8 +19,8 @@ from dem_core.simulation import Simulation
 
 ENGINE = Path(dem_core.__file__).parent / "engine"
 #: the stages a step runs, each called from the driver's loop alone
-STAGES = ("ground_at", "place_base", "place_base_within", "write_due", "explicit_parts", "world_geometry", "bounding_boxes",
-          "needs_relist", "list_pairs", "pairs_listed", "explicit_part", "moreau_part", "end_step")
+STAGES = ("ground_at", "place_base", "place_base_within", "write_due", "explicit_parts", "world_geometry",
+          "bounding_boxes", "needs_relist", "list_pairs", "pairs_listed", "explicit_part", "moreau_part", "end_step")
 EL_CENTRO = record("el_centro_1940")
 
 

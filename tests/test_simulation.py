@@ -28,10 +28,13 @@ def _mode_difference(scene, motion, duration, refine=1, integrator="explicit"):
     (lambda: scenes.column(2), excitation.harmonic(pga=10.0, frequency=1.0), 0.5),
 ])
 def test_moving_base_and_inertial_load_give_the_same_relative_response(make_scene, motion, duration, integrator):
-    """docs/method.md 2: both ways must agree, up to the error of sampling the ground motion at step times.
-    A harmonic's ground starts at 1.6 m/s (the last case): the blocks start moving with it, and the energy
-    balance counts that kinetic energy from the start instead of taking it for energy from nowhere."""
-    assert _mode_difference(make_scene(), motion, duration, integrator=integrator) < 0.01
+    """docs/method.md 2: both ways must agree, up to the error of sampling the ground motion at step times: to
+    rounding for central differences at the automatic step (6.5e-9 at most over these cases), and under 1.5e-4 for
+    Moreau-Jean at 1e-3 s, whose moving base meets the ground at step and part ends.  A harmonic's ground starts at
+    1.6 m/s (the last case): the blocks start moving with it, and the energy balance counts that kinetic energy from
+    the start instead of taking it for energy from nowhere."""
+    band = {"explicit": 1e-7, "moreau": 5e-4}[integrator]
+    assert _mode_difference(make_scene(), motion, duration, integrator=integrator) < band
 
 
 @pytest.mark.parametrize("scene, motion, duration", [
