@@ -587,9 +587,10 @@ def _check_start(start, scene, model: Model, integrator: str) -> None:
     if start.lost_stability:
         raise ValueError(f"start: the result's run lost stability, so its final state is not one to go on from: "
                          f"{start.lost_stability}")
-    if "ended_at_overturn" in start.info:
-        raise ValueError(f"start: the result's run stopped when {start.info['ended_at_overturn']}: run it with "
-                         f"stop_at_overturn=False to go on through the collapse")
+    ended = start.info.get("ended_at_overturn", start.info.get("stopped"))  # "stopped": its older name
+    if ended is not None:
+        raise ValueError(f"start: the result's run stopped when {ended}: run it with stop_at_overturn=False to go on "
+                         f"through the collapse")
     if tuple(start.names) != tuple(scene.block_names):
         raise ValueError(f"start: the result is of a scene with blocks {', '.join(start.names)}, this scene's are "
                          f"{', '.join(scene.block_names)}")

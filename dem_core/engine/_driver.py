@@ -113,7 +113,7 @@ def drive(model, settings, state, outputs, scratch, samples, n_steps):
         taken = 0
         for part in range(parts):
             if part > 0:
-                place_base_within(pos, window, (dt - remaining) / dt)
+                place_base_within(pos, window, remaining, dt)
             world_geometry(pos, model.vertices[LOCAL_X], model.vertices[LOCAL_Y], model.vertices[NORMAL_X],
                            model.vertices[NORMAL_Y], model.vstart, world[0], world[1], world[2], world[3])
             bounding_boxes(world[0], world[1], model.vstart, boxes)

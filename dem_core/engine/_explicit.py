@@ -13,9 +13,10 @@ a step (:func:`explicit_part`, the driver's integrator stage under ``EXPLICIT``)
 3. the ground's work (:func:`~._checks.ground_work`), then velocities and positions advance (:func:`move`).
 
 While a block is overturned and the run goes on past overturns, a step is taken in ``substeps`` parts
-(:func:`explicit_parts`); the driver places the base between its places at the step's ends before each part.  The loops over pairs and bodies
-run over ``prange``, ``range`` here and numba's ``prange`` in the driver's threaded build (:mod:`._driver`); their
-bodies read arrays, not the named tuples, which numba cannot lower in a parallel loop.
+(:func:`explicit_parts`); the driver places the base between its places at the step's ends before each part.  The
+loops over pairs and bodies run over ``prange``, ``range`` here and numba's ``prange`` in the driver's threaded
+build (:mod:`._driver`); their bodies read arrays, not the named tuples, which numba cannot lower in a parallel
+loop.
 """
 
 import math

@@ -3,7 +3,8 @@
 Private module, the driver's ground stage.  A chunk of steps ``first .. first + steps`` of ``dt`` (s) reads the
 motion through :func:`ground_samples` once, and each step's input follows from those samples by :func:`ground_at`
 (on a GPU, each member of a scaled record scales the record's shared samples), into a window of the step and the
-next, from which :func:`place_base` places the base at a step and :func:`place_base_within` within it.
+next, from which :func:`place_base` places the base at a step, and :func:`ground_before_end` gives the input within it
+(:func:`place_base_within`).
 
 The load of step k is the ground's mean acceleration over the step's cell, the difference of its exact
 velocity over dt: ``[t_k - dt/2, t_k + dt/2]``, which the velocity update of central differences spans, or
@@ -67,8 +68,17 @@ def place_base(pos, vel, window, column):
 
 
 @nb.njit(cache=True, inline="always")
-def place_base_within(pos, window, fraction):
-    """The base ``fraction`` of the way from the step of ``window[:, 0]`` to the next, ``window[:, 1]``: where a part
-    of a step after its first starts.  Its velocity is the integrator's to set (the part's velocity update)."""
-    pos[0, 0] = window[2, 0] + fraction * (window[2, 1] - window[2, 0])
-    pos[0, 1] = window[3, 0] + fraction * (window[3, 1] - window[3, 0])
+def ground_before_end(window, row, left, dt):
+    """Row ``row`` of the ground's input (:func:`ground_at`) ``left`` (s) before the end of the step of ``dt`` (s)
+    from ``window[:, 0]`` to ``window[:, 1]``, on the line between the two: where a part of a step that leaves
+    ``left`` of it starts (a position) or ends (a velocity)."""
+    return window[row, 1] - left / dt * (window[row, 1] - window[row, 0])
+
+
+@nb.njit(cache=True, inline="always")
+def place_base_within(pos, window, left, dt):
+    """The base where the ground has it ``left`` (s) before the end of the step of ``dt`` (s) from ``window[:, 0]``
+    to ``window[:, 1]``: where a part of a step after its first starts.  Its velocity is the integrator's to set
+    (the part's velocity update)."""
+    pos[0, 0] = ground_before_end(window, 2, left, dt)
+    pos[0, 1] = ground_before_end(window, 3, left, dt)

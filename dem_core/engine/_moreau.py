@@ -55,6 +55,7 @@ from ._broadphase import forget_pair
 from ._build import kernel
 from ._checks import ground_work
 from ._connectors import commit_connectors, connector_coefficients, connector_rows, connector_sweep
+from ._ground import ground_before_end
 from ._manifold import FACE_BITS, corner_manifold
 from ._points import (CONNECTOR, FIXED_N, FIXED_T, FRICTION, GAP, INC, KEY, NX, NY, PAIR, PN, POSITION_IMPULSE, PT,
                       REF, RIX, RIY, RRX, RRY, SLID, SLOT, TARGET, TRAVEL, U0, WNN, WNT, WTT, apply_impulse, delassus,
@@ -420,9 +421,8 @@ def contact_impulses(settings, scratch, counters, vel, inv_mass, inv_inertia, n,
     real, integer = settings.real, settings.integer
     rows, ints = scratch.point_rows, scratch.point_ints
     tolerance = real[SOLVER_TOLERANCE] * tau / real[DT]
-    window, fraction = scratch.window, left / real[DT]
-    base_vx = window[4, 1] - fraction * (window[4, 1] - window[4, 0])
-    base_vy = window[5, 1] - fraction * (window[5, 1] - window[5, 0])
+    base_vx = ground_before_end(scratch.window, 4, left, real[DT])
+    base_vy = ground_before_end(scratch.window, 5, left, real[DT])
     free_velocities(vel, inv_mass, load_x, load_y - real[GRAVITY], base_vx, base_vy, tau)
     warm_start(vel, inv_mass, inv_inertia, rows, ints, n)
     connector_coefficients(vel, rows, ints, n, tau, real[THETA], connector_law, connectors)

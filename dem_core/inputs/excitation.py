@@ -386,8 +386,11 @@ def _record_measure(measure, record, *args) -> float:
 
 def _speed_measure(measure, component: Component, *args) -> float:
     """``measure(component, *args)`` of a measure of speed, which scales with |factor|: a scaled record's is the
-    |factor| times its record's, found once for all the factors of a batch; any other component's is computed."""
+    |factor| times its record's, found once for all the factors of a batch; a still component's is 0; any other
+    component's is computed."""
     inner, factor = _unwrapped(component)
+    if isinstance(inner, Still):
+        return 0.0
     if isinstance(inner, Sampled):
         return abs(factor) * _record_measure(measure, inner, *args)
     return measure(component, *args)
@@ -423,8 +426,7 @@ def velocity_range(motion: GroundMotion, duration: float) -> float:
     |factor| times its record's, found once for all the factors of a batch."""
     samples = math.ceil(min(max(duration / VELOCITY_SAMPLING, 2), 1e6)) + 1
     return float(sum(_speed_measure(_velocity_range, component, float(duration), samples)
-                     for component in (motion.horizontal, motion.vertical)
-                     if not isinstance(unscaled(component), Still)))
+                     for component in (motion.horizontal, motion.vertical)))
 
 
 def describe(motion: GroundMotion) -> dict:
