@@ -479,12 +479,14 @@ def test_every_number_is_checked_before_any_run(argv, option, tmp_path, scene, c
     (["run", "scene.toml", "--integrater", "moreau"], "--integrater moreau (did you mean '--integrator'?)"),
     (["run", "scene.toml", "--ouput=x"], "--ouput=x (did you mean '--out'?)"),
     (["run", "scene.toml", "-integrater", "moreau"], "-integrater moreau (did you mean '--integrator'?)"),
+    (["run", "scene.toml", "-help"], "-help (did you mean '--help'?)"),  # not -h with the argument "elp"
+    (["fragility", "scene.toml", "-out", "o"], "-out (did you mean '--out'?)"),  # not "--out is required"
     (["fragility", "scene.toml", "--out", "o", "--disclocation", "5"],
      "--disclocation 5 (did you mean '--dislocation'?)"),
 ])
 def test_a_mistyped_option_is_refused_with_the_nearest_option_of_its_command(argv, said, capsys):
     """The nearest of the command's own options is suggested, compared without their dashes (one dash too few
-    finds it too)."""
+    finds it too, before argparse reads a single dash and a word as a short option and its argument)."""
     from dem_core import cli
 
     assert cli.main(argv) == 2

@@ -58,11 +58,19 @@ class Parser(argparse.ArgumentParser):
         whose ``--help`` lists the options it does know, and the nearest of those options is suggested for a
         mistyped one."""
         given = sys.argv[1:] if args is None else list(args)
-        parsed, unknown = self.parse_known_args(given, namespace)
+        # a single dash and a word (-heigth): argparse would read it as -h with the argument "eigth"
+        words = [a for a in given if a[:1] == "-" and a[1:2].isalpha() and len(a.split("=", 1)[0]) > 2]
+        try:
+            parsed, unknown = self.parse_known_args([a for a in given if a not in words], namespace)
+        except ArgumentError:
+            if not words:  # else the words are the error (-out for --out: "--out is required")
+                raise
+            parsed, unknown = None, []
+        unknown = words + unknown
         if unknown:
             commands = [a for a in self._actions if isinstance(a, argparse._SubParsersAction)]
-            name = getattr(parsed, commands[0].dest, None) if commands else None
-            after_name = name in given and not set(unknown) & set(given[:given.index(name)])
+            name = next((a for a in given if commands and a in commands[0].choices), None)
+            after_name = name is not None and not set(unknown) & set(given[:given.index(name)])
             parser = commands[0].choices[name] if after_name else self
             options = [option for action in parser._actions for option in action.option_strings]
             typed = [u.split("=", 1)[0] for u in unknown if u[:1] == "-" and u.lstrip("-")[:1].isalpha()]
