@@ -3,8 +3,8 @@
 Private module, the driver's ground stage.  A chunk of steps ``first .. first + steps`` of ``dt`` (s) reads the
 motion through :func:`ground_samples` once, and each step's input follows from those samples by :func:`ground_at`
 (on a GPU, each member of a scaled record scales the record's shared samples), into a window of the step and the
-next, from which :func:`place_base` places the base at a step, and :func:`ground_before_end` gives the input within it
-(:func:`place_base_within`).
+next, from which :func:`place_base` places the base at a step, and :func:`ground_before_end` gives the input within
+it: the base's place at a part's start (:func:`place_base_within`) and its velocity at a Moreau-Jean part's end.
 
 The load of step k is the ground's mean acceleration over the step's cell, the difference of its exact
 velocity over dt: ``[t_k - dt/2, t_k + dt/2]``, which the velocity update of central differences spans, or
@@ -70,8 +70,9 @@ def place_base(pos, vel, window, column):
 @nb.njit(cache=True, inline="always")
 def ground_before_end(window, row, left, dt):
     """Row ``row`` of the ground's input (:func:`ground_at`) ``left`` (s) before the end of the step of ``dt`` (s)
-    from ``window[:, 0]`` to ``window[:, 1]``, on the line between the two: where a part of a step that leaves
-    ``left`` of it starts (a position) or ends (a velocity)."""
+    from ``window[:, 0]`` to ``window[:, 1]``, on the line between the two: the base's place where a part starts
+    with ``left`` of the step to go (rows 2, 3), or its velocity where a Moreau-Jean part ends leaving ``left``
+    (rows 4, 5)."""
     return window[row, 1] - left / dt * (window[row, 1] - window[row, 0])
 
 
