@@ -480,17 +480,27 @@ def test_every_number_is_checked_before_any_run(argv, option, tmp_path, scene, c
     (["run", "scene.toml", "--ouput=x"], "--ouput=x (did you mean '--out'?)"),
     (["run", "scene.toml", "-integrater", "moreau"], "-integrater moreau (did you mean '--integrator'?)"),
     (["run", "scene.toml", "-help"], "-help (did you mean '--help'?)"),  # not -h with the argument "elp"
-    (["fragility", "scene.toml", "-out", "o"], "-out (did you mean '--out'?)"),  # not "--out is required"
+    (["fragility", "scene.toml", "-out", "o"],
+     "-out (did you mean '--out'?); the following arguments are required: --out"),
+    (["run", "--", "-scene.toml"], None),  # after --, a scene file's name
+    (["run", "scene.toml", "--out", "-my results"], None),  # a value with a space
     (["fragility", "scene.toml", "--out", "o", "--disclocation", "5"],
      "--disclocation 5 (did you mean '--dislocation'?)"),
 ])
-def test_a_mistyped_option_is_refused_with_the_nearest_option_of_its_command(argv, said, capsys):
+def test_a_mistyped_option_is_refused_with_the_nearest_option_of_its_command(argv, said, capsys, tmp_path,
+                                                                            monkeypatch):
     """The nearest of the command's own options is suggested, compared without their dashes (one dash too few
-    finds it too, before argparse reads a single dash and a word as a short option and its argument)."""
+    finds it too, before argparse reads a single dash and a word as a short option and its argument); a word after
+    ``--`` and a value with a space are arguments, here a scene file that is not there."""
     from dem_core import cli
 
+    monkeypatch.chdir(tmp_path)
     assert cli.main(argv) == 2
-    assert f"unrecognized arguments: {said} (see dem-core {argv[0]} --help)" in capsys.readouterr().err
+    err = capsys.readouterr().err
+    if said is None:
+        assert "unrecognized" not in err and "no such scene file" in err, err
+    else:
+        assert f"unrecognized arguments: {said} (see dem-core {argv[0]} --help)" in err
 
 
 @pytest.mark.parametrize("argv, prog", [

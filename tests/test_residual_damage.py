@@ -90,7 +90,7 @@ def test_residual_states_are_fitted_each_measure_together_after_a_rest():
     ({"residual": {"tilt": (-0.1,)}}, "residual tilt states must be positive thresholds in rad"),
     ({"residual": {"tilt": True}}, "residual tilt states must be positive thresholds in rad, got True"),
     ({"residual": {"dislocation": (5.0, True)}}, r"must be positive thresholds in mm, got \(5.0, True\)"),
-    ({"residual": {"tilt": [0.01] * 40 + [-1.0]}}, r"in rad, got \[0\.01, 0\.01, [0-9., ]{40,50}\.\.\.$"),
+    ({"residual": {"tilt": [0.01] * 40 + [-1.0]}}, r"in rad, got -1\.0 in \[0\.01, 0\.01, [0-9., ]{40,50}\.\.\.$"),
     ({"residual": {"tilt": (0.01,)}, "duration": 1.0}, "follows each whole record: give no duration"),
     ({"rest": -1.0}, "rest must be a finite number of seconds"),
 ])

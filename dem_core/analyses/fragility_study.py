@@ -244,7 +244,8 @@ def check_period(motion: GroundMotion, period) -> None:
 
 
 def damage_measures(result) -> dict:
-    """A run's measures for a study: ``{"damage_ratio": result.damage_ratio}`` (:attr:`~dem_core.Result.damage_ratio`)."""
+    """A run's measures for a study: ``{"damage_ratio": result.damage_ratio}``
+    (:attr:`~dem_core.Result.damage_ratio`)."""
     return {"damage_ratio": result.damage_ratio}
 
 
@@ -387,10 +388,15 @@ def _residual_states(residual) -> dict:
         if measure not in DAMAGE_MEASURES or measure == "peak":
             raise ValueError(f"residual states are set on {' or '.join(m for m in DAMAGE_MEASURES if m != 'peak')}, "
                              f"got {measure!r}")
-        given = list(thresholds) if isinstance(thresholds, (list, tuple, np.ndarray)) else [thresholds]
-        if not given or not all(is_real(t) and math.isfinite(t) and t > 0 for t in given):
+        sequence = isinstance(thresholds, (list, tuple, np.ndarray))
+        given = list(thresholds) if sequence else [thresholds]
+        bad = [t for t in given if not (is_real(t) and math.isfinite(t) and t > 0)]
+        if not given or bad:
+            culprit = ""
+            if bad and sequence and shown(thresholds) != repr(thresholds):  # cut where it is shown: name it
+                culprit = f"{shown(bad[0].item() if isinstance(bad[0], np.generic) else bad[0])} in "
             raise ValueError(f"residual {measure} states must be positive thresholds in "
-                             f"{DAMAGE_MEASURES[measure][2]}, got {shown(thresholds)}")
+                             f"{DAMAGE_MEASURES[measure][2]}, got {culprit}{shown(thresholds)}")
         found[measure] = sorted(float(t) for t in given)
     return found
 

@@ -23,7 +23,12 @@ def default_scene_path() -> Path:
 
 
 class ArgumentError(Exception):
-    """A command line argparse refuses; ``main`` prints it as one line and returns 2."""
+    """A command line argparse refuses; ``main`` prints it as one line and returns 2.  ``reason``: argparse's
+    message, without the pointer to the help."""
+
+    def __init__(self, reason: str, prog: str):
+        super().__init__(f"{reason} (see {prog} --help)")
+        self.reason = reason
 
 
 class HelpFormatter(argparse.HelpFormatter):
@@ -51,21 +56,21 @@ class Parser(argparse.ArgumentParser):
         super().__init__(*args, **kwargs)
 
     def error(self, message):
-        raise ArgumentError(f"{message} (see {self.prog} --help)")
+        raise ArgumentError(message, self.prog)
 
     def parse_args(self, args=None, namespace=None):
         """As argparse's, except that arguments a command does not know are refused by that command's parser,
         whose ``--help`` lists the options it does know, and the nearest of those options is suggested for a
         mistyped one."""
         given = sys.argv[1:] if args is None else list(args)
-        # a single dash and a word (-heigth): argparse would read it as -h with the argument "eigth"
-        words = [a for a in given if a[:1] == "-" and a[1:2].isalpha() and len(a.split("=", 1)[0]) > 2]
+        words = _single_dash_words(given)
+        refused = ""
         try:
             parsed, unknown = self.parse_known_args([a for a in given if a not in words], namespace)
-        except ArgumentError:
-            if not words:  # else the words are the error (-out for --out: "--out is required")
+        except ArgumentError as error:
+            if not words:
                 raise
-            parsed, unknown = None, []
+            parsed, unknown, refused = None, [], f"; {error.reason}"  # perhaps for want of a word (-out o)
         unknown = words + unknown
         if unknown:
             commands = [a for a in self._actions if isinstance(a, argparse._SubParsersAction)]
@@ -75,8 +80,24 @@ class Parser(argparse.ArgumentParser):
             options = [option for action in parser._actions for option in action.option_strings]
             typed = [u.split("=", 1)[0] for u in unknown if u[:1] == "-" and u.lstrip("-")[:1].isalpha()]
             near = did_you_mean(typed, options, prefix="-")
-            parser.error(f"unrecognized arguments: {' '.join(unknown)}{near}")
+            parser.error(f"unrecognized arguments: {' '.join(unknown)}{near}{refused}")
         return parsed
+
+
+def _single_dash_words(given: list) -> list:
+    """The arguments before any ``--`` that are a single dash and a word (-heigth, -out), which argparse would read
+    as -h with the argument "eigth", or take for a value: not numbers (-inf), nor values with a space."""
+    words = []
+    for argument in given:
+        if argument == "--":
+            break
+        head = argument.split("=", 1)[0]
+        if head[:1] == "-" and head[1:2].isalpha() and len(head) > 2 and " " not in argument:
+            try:
+                float(argument)
+            except ValueError:
+                words.append(argument)
+    return words
 
 
 def _number(parse, test, requirement: str):
