@@ -88,6 +88,23 @@ def test_under_moreau_jean_a_base_moving_up_and_down_is_where_the_ground_has_it_
     assert _mode_difference(scenes.block(0.25, 1.0), motion, 1.5, integrator="moreau") < 1e-3
 
 
+def test_within_a_step_the_ground_is_on_the_line_between_its_values_at_the_step_s_ends():
+    """A part that starts with ``left`` of a step to go finds the base where the ground has it then (the step's
+    end at 0, its start at dt); a Moreau-Jean part that ends leaving ``left`` has the base's velocity there."""
+    from dem_core.engine._ground import ground_before_end, place_base_within
+
+    dt = 1e-3
+    window = np.array([[0.0, 0.0], [0.0, 0.0], [1.0, 1.5], [-2.0, -2.25], [0.3, 0.7], [-0.1, 0.2]])
+    pos = np.zeros((2, 3))
+    place_base_within(pos, window, 0.25 * dt, dt)
+    np.testing.assert_allclose(pos[0, :2], [1.375, -2.1875], rtol=0, atol=1e-15)
+    assert np.all(pos[1] == 0.0)
+    for row in range(2, 6):
+        assert ground_before_end(window, row, 0.0, dt) == window[row, 1]
+        assert ground_before_end(window, row, dt, dt) == pytest.approx(window[row, 0], rel=0, abs=1e-15)
+        assert ground_before_end(window, row, 0.5 * dt, dt) == pytest.approx(window[row].mean(), rel=0, abs=1e-15)
+
+
 def test_outputs_at_output_dt_and_result_tables():
     r = dem_core.simulate(scenes.column(3), excitation.sine_pulse(2.0, 0.3), duration=1.0, output_dt=0.01)
     stride = round(0.01 / r.dt)
