@@ -212,11 +212,12 @@ def rotations(result, excitation=None, title="Block rotations", *, relative: boo
     return _finish(fig, axes, result, title)
 
 
-def displacements(result, excitation=None, title="Block displacements relative to the base"):
+def displacements(result, excitation=None, title="Horizontal displacements of the blocks relative to the base"):
     """Figure: horizontal displacement of every block relative to the base since the start (m),
     and the ground motion below; drums that move together share a line."""
     values = result.relative_x - result.relative_x[0]
-    fig, axes, groups = _history_figure(result, values, "displacement (m)", plt.cm.plasma, excitation, title, "m")
+    fig, axes, groups = _history_figure(result, values, "horizontal displacement (m)", plt.cm.plasma, excitation, title,
+                                        "m")
     _legend(axes[0], title=_spread_note(groups) or None, title_fontsize=7)
     return _finish(fig, axes, result, title)
 
@@ -296,7 +297,7 @@ def save_run_figures(result, out_dir, excitation=None, title="", *, relative_rot
         return rotations(result, excitation, title, relative=relative_rotations)
 
     figures = [("rotations.png", rotation_figure, "block rotations"),
-               ("displacements.png", displacements, "displacements relative to the base")]
+               ("displacements.png", displacements, "horizontal displacements relative to the base")]
     if result.slip_history is not None and len(result.interfaces):
         figures.append(("sliding.png", sliding, "sliding at the interfaces"))
     if epistyle_names(result):
