@@ -146,14 +146,15 @@ def _solver_lines(result) -> list:
     """A line on Moreau-Jean's contact solves that ended short of their tolerance (none if none did, or under central
     differences): how many, in how many steps (a step split at an impact solves each part), which of them a step keeps
     (those whose last sweep changed no velocity by more than ``MOREAU_SOLVER_FAILURE`` g dt; the others are taken
-    again), and where summary.json and the method say more."""
+    again, and a step whose retries fail too stops the run with an error), and where summary.json and the method say
+    more."""
     unconverged = result.info.get("unconverged_steps", 0)
     if not unconverged:
         return []
     return [f"contact solve: {unconverged:,} solves in {result.info['steps']:,} steps ended short of their tolerance "
-            "after the sweeps a step allows; a step keeps such a solve only where its last sweep changed no velocity "
-            f"by more than {MOREAU_SOLVER_FAILURE:g} g dt, and takes the others again or stops the run "
-            "(unconverged_steps in summary.json; docs/method.md 1.8)"]
+            "after the sweeps a step allows; such a solve is kept only where its last sweep changed no velocity by "
+            f"more than {MOREAU_SOLVER_FAILURE:g} g dt, else the step is taken again, and a run whose retries fail too "
+            "stops with an error (unconverged_steps in summary.json; docs/method.md 1.8)"]
 
 
 def _connector_lines(result) -> list:
