@@ -249,9 +249,9 @@ def epistyles(result, excitation=None, title="Epistyles"):
 
 def sliding(result, excitation=None, title="Sliding at the interfaces", *, threshold: float = SLID):
     """Figure: slip accumulated at each interface over time (mm, or m past :data:`SLIP_IN_MM_BELOW`), from
-    ``result.slip_history``: a line per interface whose slip passed ``threshold`` m, the largest
-    :data:`MOST_SLIP_LINES` of them each in a colour of its own, the others as one grey line (the largest of them
-    at each output); the ground motion below."""
+    ``result.slip_history``: a line per interface (named lower/upper, as interfaces.csv names it) whose slip passed
+    ``threshold`` m, the largest :data:`MOST_SLIP_LINES` of them each in a colour of its own, the others as one grey
+    line (the largest of them at each output); the ground motion below."""
     if result.slip_history is None:
         raise ValueError("the result carries no slip history (an engine that does not measure it)")
     slip = np.asarray(result.slip_history, dtype=float)
@@ -265,12 +265,12 @@ def sliding(result, excitation=None, title="Sliding at the interfaces", *, thres
     ax = axes[0]
     t = result.t[:len(slip)]
     for k, colour in zip(drawn, plt.cm.tab10(np.arange(len(drawn)))):
-        ax.plot(t, scale * slip[:, k], lw=1.0, color=colour, label="\u2013".join(result.interfaces[k]))
+        ax.plot(t, scale * slip[:, k], lw=1.0, color=colour, label="/".join(result.interfaces[k]))
     if rest:
         largest = scale * total[rest[0]]
         others = "other " if drawn else ""
-        label = ("\u2013".join(result.interfaces[rest[0]]) if len(rest) == 1 else
-                 f"{len(rest)} {others}interfaces, the largest of them")
+        label = ("/".join(result.interfaces[rest[0]]) if len(rest) == 1 else
+                 f"the largest of {len(rest)} {others}interfaces")
         ax.plot(t, scale * np.nanmax(slip[:, rest], axis=1), lw=1.0, color="0.6",
                 label=f"{label} (at most {largest:.2g} {unit})")
     ax.set_ylabel(f"accumulated sliding ({unit})")
