@@ -35,14 +35,24 @@ def dask_client(scheduler):
         client.close()
 
 
+#: the Dask setting that turns a worker's statistical profiler off.  Under Python 3.11 the profiler's
+#: ``sys._current_frames`` holds the interpreter's thread-list lock while the garbage collector it may run waits
+#: for the GIL, and a task starting a thread (a batch's member threads) holds the GIL waiting for that lock: the
+#: worker deadlocks (CPython issue 116969; 3.12 runs the collector only between bytecodes)
+NO_WORKER_PROFILER = {"distributed.worker.profile.enabled": False}
+
+
 def local_cluster(workers: int, *, processes: bool = True):
     """A ``distributed.LocalCluster`` of ``workers`` single-threaded workers on this machine (a process each, or
-    threads of this one), with no dashboard and the scheduler's HTTP server on a free port: its default, 8787,
-    may be held by another cluster, and distributed would take another with a warning."""
+    threads of this one), with no dashboard, the scheduler's HTTP server on a free port (its default, 8787,
+    may be held by another cluster, and distributed would take another with a warning) and the workers'
+    profiler off (:data:`NO_WORKER_PROFILER`)."""
+    import dask
     from distributed import LocalCluster
 
-    return LocalCluster(n_workers=workers, threads_per_worker=1, processes=processes, dashboard_address=None,
-                        scheduler_kwargs={"dashboard_address": ":0"})
+    with dask.config.set(NO_WORKER_PROFILER):
+        return LocalCluster(n_workers=workers, threads_per_worker=1, processes=processes, dashboard_address=None,
+                            scheduler_kwargs={"dashboard_address": ":0"})
 
 
 def completed(futures: dict):
