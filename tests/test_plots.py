@@ -137,7 +137,7 @@ def test_a_colonnades_interfaces_that_slid_get_colours_none_repeated_and_the_res
     assert len(lines) == plots.MOST_SLIP_LINES + 1
     colours = [tuple(np.round(np.atleast_1d(line.get_color()), 6)) for line in lines[:-1]]
     assert len(set(colours)) == plots.MOST_SLIP_LINES
-    assert lines[-1].get_label() == "the largest of 5 other interfaces (at most 14 mm)"
+    assert lines[-1].get_label() == "largest slip of 5 other interfaces (at most 14 mm)"
 
 
 def test_sliding_under_the_threshold_is_drawn_flat_in_mm_with_the_threshold_in_view():
@@ -145,7 +145,7 @@ def test_sliding_under_the_threshold_is_drawn_flat_in_mm_with_the_threshold_in_v
     slip = np.column_stack([2e-11 * T / T[-1], 1e-11 * T / T[-1]])
     ax = plots.sliding(hand_result(rocking(1.0, 1.0, 1.0), slip=slip, interfaces=interfaces)).axes[0]
     assert ax.get_legend().get_title().get_text() == "no interface slid more than 0.1 mm"
-    assert data_lines(ax) == ["the largest of 2 interfaces (at most 2e-08 mm)"]
+    assert data_lines(ax) == ["largest slip of 2 interfaces (at most 2e-08 mm)"]
     assert ax.get_ylim()[1] >= 0.1
 
 

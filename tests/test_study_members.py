@@ -63,12 +63,15 @@ def test_ctrl_c_keeps_the_finished_members_and_the_rerun_gives_the_same_study(tm
 
 @pytest.mark.slow
 def test_the_same_study_on_a_dask_cluster_of_two_workers(tmp_path):
-    pytest.importorskip("distributed")
+    distributed = pytest.importorskip("distributed")
     here = _study()
     with cluster.local_cluster(2) as dask:
         there = _study(scheduler=dask.scheduler_address, log=tmp_path / "members.jsonl")
         onset = thresholds.onset_threshold(BLOCK, _pulse, 0.5, 8.0, step=0.25, duration=1.5,
                                            scheduler=dask.scheduler_address)
+        with distributed.Client(dask) as client:  # no profiler, not even in a worker its nanny started again
+            client.restart()
+            assert not any(client.run(lambda dask_worker: "profile" in dask_worker.periodic_callbacks).values())
     assert there.device.startswith("Dask cluster of 2 workers")
     pd.testing.assert_frame_equal(here.runs[OUTCOME], there.runs[OUTCOME], check_dtype=False)
     pd.testing.assert_frame_equal(here.table(), there.table())
@@ -126,7 +129,7 @@ def test_threshold_writes_its_runs_and_answer_and_resumes_from_its_log(tmp_path,
 
 def test_a_local_cluster_takes_a_free_port_for_its_http_server_without_a_warning():
     """distributed's scheduler serves HTTP on 8787 unless told otherwise, and warns where another cluster holds it."""
-    pytest.importorskip("distributed")
+    distributed = pytest.importorskip("distributed")
     with socket.socket() as held:
         try:
             held.bind(("", 8787))
@@ -137,8 +140,11 @@ def test_a_local_cluster_takes_a_free_port_for_its_http_server_without_a_warning
             warnings.simplefilter("error")
             with cluster.local_cluster(1, processes=False) as dask:
                 assert dask.scheduler.http_server.port != 8787
-                # no profiler to deadlock a Python 3.11 worker whose task starts threads
+                # no profiler to deadlock a Python 3.11 worker whose task starts threads; distributed's default has it
                 assert [w for w in dask.workers.values() if "profile" in w.periodic_callbacks] == []
+    with distributed.LocalCluster(n_workers=1, processes=False, dashboard_address=None,
+                                  scheduler_kwargs={"dashboard_address": ":0"}) as default:
+        assert all("profile" in w.periodic_callbacks for w in default.workers.values())
 
 
 @pytest.mark.slow

@@ -47,12 +47,16 @@ def local_cluster(workers: int, *, processes: bool = True):
     threads of this one), with no dashboard, the scheduler's HTTP server on a free port (its default, 8787,
     may be held by another cluster, and distributed would take another with a warning) and the workers'
     profiler off (:data:`NO_WORKER_PROFILER`)."""
+    import copy
+
     import dask
     from distributed import LocalCluster
 
     with dask.config.set(NO_WORKER_PROFILER):
+        # a worker process its nanny starts again later takes the nanny's config, not this context's
+        nanny = {"config": copy.deepcopy(dask.config.config)} if processes else {}
         return LocalCluster(n_workers=workers, threads_per_worker=1, processes=processes, dashboard_address=None,
-                            scheduler_kwargs={"dashboard_address": ":0"})
+                            scheduler_kwargs={"dashboard_address": ":0"}, **nanny)
 
 
 def completed(futures: dict):

@@ -8,7 +8,7 @@ from pathlib import Path
 import numpy as np
 
 from ..engine.result import EVENT_MEASURES
-from ..engine.settings import MOREAU_SOLVER_FAILURE
+from ..engine.settings import MOREAU_RESCUE_SWEEPS, MOREAU_SOLVER_FAILURE
 from ..output_files import output_file, output_folder
 from ..run_folder import RUN_FILES, run_summary, write_run, write_summary
 from ..scene_json import write_scene_json
@@ -144,17 +144,18 @@ def run(args) -> int:
 
 def _solver_lines(result) -> list:
     """A line on Moreau-Jean's contact solves that ended short of their tolerance (none if none did, or under central
-    differences): how many, in how many steps (a step split at an impact solves each part), which of them a step keeps
-    (those whose last sweep changed no velocity by more than ``MOREAU_SOLVER_FAILURE`` g dt; the others are taken
-    again, and a step whose retries fail too stops the run with an error), and where summary.json and the method say
-    more."""
+    differences): how many, in how many steps (a step split at an impact solves each part), which of them a part
+    keeps (those whose last sweep, after up to ``MOREAU_RESCUE_SWEEPS`` more, changed no velocity by more than
+    ``MOREAU_SOLVER_FAILURE`` g times the part's length; the others' parts are taken again at half their length, and
+    a part whose retries fail too stops the run with an error), and where summary.json and the method say more."""
     unconverged = result.info.get("unconverged_steps", 0)
     if not unconverged:
         return []
     return [f"contact solve: {unconverged:,} solves in {result.info['steps']:,} steps ended short of their tolerance "
-            "after the sweeps a step allows; such a solve is kept only where its last sweep changed no velocity by "
-            f"more than {MOREAU_SOLVER_FAILURE:g} g dt, else the step is taken again, and a run whose retries fail too "
-            "stops with an error (unconverged_steps in summary.json; docs/method.md 1.8)"]
+            f"after the sweeps a part allows; such a solve is kept where its last sweep (after up to "
+            f"{MOREAU_RESCUE_SWEEPS:,} more) changed no velocity by more than {MOREAU_SOLVER_FAILURE:g} g times the "
+            "part's length, else the part is taken again at half its length, and a run whose retries fail too stops "
+            "with an error (unconverged_steps in summary.json; docs/method.md 1.8)"]
 
 
 def _connector_lines(result) -> list:

@@ -238,7 +238,7 @@ def epistyles(result, excitation=None, title="Epistyles"):
     for k, name in zip(index, names):
         axes[0].plot(result.t, rel[:, k], lw=0.9, label=name)
         axes[1].plot(result.t, result.theta[:, k], lw=0.9, label=name)
-    axes[0].set_ylabel("displacement (m)")
+    axes[0].set_ylabel("horizontal displacement (m)")
     axes[1].set_ylabel("rotation $\\theta$ (rad)")
     for ax in axes[:2]:
         ax.grid(alpha=0.3)
@@ -270,7 +270,7 @@ def sliding(result, excitation=None, title="Sliding at the interfaces", *, thres
         largest = scale * total[rest[0]]
         others = "other " if drawn else ""
         label = ("/".join(result.interfaces[rest[0]]) if len(rest) == 1 else
-                 f"the largest of {len(rest)} {others}interfaces")
+                 f"largest slip of {len(rest)} {others}interfaces")
         ax.plot(t, scale * np.nanmax(slip[:, rest], axis=1), lw=1.0, color="0.6",
                 label=f"{label} (at most {largest:.2g} {unit})")
     ax.set_ylabel(f"accumulated sliding ({unit})")
