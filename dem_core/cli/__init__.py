@@ -35,9 +35,9 @@
   by default), with their intensities, where each one's sampling interval comes from and what is known of their
   earthquakes.
 
-Every command that runs a scene compiles the engine first; that takes about half a minute the
-first time (numba caches it for later runs) and is announced on stderr when it takes more than
-2 s ("compiling the engine (once; cached for later runs) ...", then "done in N s").  ``run`` and
+Every command that runs a scene compiles the engine first; that takes a few minutes the first
+time (numba caches it for later runs) and is announced on stderr when it takes more than 2 s
+("compiling the engine (once, a few minutes; cached for later runs) ...", then "done in N s").  ``run`` and
 ``animate`` print the time simulated and the wall time it took ("simulated 53.72 s in 8.96 s").
 ``--help`` of every command shows every option's default.
 

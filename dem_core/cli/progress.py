@@ -127,9 +127,10 @@ class StepProgress:
 
 
 #: s: setting a run up (compiling the engine, or loading it from numba's cache) that takes longer than this is
-#: announced while it goes on, and its time printed when it ends (a first run compiles for about a minute)
+#: announced while it goes on, and its time printed when it ends (a first run compiles for a few minutes, silently:
+#: numba says nothing while it compiles, so the notice says how long to expect)
 COMPILE_NOTICE_S = 2.0
-COMPILING = "compiling the engine (once; cached for later runs) ..."
+COMPILING = "compiling the engine (once, a few minutes; cached for later runs) ..."
 
 
 class CompileNotice:
