@@ -63,10 +63,11 @@ class Parser(argparse.ArgumentParser):
         whose ``--help`` lists the options it does know, and the nearest of those options is suggested for a
         mistyped one."""
         given = sys.argv[1:] if args is None else list(args)
-        words = _single_dash_words(given)
+        at = _single_dash_words(given)
+        words = [given[i] for i in at]
         refused = ""
         try:
-            parsed, unknown = self.parse_known_args([a for a in given if a not in words], namespace)
+            parsed, unknown = self.parse_known_args([a for i, a in enumerate(given) if i not in at], namespace)
         except ArgumentError as error:
             if not words:
                 raise
@@ -85,10 +86,11 @@ class Parser(argparse.ArgumentParser):
 
 
 def _single_dash_words(given: list) -> list:
-    """The arguments before any ``--`` that are a single dash and a word (-heigth, -out), which argparse would read
-    as -h with the argument "eigth", or take for a value: not numbers (-inf), nor values with a space."""
-    words = []
-    for argument in given:
+    """The positions in ``given`` of the arguments before any ``--`` that are a single dash and a word (-heigth,
+    -out), which argparse would read as -h with the argument "eigth", or take for a value: not numbers (-inf), nor
+    values with a space."""
+    at = []
+    for i, argument in enumerate(given):
         if argument == "--":
             break
         head = argument.split("=", 1)[0]
@@ -96,8 +98,8 @@ def _single_dash_words(given: list) -> list:
             try:
                 float(argument)
             except ValueError:
-                words.append(argument)
-    return words
+                at.append(i)
+    return at
 
 
 def _number(parse, test, requirement: str):
