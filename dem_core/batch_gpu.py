@@ -18,7 +18,7 @@ import numpy as np
 from .engine.model_arrays import NO_KEY, ModelArrays
 from .engine.scratch import make_scratch
 from .engine.settings import INTEGRATOR, INTEGRATORS, STATUS_FULL, STATUS_OK
-from .engine.state import Outputs, State, empty_outputs, with_capacities
+from .engine.state import Outputs, State, with_capacities
 from .engine._ground import ground_samples
 from .inputs.excitation import GroundMotion, Scaled
 from .simulation import Simulation, next_chunk
@@ -101,7 +101,9 @@ def _motions(runs: list) -> _Motions:
 class Members:
     """A batch's arrays: the driver's named tuples with the members on their first axis (:mod:`.engine._members`),
     ``motion`` (M,) each member's row of the chunk's samples and ``status`` (M, 3) its run's end (RUNNING while it
-    goes on).  The members' runs keep their own states as they started."""
+    goes on).  The outputs and the scratch, which every member starts with blank, are one member's blank
+    :func:`repeated` until a launcher writes them out where its kernel runs (:func:`written_out` on the host,
+    on the GPU by :func:`_on_device`).  The members' runs keep their own states as they started."""
 
     model: ModelArrays
     settings: tuple
@@ -120,6 +122,19 @@ class Members:
 def _stacked(tuples: list):
     """One named tuple of the members' named tuples, each field stacked on a new first axis."""
     return type(tuples[0])(*(np.ascontiguousarray(np.stack(fields)) for fields in zip(*tuples)))
+
+
+def repeated(blank: tuple, count: int):
+    """``blank`` (a named tuple of one member's arrays) as ``count`` members' (count, ...) arrays: read-only views
+    of ``blank`` itself (stride 0 on the members' axis), which take no memory.  The batch's other arrays are
+    writable."""
+    return type(blank)(*(np.broadcast_to(a, (count,) + a.shape) for a in blank))
+
+
+def written_out(part: tuple):
+    """``part`` (a named tuple of the members' arrays) with each :func:`repeated` array copied into a C-contiguous
+    array of its own (the others as they are): what the compiled kernels take."""
+    return type(part)(*(a if a.flags.writeable else np.array(a, order="C") for a in part))
 
 
 def _padded_frictions(arrays: list) -> list:
@@ -142,24 +157,41 @@ def pack(runs: list, motions: _Motions) -> Members:
     n_bodies = runs[0].arrays.body.shape[1]
     pairs = max(1, n_bodies * (n_bodies - 1) // 2)
     retired = max(run.state.capacities[1] for run in runs)
-    n_out = max(len(run.outputs.step) for run in runs)
     states = [with_capacities(run.state, pairs, retired) for run in runs]
-    outputs = empty_outputs(n_out, n_bodies, runs[0].outputs.slip.shape[1], runs[0].outputs.connectors.shape[1])
+    outputs = runs[0].empty_outputs(max(run.output_rows for run in runs))
     scratch = make_scratch(runs[0].arrays, pairs, {run.settings.integrator for run in runs},
                            {run.settings.contact_law for run in runs})
     return Members(
         model=_stacked(_padded_frictions([run.arrays for run in runs])),
         settings=_stacked([run.settings.replace(scale=motions.scale[m]) for m, run in enumerate(runs)]),
-        state=_stacked(states), outputs=_stacked([outputs] * len(runs)), scratch=_stacked([scratch] * len(runs)),
+        state=_stacked(states), outputs=repeated(outputs, len(runs)), scratch=repeated(scratch, len(runs)),
         motion=motions.index.copy(), status=np.tile(np.array([RUNNING, 0, 0], np.int64), (len(runs), 1)))
 
 
 def _on_device(members: Members, cuda) -> Members:
-    """``members`` with every array copied to the GPU (named tuples of device arrays)."""
-    def moved(part):
-        return type(part)(*(cuda.to_device(a) for a in part)) if isinstance(part, tuple) else cuda.to_device(part)
+    """``members`` with every array copied to the GPU (named tuples of device arrays), a :func:`repeated` array
+    written out there from its one member's blank."""
+    def moved(a):
+        return cuda.to_device(a) if a.flags.writeable else _repeated_on_device(np.array(a[0]), len(a), cuda)
 
-    return Members(*(moved(getattr(members, name)) for name in Members.__dataclass_fields__))
+    def part_moved(part):
+        return type(part)(*(moved(a) for a in part)) if isinstance(part, tuple) else moved(part)
+
+    return Members(*(part_moved(getattr(members, name)) for name in Members.__dataclass_fields__))
+
+
+def _repeated_on_device(blank: np.ndarray, count: int, cuda):
+    """A (count, ...) device array whose every row is ``blank`` (an array of its own: numba's copies take a stride 0
+    for a broadcast axis): one copy to the GPU, then the rows written so far copied on the GPU after themselves,
+    doubling them (log2(count) copies, nothing the size of the batch on the host)."""
+    rows = cuda.device_array((count,) + blank.shape, blank.dtype)
+    rows[0].copy_to_device(blank)
+    done = 1
+    while done < count:
+        more = min(done, count - done)
+        rows[done:done + more].copy_to_device(rows[:more])
+        done += more
+    return rows
 
 
 def cuda_launcher():
@@ -205,6 +237,8 @@ def run_members(runs: list, progress=None, launcher=None) -> float:
     check_members(runs)
     motions = _motions(runs)
     members = pack(runs, motions)
+    for run in runs:
+        run.scratch = None  # a member's scratch is the batch's
     launch, fetch = launcher if launcher is not None else cuda_launcher()
     last = max(run.settings.last_step for run in runs)
     step, chunk, took = 0, FIRST_CHUNK, 0.0
@@ -236,12 +270,10 @@ def _hand_back(runs: list, members: Members, took: float) -> None:
         code, i, j = (int(x) for x in members.status[m])
         run.run_time = took / len(runs)
         if code == STATUS_FULL:  # the run's own state is still its start's
-            run.scratch = None
             run.advance()
             continue
         run.state = State(*(a[m].copy() for a in members.state))
-        run.outputs = Outputs(*(a[m, :len(b)].copy() for a, b in zip(members.outputs, run.outputs)))
-        run.scratch = None
+        run.outputs = Outputs(*(a[m, :run.output_rows].copy() for a in members.outputs))
         if code != RUNNING:
             run.status, run.stopped_by = code, ((i, j) if code != STATUS_OK else None)
 
@@ -252,6 +284,7 @@ def serial_launcher():
     from .engine._members import SERIAL
 
     def launch(members: Members, samples: np.ndarray, n_steps: int) -> np.ndarray:
+        members.outputs, members.scratch = written_out(members.outputs), written_out(members.scratch)
         SERIAL[members.integrator](members.model, members.settings, members.state, members.outputs, members.scratch,
                                samples, members.motion, n_steps, members.status)
         return members.status

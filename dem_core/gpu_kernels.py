@@ -62,13 +62,14 @@ def kernel_arguments(integrator: str) -> tuple:
     """The kernel's arguments for a member of the bundled column under ``integrator``: every batch's arrays have
     these types (the shapes differ, not the dtypes, dimensions or layouts)."""
     from . import scenes
-    from .batch_gpu import _motions, pack
+    from .batch_gpu import _motions, pack, written_out
     from .inputs.excitation import sine_pulse
     from .simulation import Simulation
 
     runs = [Simulation(scenes.column(), sine_pulse(2.0, 0.5), 0.1, integrator=integrator)]
     m = pack(runs, _motions(runs))
-    return m.model, m.settings, m.state, m.outputs, m.scratch, np.zeros((1, 4, 12)), m.motion, 10, m.status
+    return (m.model, m.settings, m.state, written_out(m.outputs), written_out(m.scratch), np.zeros((1, 4, 12)),
+            m.motion, 10, m.status)
 
 
 def _stamp() -> dict:

@@ -36,7 +36,8 @@ from .engine.result import EVENT_MEASURES, Result, connector_outputs, connector_
 from .engine.scratch import make_scratch
 from .engine.settings import (EXPLICIT, INTEGRATORS, LOAD_CELL_LEAD, MOREAU, MOREAU_ACTIVE_GAP, MOREAU_DT,
                               MOREAU_MAX_SUBSTEPS, MOREAU_MAX_SWEEPS, MOREAU_PROJECTION_SWEEPS, MOREAU_RESCUE_SWEEPS,
-                              MOREAU_RETRIES, MOREAU_SHORTEST_SUBSTEP, MOREAU_SLOP, MOREAU_SOLVER_FAILURE, MOREAU_SOLVER_TOLERANCE,
+                              MOREAU_RETRIES, MOREAU_SHORTEST_SUBSTEP, MOREAU_SLOP, MOREAU_SOLVER_FAILURE,
+                              MOREAU_SOLVER_TOLERANCE,
                               MOREAU_STATUS_PASSES, MOREAU_THETA, MOREAU_TIME_FRACTION, STATUS_ENERGY, STATUS_FELL_OFF,
                               STATUS_FULL, STATUS_NONFINITE, STATUS_OK, STATUS_OVERTURNED, STATUS_RUNAWAY,
                               STATUS_UNCONVERGED, Settings, interface_stride, make_settings)
@@ -257,8 +258,8 @@ class Simulation:
         self.start_pos = self.state.pos.copy()
         self.event_rows: list = []
         self.threaded = bool(parallel and code == EXPLICIT and numba.get_num_threads() > 1)
-        self.outputs: Outputs = empty_outputs(n_out, len(self.model.bodies.mass), len(self.model.interface_keys),
-                                              len(self.model.connectors.law))
+        self.output_rows = n_out
+        self.outputs: Outputs | None = None  # made at the first step: a batch's GPU members never use their own
         self.scratch = None
         self.status, self.stopped_by = None, None
         self.compile_time = _ensure_compiled(self)
@@ -328,7 +329,7 @@ class Simulation:
         with _interrupt_after_the_kernel() as interrupted:
             while True:
                 kept = self.state.copy()
-                status, i, j = self.kernel(self.arrays, self.settings, self.state, self.outputs, self._scratch(),
+                status, i, j = self.kernel(self.arrays, self.settings, self.state, self._outputs(), self._scratch(),
                                            samples, steps)
                 if status != STATUS_FULL:
                     break
@@ -341,6 +342,17 @@ class Simulation:
         self._pass_event_end()
         if interrupted:
             raise KeyboardInterrupt  # after the chunk: the state is whole and the run can go on
+
+    def empty_outputs(self, rows: int) -> Outputs:
+        """Blank :class:`~dem_core.engine.state.Outputs` of ``rows`` rows for this run's bodies, interfaces and
+        connectors."""
+        return empty_outputs(rows, len(self.model.bodies.mass), len(self.model.interface_keys),
+                             len(self.model.connectors.law))
+
+    def _outputs(self) -> Outputs:
+        if self.outputs is None:
+            self.outputs = self.empty_outputs(self.output_rows)
+        return self.outputs
 
     def _scratch(self):
         if self.scratch is None:
@@ -409,8 +421,9 @@ class Simulation:
         scene, dt, state = self.scene, self.dt, self.state
         counters = state.counters
         written = int(counters[OUTPUTS])
-        out_t = self.outputs.step[:written] * dt
-        out = self.outputs.pos[:written]
+        outputs = self.empty_outputs(0) if self.outputs is None else self.outputs
+        out_t = outputs.step[:written] * dt
+        out = outputs.pos[:written]
         x, y, ground_x, ground_y = self._in_fixed_frame(out_t, out)
         theta = out[:, 1:, 2]
         step = self.step
@@ -466,14 +479,14 @@ class Simulation:
         result = Result(out_t, x, y, theta, ground_x, ground_y, tuple(scene.block_names),
                         state.peak_theta[1:].copy(), over_t, self._interface_slip(), dt, info,
                         interfaces=tuple((bodies[a].name, bodies[b].name) for a, b in pairs),
-                        slip_history=self.outputs.slip[:written].copy(),
+                        slip_history=outputs.slip[:written].copy(),
                         critical_angle=self.model.bodies.critical_angle[1:].copy(),
                         columns=self.columns, final_state=state.copy(), model_digest=model_digest(self.model),
                         lost_stability=lost,
                         events=(pd.DataFrame(self.event_rows) if isinstance(self.excitation, MotionSequence)
                                 else None),
                         connectors=connector_table(scene, self.model, state.connectors, dt),
-                        connector_history=(connector_outputs(self.model, self.outputs.connectors[:written])
+                        connector_history=(connector_outputs(self.model, outputs.connectors[:written])
                                            if scene.connectors else None))
         if lost:
             raise SimulationUnstable(lost, result)
@@ -863,7 +876,6 @@ def _physical_memory() -> float:
 def _ensure_compiled(run: Simulation) -> float:
     """Compile the kernel (or load it from numba's cache) with a zero-step call; returns the seconds it took."""
     started = time.perf_counter()
-    nb, n_if, n_c = run.outputs.pos.shape[1], run.outputs.slip.shape[1], run.outputs.connectors.shape[1]
-    run.kernel(run.arrays, run.settings, run.state.copy(), empty_outputs(1, nb, n_if, n_c), run._scratch(),
+    run.kernel(run.arrays, run.settings, run.state.copy(), run.empty_outputs(1), run._scratch(),
                run._samples(0, 0), 0)
     return time.perf_counter() - started

@@ -8,6 +8,7 @@ import os
 import re
 import subprocess
 import sys
+import tracemalloc
 from pathlib import Path
 
 import numpy as np
@@ -16,7 +17,7 @@ import pytest
 
 import dem_core
 from dem_core import ContactParameters, scenes, simulate_batch
-from dem_core.batch_gpu import check_members, gpu_available, run_members, serial_launcher
+from dem_core.batch_gpu import _motions, check_members, gpu_available, pack, run_members, serial_launcher, written_out
 from dem_core.inputs.connectors import OAK_POLOS, titanium_bar
 from dem_core.inputs.excitation import record, scaled, sine_pulse
 from dem_core.simulation import Simulation
@@ -94,6 +95,24 @@ def test_members_under_either_contact_law_share_a_batch():
         _assert_same_run(dem_core.simulate(scene, motion, 1.0, integrator="explicit"), run.result())
 
 
+def test_a_batch_holds_one_blank_of_its_members_outputs_and_scratch_until_its_kernel_runs():
+    """Every member starts with blank outputs and scratch (most of a member's bytes: 2.4 GB and 0.8 GB for 4,096
+    columns of 20 s), so packing a batch makes one member's blank, not the batch's; written out for the kernel,
+    every member's rows are that blank."""
+    scene = scenes.column()
+    runs = [Simulation(scene, scaled(EL_CENTRO, f), 20.0, integrator="moreau") for f in np.linspace(1.0, 3.0, 40)]
+    tracemalloc.start()
+    members = pack(runs, _motions(runs))
+    peak = tracemalloc.get_traced_memory()[1]
+    tracemalloc.stop()
+    blank = [a[0] for part in (members.outputs, members.scratch) for a in part]
+    assert peak < 0.1 * len(runs) * sum(a.nbytes for a in blank)
+    for part in (members.outputs, members.scratch):
+        for a, whole in zip(part, written_out(part)):
+            assert whole.flags.c_contiguous and whole.flags.writeable and whole.shape == (len(runs),) + a[0].shape
+            assert all(np.array_equal(row, a[0], equal_nan=True) for row in whole)
+
+
 def test_a_member_whose_store_fills_is_run_again_on_the_cpu(monkeypatch):
     """A member's store of retired slips is as large as the largest its batch starts with; a member that fills it
     stops and is run again from its start by the CPU's driver, which grows it."""
@@ -145,9 +164,13 @@ def test_without_a_gpu_auto_runs_on_the_cpu_and_gpu_is_refused():
 
 #: run by numba's CUDA simulator (with the CPU's JIT off, so that the simulator's arrays reach the stages): the
 #: CUDA kernels through simulate_batch, two members of a block (a pulse and a scaled record) and a stack of three by
-#: central differences, and two members of the stack by Moreau-Jean
+#: central differences, and two members of the stack by Moreau-Jean; and one member's blank written out on the
+#: device for five
 SIMULATED = """
 import json, sys
+import numpy as np
+from numba import cuda
+from dem_core.batch_gpu import _repeated_on_device
 from dem_core.inputs.excitation import sine_pulse
 MOREAU_MOTIONS = [sine_pulse(6.0, 0.1), sine_pulse(9.0, 0.08)]
 BARRED = lambda: scenes.column(3, connectors=[(titanium_bar(), "all"), (OAK_POLOS, "capital")])
@@ -176,7 +199,9 @@ except dem_core.batch.BatchInterrupted as stopped:
 moreau = simulate_batch(scenes.stack([(0.8, 1.0), (0.7, 0.9), (0.6, 0.8)]), MOREAU_MOTIONS, 0.05, device="gpu",
                         integrator="moreau")
 bars = simulate_batch(BARRED(), MOREAU_MOTIONS[:1], 0.03, device="gpu", integrator="moreau")
-json.dump({"devices": [few.device, block.device, stack.device, moreau.device, bars.device], "finished": finished,
+blank = np.arange(6.0).reshape(2, 3)
+json.dump({"repeated": [np.array_equal(row, blank) for row in _repeated_on_device(blank, 5, cuda).copy_to_host()],
+           "devices": [few.device, block.device, stack.device, moreau.device, bars.device], "finished": finished,
            "kept": list(block.histories), "progress": seen[-1],
            **{name: batch.table.drop(columns="wall_time_s").to_dict("list")
               for name, batch in (("block", block), ("stack", stack), ("moreau", moreau), ("bars", bars))}},
@@ -193,6 +218,7 @@ def test_the_cuda_kernel_under_the_simulator_gives_the_cpus_rows():
     assert simulated["devices"] == ["cpu, 1 thread"] + ["gpu, CUDA simulator"] * 4
     assert simulated["kept"] == [1] and simulated["progress"] == [2, 2]
     assert simulated["finished"] == [0]  # Ctrl-C: the member that ended is handed back
+    assert simulated["repeated"] == [True] * 5  # one member's blank written out on the device, doubling its rows
     block = simulate_batch(scenes.block(1.0, 6.0), [sine_pulse(3.0, 0.2), scaled(EL_CENTRO, 4.0)], 0.1, device="cpu",
                            measures=lambda result: {"outputs": len(result.t)},
                            integrator="explicit").table.drop(columns="wall_time_s")

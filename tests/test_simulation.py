@@ -1,5 +1,7 @@
 """The simulation driver: ground motion applied two ways, outputs, overturning, result type."""
 
+import tracemalloc
+
 import numpy as np
 import pytest
 
@@ -118,6 +120,23 @@ def test_outputs_at_output_dt_and_result_tables():
     assert list(metrics["block"]) == ["drum1", "drum2", "drum3"]
     assert np.all(metrics["peak_abs_theta_rad"] >= np.max(np.abs(r.theta), axis=0) - 1e-15)
     assert r.summary()["dt_s"] == r.dt
+
+
+def test_a_run_takes_the_memory_of_its_outputs_at_its_first_step():
+    """A run set up and not stepped holds its state and scratch, not its outputs (a GPU batch's members write theirs
+    into the batch's arrays); its result is then its start, with no rows."""
+    scene, motion = scenes.column(), excitation.sine_pulse(2.0, 0.5)
+    shared = set_up_scene(scene)
+    Simulation(scene, motion, 200.0, scene_set_up=shared)
+    tracemalloc.start()
+    run = Simulation(scene, motion, 200.0, scene_set_up=shared)
+    held = tracemalloc.get_traced_memory()[0]
+    tracemalloc.stop()
+    outputs = sum(a.nbytes for a in run.empty_outputs(run.output_rows))
+    assert held < outputs / 4
+    assert len(run.result().t) == 0
+    run.advance(10)
+    assert np.array_equal(run.result().t, [0.0, 10 * run.dt]) and len(run.outputs.step) == run.output_rows
 
 
 def test_overturn_stops_the_run_and_says_when():
