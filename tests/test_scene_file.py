@@ -179,3 +179,14 @@ def test_amplitude_and_pga_together_name_both_keys(tmp_path):
 def test_a_misspelt_name_gets_the_nearest_valid_one(tmp_path, text, message):
     with pytest.raises(SceneFileError, match=message):
         load(write(tmp_path, text))
+
+
+def test_a_scene_file_that_is_not_there_is_refused_with_the_close_names_beside_it(tmp_path):
+    (tmp_path / "isolated_column.toml").write_text("")
+    (tmp_path / "isolated_column.csv").write_text("")
+    with pytest.raises(SceneFileError, match=r"isolated_colum.toml: no such scene file "
+                                             r"\(did you mean 'isolated_column.toml'\?\)$"):
+        load(tmp_path / "isolated_colum.toml")
+    for missing in (tmp_path / "colonnade.toml", tmp_path / "no_folder" / "isolated_column.toml"):
+        with pytest.raises(SceneFileError, match=r"no such scene file$"):
+            load(missing)

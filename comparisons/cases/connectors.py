@@ -156,7 +156,8 @@ def connector_cases() -> list:
         Case(name="impact_slip", title=f"Two-drum 1 x 6 m column rocking freely from {IMPACT_RELEASE:g} alpha for "
              f"{IMPACT_DURATION:g} s: no slip at its joint (rigid impacts keep it inside the friction cone, 4.9)",
              scene=lambda: scenes.column(IMPACT_COLUMN[0], IMPACT_COLUMN[1], IMPACT_COLUMN[2],
-                                         tilt=IMPACT_RELEASE * np.arctan(0.5 * IMPACT_COLUMN[1] / (0.5 * IMPACT_COLUMN[2]))),
+                                         tilt=IMPACT_RELEASE * np.arctan(0.5 * IMPACT_COLUMN[1]
+                                                                         / (0.5 * IMPACT_COLUMN[2]))),
              motion=excitation.still, duration=IMPACT_DURATION, accuracy=1e-6,
              # measured: dem-moreau 4.9e-8 m (2.3e-9 at a quarter of its step); dem 7.5e-5 m, 7.4e-5 at ten times
              # its contact stiffness, dem-overlap 4.3e-5: the compliant impacts slip, which rigid theory does not;

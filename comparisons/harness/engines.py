@@ -11,7 +11,8 @@ A native run replaces the scene's contact with its law's default parameters, wit
 first overturn, as :func:`dem_core.simulate` does by default.  Its step is a divisor N of the
 automatic step, labelled ``auto/N``: the step :func:`dem_core.simulate` picks when given none
 (explicit: the smaller of 0.8 of the stability limit and a fifteenth of the shortest impact, both for
-the contact it runs with; Moreau-Jean: :func:`dem_core.simulation.moreau_time_step`) divided by N.  The other engines take a step in seconds and their own solver settings
+the contact it runs with; Moreau-Jean: :func:`dem_core.simulation.moreau_time_step`) divided by N.  The other
+engines take a step in seconds and their own solver settings
 (``{"iterations": 200}``).
 """
 

@@ -252,8 +252,8 @@ def run_ensemble(ens: Ensemble, engine_names=ENGINES, steps: dict | None = None,
                disable=not (progress and sys.stderr.isatty()))
     with bar:
         for engine, step, settings in runs:
-            done = engines.simulate_members(member_scenes, motions, [m.duration for m in members], engine, step, settings,
-                                       output_dts, progress=bar.update)
+            done = engines.simulate_members(member_scenes, motions, [m.duration for m in members], engine, step,
+                                            settings, output_dts, progress=bar.update)
             for member, ref, run in zip(members, references, done):
                 rows.append(_row(ens, member, ref, engine, settings, run))
     return pd.DataFrame(rows)

@@ -9,6 +9,7 @@ loop, and its CPU builds), ``_members`` (the same loop for a batch's members, on
 stage each: ``_ground``, ``_outputs``, ``_world`` (world geometry and boxes), ``_broadphase``, ``_explicit``
 (contact forces and central differences) with ``_manifold`` (corner law geometry), ``_polygon`` (overlap-area law
 geometry) and ``_contact_law``, ``_moreau`` (Moreau-Jean) with ``_points`` and ``_active_set``, ``_tally`` (where
-slip goes) and ``_checks``, and ``_angles`` (quick sines and cosines of small angles) for several.  The engine imports nothing from the rest of the package:
+slip goes) and ``_checks``, and ``_angles`` (quick sines and cosines of small angles) for several.  The engine
+imports nothing from the rest of the package:
 :mod:`dem_core.simulation` joins it to the inputs.
 """

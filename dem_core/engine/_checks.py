@@ -91,7 +91,8 @@ def mechanical_energy(pos, vel, mass, inv_inertia, gravity):
     e = 0.0
     for b in range(1, pos.shape[0]):
         m = mass[b]
-        e += 0.5 * m * (vel[b, 0] ** 2 + vel[b, 1] ** 2) + 0.5 * vel[b, 2] ** 2 / inv_inertia[b] + m * gravity * pos[b, 1]
+        e += (0.5 * m * (vel[b, 0] ** 2 + vel[b, 1] ** 2) + 0.5 * vel[b, 2] ** 2 / inv_inertia[b]
+              + m * gravity * pos[b, 1])
     return e
 
 

@@ -46,8 +46,8 @@ FREE, ELASTIC, YIELD_UP, YIELD_DOWN = 0, 2, 4, 6
 @nb.njit(cache=True, inline="always")
 def shear_branch(delta, law, state):
     """The branch of the shear law (FREE, or ELASTIC, YIELD_UP, YIELD_DOWN with the low bit set where the pin bears
-    on the gap's + side) at slip ``delta`` (m) from the state ``state`` (a connector's row of State.connectors) of the step's
-    start; ``law`` the connector's row of ModelArrays.connector_law."""
+    on the gap's + side) at slip ``delta`` (m) from the state ``state`` (a connector's row of State.connectors) of
+    the step's start; ``law`` the connector's row of ModelArrays.connector_law."""
     r = delta - state[PLASTIC_SLIP]
     gap = law[CLEARANCE]
     if abs(r) <= gap:

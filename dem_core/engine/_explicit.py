@@ -276,7 +276,8 @@ def explicit_part(model, settings, state, scratch, part, h, kick, load_x, load_y
     vstart, body, law, boxes, force = model.vstart, model.body, model.law, scratch.boxes, scratch.force
     points, keys, ox, oy = scratch.points, scratch.point_keys, scratch.clip_x, scratch.clip_y
     clip_work, start, entries = scratch.clip_work, scratch.pair_start, scratch.pair_entries
-    connector_law, connector_bodies, connector_start = model.connector_law, model.connector_bodies, model.connector_start
+    connector_law, connector_bodies = model.connector_law, model.connector_bodies
+    connector_start = model.connector_start
     connectors, step = state.connectors, counters[STEP]
     listed = counters[LISTED]
     for p in prange(listed):

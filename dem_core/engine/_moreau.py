@@ -182,8 +182,9 @@ def point_blocks(rows, ints, inv_mass, inv_inertia, n):
 def first_meeting(rows, n, remaining, active_gap, shortest):
     """Step 1: how long (s) to step so that no point apart by more than ``active_gap`` meets its face inside the
     step: the earliest time a point's gap closes at its present approach, but no shorter than ``shortest`` unless
-    less than that is left of the step, and never past its end (``remaining``).  A step split there has each impact at its start, where Newton's law meets the
-    velocity of the instant, and the reactions of the points in contact act until then."""
+    less than that is left of the step, and never past its end (``remaining``).  A step split there has each impact
+    at its start, where Newton's law meets the velocity of the instant, and the reactions of the points in contact
+    act until then."""
     tau = remaining
     for c in range(n):
         gap = rows[c, GAP]

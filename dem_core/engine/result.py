@@ -70,7 +70,8 @@ class Result:
         outside a column (rad; :mod:`dem_core.engine.residual`); None under a single motion.
     connectors : one row per connector of the scene (:mod:`dem_core.inputs.connectors`), in its order: ``name``,
         ``kind``, ``peak_shear_N``, ``peak_tension_N``, ``yielded`` and ``yield_time_s`` (NaN if it did not),
-        ``ruptured`` and ``rupture_time_s``, ``pulled_out`` (it ruptured in tension, not in shear), ``residual_slip_m`` (its shear spring's plastic slip at the end) and
+        ``ruptured`` and ``rupture_time_s``, ``pulled_out`` (it ruptured in tension, not in shear),
+        ``residual_slip_m`` (its shear spring's plastic slip at the end) and
         ``plastic_slip_m`` (taken over every excursion, of its capacity ``slip_capacity_m``); None without connectors.
     connector_history : (n, n_connectors, 4) at each output each connector's shear force and tension (N), slip
         and opening (m): the slip of the second block's anchor over the first's along the joint (+x where the joint

@@ -80,8 +80,9 @@ MOREAU_SLOP = 0.1
 #: Gauss-Seidel stops when no point's velocity changed by more than this fraction of g h in a sweep, or after
 #: MOREAU_MAX_SWEEPS sweeps.  A step whose last sweep still changed a velocity by more than MOREAU_SOLVER_FAILURE
 #: of g h is far from a solution of the contact problem (a stack's first step, an impact running through a
-#: column): it sweeps on, up to MOREAU_RESCUE_SWEEPS more, and the run stops if that does not bring the change
-#: below it.  The position projection takes MOREAU_PROJECTION_SWEEPS
+#: column): it sweeps on, up to MOREAU_RESCUE_SWEEPS more; if that does not bring the change below it, the part
+#: of the step is taken again (MOREAU_RETRIES, below), and the run stops if those fail too.  The position
+#: projection takes MOREAU_PROJECTION_SWEEPS
 MOREAU_SOLVER_TOLERANCE = 1e-6
 MOREAU_MAX_SWEEPS = 50
 MOREAU_SOLVER_FAILURE = 0.1

@@ -256,7 +256,8 @@ def linearised_springs(model: Model, shift_n: float, shift_t: float) -> Springs:
     if model.law.law == CORNER:
         for end in (-0.5, 0.5):
             point = centroid + end * extent[:, None] * tangent
-            for direction, k, given, zeta in ((normal, k_n, c_n, model.law.zeta_n), (tangent, k_t, c_t, model.law.zeta_t)):
+            for direction, k, given, zeta in ((normal, k_n, c_n, model.law.zeta_n),
+                                              (tangent, k_t, c_t, model.law.zeta_t)):
                 mass = 1.0 / _inverse_effective_mass(b, i, j, point, direction)
                 springs.append((point, direction, k, np.array([dashpot(g, zeta, kk, m) for g, kk, m in
                                                                zip(given, k, mass)])))

@@ -67,7 +67,8 @@ class ConnectorKind:
             raise SceneError(f"a connector kind needs a name, got {self.name!r}")
         name = self.name
         if self.shear_stiffness is None:
-            given = [key for key in ("yield_force", "ultimate_force", "ultimate_slip") if getattr(self, key) is not None]
+            given = [key for key in ("yield_force", "ultimate_force", "ultimate_slip")
+                     if getattr(self, key) is not None]
             raise SceneError(f"connector '{name}': " + (f"{', '.join(given)} given without a shear_stiffness"
                                                         if given else "give its shear_stiffness (N/m)"))
         k = _quantity(name, "shear_stiffness", self.shear_stiffness)

@@ -67,7 +67,8 @@ BUNDLED = {
     "el_centro_1940": BundledRecord("elcentro_1940_NS_RSN6_ELC180.AT2", 1, "g",
                                     description="Imperial Valley 1940, El Centro Array #9, comp 180 (PGA 0.281 g)"),
     "mexico_city_1985": BundledRecord("mexico_1985_SCT_t_NS_EW_V_g.txt", 2, "g", vertical_component=3,
-                                      description="Michoacan 1985, Mexico City SCT, EW (PGA 0.171 g), vertical available"),
+                                      description="Michoacan 1985, Mexico City SCT, EW (PGA 0.171 g), "
+                                                  "vertical available"),
     "northridge_1994": BundledRecord("northridge_1994_sylmar_county_hospital_ms2.dat", 1, "m/s^2",
                                      description="Northridge 1994, Sylmar County Hospital (PGA 8.27 m/s^2)"),
     # the file's name keeps the 0.02 s its source gave; 0.01 s is settled in SOURCES.md

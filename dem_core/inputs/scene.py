@@ -183,7 +183,8 @@ class Scene:
         seen = set()
         for n in names:
             if n in seen:
-                raise SceneError(f"block name '{n}' is used twice; names identify blocks in results and friction overrides")
+                raise SceneError(f"block name '{n}' is used twice; names identify blocks in results and friction "
+                                 "overrides")
             seen.add(n)
         overrides = {}
         for key, mu in dict(self.interface_friction).items():
@@ -333,7 +334,8 @@ class Scene:
             if touch is None:
                 near = [f"{self.bodies[a].name}/{self.bodies[b].name}" for a, b in joints if i in (a, b) or j in (a, b)]
                 raise SceneError(f"connector {c.name}: '{c.between[0]}' and '{c.between[1]}' do not touch at the "
-                                 f"start, so there is no joint between them (their joints: {', '.join(near) or 'none'})")
+                                 "start, so there is no joint between them "
+                                 f"(their joints: {', '.join(near) or 'none'})")
             if abs(c.position) >= 0.5 * touch.length:
                 raise SceneError(f"connector {c.name}: position {c.position:g} m is off its joint, "
                                  f"{touch.length:.4g} m long (|position| < {0.5 * touch.length:.4g} m)")

@@ -235,13 +235,25 @@ class SceneFile:
 
 def read_toml(path, error=None, what: str = "scene file") -> dict:
     """The tables of a TOML file; a missing or malformed file raises ``error`` (default
-    :class:`SceneFileError`) naming the file."""
+    :class:`SceneFileError`) naming the file, a missing one with the TOML files of its folder whose names are
+    close to its."""
     error = error or SceneFileError
     try:
-        with file_errors(path, error, what), open(path, "rb") as fh:
+        with file_errors(path, error, what, hint=lambda: _close_toml_files(path)), open(path, "rb") as fh:
             return tomllib.load(fh)
     except tomllib.TOMLDecodeError as exc:
         raise error(f"{path}: not valid TOML: {exc}") from None
+
+
+def _close_toml_files(path) -> str:
+    """`` (did you mean 'column.toml'?)`` for the ``*.toml`` files beside ``path`` whose names are close to its
+    (``""`` for none, or a folder that is not there)."""
+    path = Path(path)
+    try:
+        beside = [p.name for p in path.parent.iterdir() if p.suffix == ".toml"]
+    except OSError:
+        return ""
+    return did_you_mean(path.name, beside)
 
 
 def load(path) -> SceneFile:

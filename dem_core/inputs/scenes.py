@@ -293,7 +293,8 @@ def _check_joints(blocks, joints, shifts, base_width) -> None:
     half_base = np.inf if base_width is None else 0.5 * base_width
     for upper, lower in joints:
         up = np.array(_face(blocks[upper].vertices, lowest=True))
-        down = np.array(_face(blocks[lower].vertices, lowest=False)) if lower >= 0 else np.array([-half_base, half_base])
+        down = (np.array(_face(blocks[lower].vertices, lowest=False)) if lower >= 0
+                else np.array([-half_base, half_base]))
         below = blocks[lower].name if lower >= 0 else "base"
         width = min(up[1], down[1]) - max(up[0], down[0])
         if not width > 0:
@@ -405,7 +406,8 @@ def _column_blocks(n_drums, width, height, taper, capital, x_centre, y0, options
         wb = w_bottom + (w_top - w_bottom) * f0
         wt = w_bottom + (w_top - w_bottom) * f1
         yb, yt = y0 + k * drum_h, y0 + (k + 1) * drum_h
-        v = np.array([[x_centre - wb / 2, yb], [x_centre + wb / 2, yb], [x_centre + wt / 2, yt], [x_centre - wt / 2, yt]])
+        v = np.array([[x_centre - wb / 2, yb], [x_centre + wb / 2, yb], [x_centre + wt / 2, yt],
+                      [x_centre - wt / 2, yt]])
         blocks.append(options.block(f"{prefix}drum{k + 1}", v))
     top = y0 + height
     if capital is not None:
@@ -477,7 +479,8 @@ def _epistyles(kind, centres, col_top_width, y, thickness, density, options: Sce
         spans = [(x0, x1)]
     else:
         if n % 2 == 0:
-            raise SceneError(f"epistyle type {kind!r} meets over a middle column: needs an odd number of columns, got {n}")
+            raise SceneError(f"epistyle type {kind!r} meets over a middle column: needs an odd number of columns, "
+                             f"got {n}")
         mid = centres[n // 2]
         spans = [(x0, mid), (mid, x1)]
     names = [f"{prefix}epistyle"] if len(spans) == 1 else [f"{prefix}epistyle{k + 1}" for k in range(len(spans))]
@@ -504,7 +507,8 @@ def colonnade(n_columns: int = 3, n_drums: int = 3, spacing: float = 2.5, *, epi
     _positive(spacing=spacing, epistyle_height=epistyle_height, epistyle_density=epistyle_density)
     top_width = capital[0] if capital is not None else width * (1.0 - taper) / (1.0 - taper / 2.0)
     if spacing < top_width:
-        raise SceneError(f"spacing {spacing} m is smaller than the column top width {top_width} m: columns would overlap")
+        raise SceneError(f"spacing {spacing} m is smaller than the column top width {top_width} m: columns would "
+                         "overlap")
     centres = (np.arange(n_columns) - (n_columns - 1) / 2.0) * spacing
     blocks = []
     top = 0.0
