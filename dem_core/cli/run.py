@@ -100,7 +100,7 @@ def run(args) -> int:
           + (f" (peak |theta|/alpha {ratio:.3g}, alpha the critical angle that governs each block, its "
              "column's for a drum)"
              if np.isfinite(ratio) else "")
-          + f", total sliding {result.total_sliding:.4g} m, "
+          + f", total sliding {1e3 * result.total_sliding:.4g} mm, "
           f"overturned: {f'yes at t = {result.time_of_overturn:.3f} s' if result.overturned else 'no'}")
     for line in _solver_lines(result) + _connector_lines(result):
         print(line)

@@ -204,7 +204,7 @@ def rotations(result, excitation=None, title="Block rotations", *, relative: boo
             ax.axhline(-value, color="0.2", ls="--", lw=0.9)
         else:
             times = f" ({value / peak:.2g} \u00d7 the peak)" if peak > 0 else ""
-            ax.plot([], [], " ", label=f"{label}:\noff the axis{times}")
+            ax.plot([], [], color="0.2", ls="--", lw=0.9, label=f"{label}:\noff the axis{times}")
     if not reach > 0:
         reach = min(levels) if levels else 1.0
     ax.set_ylim(-1.1 * reach, 1.1 * reach)
