@@ -237,8 +237,6 @@ def run_members(runs: list, progress=None, launcher=None) -> float:
     check_members(runs)
     motions = _motions(runs)
     members = pack(runs, motions)
-    for run in runs:
-        run.scratch = None  # a member's scratch is the batch's
     launch, fetch = launcher if launcher is not None else cuda_launcher()
     last = max(run.settings.last_step for run in runs)
     step, chunk, took = 0, FIRST_CHUNK, 0.0

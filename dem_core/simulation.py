@@ -37,10 +37,10 @@ from .engine.scratch import make_scratch
 from .engine.settings import (EXPLICIT, INTEGRATORS, LOAD_CELL_LEAD, MOREAU, MOREAU_ACTIVE_GAP, MOREAU_DT,
                               MOREAU_MAX_SUBSTEPS, MOREAU_MAX_SWEEPS, MOREAU_PROJECTION_SWEEPS, MOREAU_RESCUE_SWEEPS,
                               MOREAU_RETRIES, MOREAU_SHORTEST_SUBSTEP, MOREAU_SLOP, MOREAU_SOLVER_FAILURE,
-                              MOREAU_SOLVER_TOLERANCE,
-                              MOREAU_STATUS_PASSES, MOREAU_THETA, MOREAU_TIME_FRACTION, STATUS_ENERGY, STATUS_FELL_OFF,
-                              STATUS_FULL, STATUS_NONFINITE, STATUS_OK, STATUS_OVERTURNED, STATUS_RUNAWAY,
-                              STATUS_UNCONVERGED, Settings, interface_stride, make_settings)
+                              MOREAU_SOLVER_TOLERANCE, MOREAU_STATUS_PASSES, MOREAU_THETA, MOREAU_TIME_FRACTION,
+                              STATUS_ENERGY, STATUS_FELL_OFF, STATUS_FULL, STATUS_NONFINITE, STATUS_OK,
+                              STATUS_OVERTURNED, STATUS_RUNAWAY, STATUS_UNCONVERGED, Settings, interface_stride,
+                              make_settings)
 from .engine.stacks import columns, find_stacks
 from .engine.state import (
     LISTED,
@@ -198,7 +198,9 @@ class Simulation:
     ``Simulation(scene, excitation, duration, ...)`` takes the arguments of :func:`simulate`, and
     ``scene_set_up``, the scene's :func:`set_up_scene` with the same step options, where runs of one scene share
     it; :meth:`advance` takes steps (all that remain by default), :meth:`result` gathers what was
-    computed.  ``status`` is None while the run can go on, else why it ended.
+    computed.  ``status`` is None while the run can go on, else why it ended.  ``outputs``, the
+    :class:`~dem_core.engine.state.Outputs` of ``output_rows`` rows, is made at the first step (None until then:
+    the members of a GPU batch write theirs into the batch's arrays), and the scratch with it.
 
     Under a sequence of ground motions (:func:`~dem_core.inputs.excitation.sequence`) event ``e`` starts at step
     ``event_starts[e]`` (:meth:`~dem_core.inputs.excitation.MotionSequence.event_steps`) and no call of the
@@ -259,7 +261,7 @@ class Simulation:
         self.event_rows: list = []
         self.threaded = bool(parallel and code == EXPLICIT and numba.get_num_threads() > 1)
         self.output_rows = n_out
-        self.outputs: Outputs | None = None  # made at the first step: a batch's GPU members never use their own
+        self.outputs: Outputs | None = None
         self.scratch = None
         self.status, self.stopped_by = None, None
         self.compile_time = _ensure_compiled(self)
@@ -356,9 +358,13 @@ class Simulation:
 
     def _scratch(self):
         if self.scratch is None:
-            self.scratch = make_scratch(self.arrays, self.state.capacities[0], (self.settings.integrator,),
-                                        (self.settings.contact_law,))
+            self.scratch = self.new_scratch()
         return self.scratch
+
+    def new_scratch(self):
+        """A :class:`~dem_core.engine.scratch.Scratch` for this run's model, store and integrator."""
+        return make_scratch(self.arrays, self.state.capacities[0], (self.settings.integrator,),
+                            (self.settings.contact_law,))
 
     def _samples(self, first: int, steps: int) -> np.ndarray:
         """(4, steps + 2): the ground motion's samples for this run's steps ``first`` .. ``first + steps``
@@ -876,6 +882,6 @@ def _physical_memory() -> float:
 def _ensure_compiled(run: Simulation) -> float:
     """Compile the kernel (or load it from numba's cache) with a zero-step call; returns the seconds it took."""
     started = time.perf_counter()
-    run.kernel(run.arrays, run.settings, run.state.copy(), run.empty_outputs(1), run._scratch(),
+    run.kernel(run.arrays, run.settings, run.state.copy(), run.empty_outputs(1), run.new_scratch(),
                run._samples(0, 0), 0)
     return time.perf_counter() - started
