@@ -101,9 +101,10 @@ def _motions(runs: list) -> _Motions:
 class Members:
     """A batch's arrays: the driver's named tuples with the members on their first axis (:mod:`.engine._members`),
     ``motion`` (M,) each member's row of the chunk's samples and ``status`` (M, 3) its run's end (RUNNING while it
-    goes on).  The outputs and the scratch, which every member starts with blank, are one member's blank
-    :func:`repeated` until a launcher writes them out where its kernel runs (:func:`written_out` on the host,
-    on the GPU by :func:`_on_device`).  The members' runs keep their own states as they started."""
+    goes on).  What every member has alike, the blank outputs and scratch they start with and the model of members
+    of one scene set up once, is one member's :func:`repeated` until a launcher writes it out where its kernel runs
+    (:func:`written_out` on the host, on the GPU by :func:`_on_device`).  The members' runs keep their own states as
+    they started."""
 
     model: ModelArrays
     settings: tuple
@@ -161,8 +162,10 @@ def pack(runs: list, motions: _Motions) -> Members:
     outputs = runs[0].empty_outputs(max(run.output_rows for run in runs))
     scratch = make_scratch(runs[0].arrays, pairs, {run.settings.integrator for run in runs},
                            {run.settings.contact_law for run in runs})
+    arrays = [run.arrays for run in runs]
+    shared = all(a is arrays[0] for a in arrays)  # one scene's set-up (set_up_scene)
     return Members(
-        model=_stacked(_padded_frictions([run.arrays for run in runs])),
+        model=repeated(arrays[0], len(runs)) if shared else _stacked(_padded_frictions(arrays)),
         settings=_stacked([run.settings.replace(scale=motions.scale[m]) for m, run in enumerate(runs)]),
         state=_stacked(states), outputs=repeated(outputs, len(runs)), scratch=repeated(scratch, len(runs)),
         motion=motions.index.copy(), status=np.tile(np.array([RUNNING, 0, 0], np.int64), (len(runs), 1)))
@@ -181,9 +184,10 @@ def _on_device(members: Members, cuda) -> Members:
 
 
 def _repeated_on_device(blank: np.ndarray, count: int, cuda):
-    """A (count, ...) device array whose every row is ``blank`` (an array of its own: numba's copies take a stride 0
-    for a broadcast axis): one copy to the GPU, then the rows written so far copied on the GPU after themselves,
-    doubling them (log2(count) copies, nothing the size of the batch on the host)."""
+    """A (count, ...) device array whose every row is ``blank`` (an array of its own: a row of a :func:`repeated`
+    view has stride 0 on its axes of length 1, which numba's copies drop as broadcast): one copy to the GPU, then
+    the rows written so far copied on the GPU after themselves, doubling them (log2(count) copies, nothing the size
+    of the batch on the host)."""
     rows = cuda.device_array((count,) + blank.shape, blank.dtype)
     rows[0].copy_to_device(blank)
     done = 1
@@ -282,7 +286,8 @@ def serial_launcher():
     from .engine._members import SERIAL
 
     def launch(members: Members, samples: np.ndarray, n_steps: int) -> np.ndarray:
-        members.outputs, members.scratch = written_out(members.outputs), written_out(members.scratch)
+        members.model, members.outputs, members.scratch = (written_out(part) for part in
+                                                           (members.model, members.outputs, members.scratch))
         SERIAL[members.integrator](members.model, members.settings, members.state, members.outputs, members.scratch,
                                samples, members.motion, n_steps, members.status)
         return members.status

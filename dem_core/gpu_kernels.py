@@ -8,7 +8,8 @@ is installed, the PTX assembled for the GPU) to one compressed file; :func:`load
 dispatchers where the GPU is, so that a batch's first launch only loads the assembled kernel (or, without it, has
 the driver assemble the PTX).  A file serves the engine's code of the same
 :data:`~dem_core.engine._build.ENGINE_DIGEST` under the same numba-cuda version and Python minor version as made
-it, and, where a GPU is here, its compute capability; any other is refused by name.  The file is a pickle: load only files you made.
+it, and, where a GPU is here, its compute capability; any other is refused by name.  The file is a pickle: load
+only files you made.
 
     python -m dem_core.gpu_kernels build/kernels            (here: compiles for sm_90, the H100 and H200)
     DEM_CORE_GPU_KERNELS=build/kernels dem-core fragility --device gpu   (there)
@@ -68,8 +69,8 @@ def kernel_arguments(integrator: str) -> tuple:
 
     runs = [Simulation(scenes.column(), sine_pulse(2.0, 0.5), 0.1, integrator=integrator)]
     m = pack(runs, _motions(runs))
-    return (m.model, m.settings, m.state, written_out(m.outputs), written_out(m.scratch), np.zeros((1, 4, 12)),
-            m.motion, 10, m.status)
+    return (written_out(m.model), m.settings, m.state, written_out(m.outputs), written_out(m.scratch),
+            np.zeros((1, 4, 12)), m.motion, 10, m.status)
 
 
 def _stamp() -> dict:

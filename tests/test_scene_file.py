@@ -182,8 +182,9 @@ def test_a_misspelt_name_gets_the_nearest_valid_one(tmp_path, text, message):
 
 
 def test_a_scene_file_that_is_not_there_is_refused_with_the_close_names_beside_it(tmp_path):
+    """The TOML files beside it are suggested, not other files, and nothing where its folder is not there."""
     (tmp_path / "isolated_column.toml").write_text("")
-    (tmp_path / "isolated_column.csv").write_text("")
+    (tmp_path / "colonnade.csv").write_text("")
     with pytest.raises(SceneFileError, match=r"isolated_colum.toml: no such scene file "
                                              r"\(did you mean 'isolated_column.toml'\?\)$"):
         load(tmp_path / "isolated_colum.toml")

@@ -10,6 +10,7 @@ import numpy as np
 from ..engine.result import EVENT_MEASURES
 from ..engine.settings import MOREAU_RESCUE_SWEEPS, MOREAU_SOLVER_FAILURE
 from ..output_files import output_file, output_folder
+from ..pictures import slip_scale
 from ..run_folder import RUN_FILES, run_summary, write_run, write_summary
 from ..scene_json import write_scene_json
 from ..simulation import SimulationUnstable
@@ -96,11 +97,12 @@ def run(args) -> int:
         return 2
     INTERRUPTS.check()
     ratio = result.damage_ratio
+    scale, unit = slip_scale(result.total_sliding)
     print(f"peak |theta| {np.max(result.peak_theta):.4g} rad"
           + (f" (peak |theta|/alpha {ratio:.3g}, alpha the critical angle that governs each block, its "
              "column's for a drum)"
              if np.isfinite(ratio) else "")
-          + f", total sliding {1e3 * result.total_sliding:.4g} mm, "
+          + f", total sliding {scale * result.total_sliding:.4g} {unit}, "
           f"overturned: {f'yes at t = {result.time_of_overturn:.3f} s' if result.overturned else 'no'}")
     for line in _solver_lines(result) + _connector_lines(result):
         print(line)

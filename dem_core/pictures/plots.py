@@ -25,6 +25,7 @@ from ..analyses.thresholds import SLIP_THRESHOLD
 from ..inputs.excitation import GroundMotion, peak_acceleration
 from ..inputs.records import G_STANDARD
 from ..output_files import replacing
+from . import slip_scale
 
 #: drums within this fraction of their column's peak |value| of each other at all times share a line
 DRUM_AGREEMENT = 0.10
@@ -36,9 +37,9 @@ SLID = SLIP_THRESHOLD
 #: the most interfaces drawn each in its own colour (the qualitative map's colours, none repeated); the others
 #: that slid join the grey line
 MOST_SLIP_LINES = 10
-#: sliding is drawn in mm while the largest stays under this (m), else in m
-SLIP_IN_MM_BELOW = 0.1
 OVERTURN = "crimson"
+#: the dashed lines at the critical angle, and their legend's sample where they are off the axis
+CRITICAL_LINE = {"color": "0.2", "ls": "--", "lw": 0.9}
 
 
 def _ground_panel(ax, result, excitation):
@@ -200,11 +201,11 @@ def rotations(result, excitation=None, title="Block rotations", *, relative: boo
     for value, label in levels.items():
         if value <= CRITICAL_IN_VIEW * peak:
             reach = max(reach, value)
-            ax.axhline(value, color="0.2", ls="--", lw=0.9, label=label)
-            ax.axhline(-value, color="0.2", ls="--", lw=0.9)
+            ax.axhline(value, **CRITICAL_LINE, label=label)
+            ax.axhline(-value, **CRITICAL_LINE)
         else:
             times = f" ({value / peak:.2g} \u00d7 the peak)" if peak > 0 else ""
-            ax.plot([], [], color="0.2", ls="--", lw=0.9, label=f"{label}:\noff the axis{times}")
+            ax.plot([], [], **CRITICAL_LINE, label=f"{label}:\noff the axis{times}")
     if not reach > 0:
         reach = min(levels) if levels else 1.0
     ax.set_ylim(-1.1 * reach, 1.1 * reach)
@@ -248,8 +249,8 @@ def epistyles(result, excitation=None, title="Epistyles"):
 
 
 def sliding(result, excitation=None, title="Sliding at the interfaces", *, threshold: float = SLID):
-    """Figure: slip accumulated at each interface over time (mm, or m past :data:`SLIP_IN_MM_BELOW`), from
-    ``result.slip_history``: a line per interface (named lower/upper, as interfaces.csv names it) whose slip passed
+    """Figure: slip accumulated at each interface over time (:func:`~dem_core.pictures.slip_scale` of the largest),
+    from ``result.slip_history``: a line per interface (named lower/upper, as interfaces.csv names it) whose slip passed
     ``threshold`` m, the largest :data:`MOST_SLIP_LINES` of them each in a colour of its own, the others as one grey
     line (the largest of them at each output); the ground motion below."""
     if result.slip_history is None:
@@ -259,8 +260,7 @@ def sliding(result, excitation=None, title="Sliding at the interfaces", *, thres
     order = [int(k) for k in np.argsort(-total, kind="stable")]
     drawn = [k for k in order if total[k] > threshold][:MOST_SLIP_LINES]
     rest = [k for k in order if k not in drawn]
-    in_mm = float(np.max(total, initial=0.0)) < SLIP_IN_MM_BELOW
-    scale, unit = (1e3, "mm") if in_mm else (1.0, "m")
+    scale, unit = slip_scale(float(np.max(total, initial=0.0)))
     fig, axes = plt.subplots(2, 1, sharex=True, figsize=(10, 6), gridspec_kw={"height_ratios": [3, 1]})
     ax = axes[0]
     t = result.t[:len(slip)]
