@@ -17,7 +17,7 @@ import numpy as np
 
 from .engine.model_arrays import NO_KEY, ModelArrays
 from .engine.scratch import make_scratch
-from .engine.settings import INTEGRATOR, INTEGRATORS, STATUS_FULL, STATUS_OK
+from .engine.settings import CONTACT_LAW, INTEGRATOR, INTEGRATORS, SCALE, STATUS_FULL, STATUS_OK
 from .engine.state import Outputs, State, with_capacities
 from .engine._ground import ground_samples
 from .inputs.excitation import GroundMotion, Scaled
@@ -159,16 +159,18 @@ def pack(runs: list, motions: _Motions) -> Members:
     pairs = max(1, n_bodies * (n_bodies - 1) // 2)
     retired = max(run.state.capacities[1] for run in runs)
     states = [with_capacities(run.state, pairs, retired) for run in runs]
+    settings = _stacked([run.settings for run in runs])
+    settings.real[:, SCALE] = motions.scale
     outputs = runs[0].empty_outputs(max(run.output_rows for run in runs))
-    scratch = make_scratch(runs[0].arrays, pairs, {run.settings.integrator for run in runs},
-                           {run.settings.contact_law for run in runs})
+    scratch = make_scratch(runs[0].arrays, pairs, set(settings.integer[:, INTEGRATOR].tolist()),
+                           set(settings.integer[:, CONTACT_LAW].tolist()))
     arrays = [run.arrays for run in runs]
     shared = all(a is arrays[0] for a in arrays)  # one scene's set-up (set_up_scene)
     return Members(
         model=repeated(arrays[0], len(runs)) if shared else _stacked(_padded_frictions(arrays)),
-        settings=_stacked([run.settings.replace(scale=motions.scale[m]) for m, run in enumerate(runs)]),
-        state=_stacked(states), outputs=repeated(outputs, len(runs)), scratch=repeated(scratch, len(runs)),
-        motion=motions.index.copy(), status=np.tile(np.array([RUNNING, 0, 0], np.int64), (len(runs), 1)))
+        settings=settings, state=_stacked(states), outputs=repeated(outputs, len(runs)),
+        scratch=repeated(scratch, len(runs)), motion=motions.index.copy(),
+        status=np.tile(np.array([RUNNING, 0, 0], np.int64), (len(runs), 1)))
 
 
 def _on_device(members: Members, cuda) -> Members:
