@@ -101,10 +101,10 @@ def _motions(runs: list) -> _Motions:
 class Members:
     """A batch's arrays: the driver's named tuples with the members on their first axis (:mod:`.engine._members`),
     ``motion`` (M,) each member's row of the chunk's samples and ``status`` (M, 3) its run's end (RUNNING while it
-    goes on).  What every member has alike, the blank outputs and scratch they start with and the model of members
-    of one scene set up once, is one member's :func:`repeated` until a launcher writes it out where its kernel runs
-    (:func:`written_out` on the host, on the GPU by :func:`_on_device`).  The members' runs keep their own states as
-    they started."""
+    goes on).  What every member has alike, the blank outputs and scratch they start with and the model where every
+    member shares one set-up (:func:`~dem_core.simulation.set_up_scene`), is one member's :func:`repeated` until a
+    launcher writes it out where its kernel runs (:func:`written_out` on the host, on the GPU by
+    :func:`_on_device`).  The members' runs keep their own states as they started."""
 
     model: ModelArrays
     settings: tuple
@@ -125,11 +125,11 @@ def _stacked(tuples: list):
     return type(tuples[0])(*(np.ascontiguousarray(np.stack(fields)) for fields in zip(*tuples)))
 
 
-def repeated(blank: tuple, count: int):
-    """``blank`` (a named tuple of one member's arrays) as ``count`` members' (count, ...) arrays: read-only views
-    of ``blank`` itself (stride 0 on the members' axis), which take no memory.  The batch's other arrays are
+def repeated(one: tuple, count: int):
+    """``one`` (a named tuple of one member's arrays) as ``count`` members' (count, ...) arrays: read-only views
+    of ``one`` itself (stride 0 on the members' axis), which take no memory.  The batch's other arrays are
     writable."""
-    return type(blank)(*(np.broadcast_to(a, (count,) + a.shape) for a in blank))
+    return type(one)(*(np.broadcast_to(a, (count,) + a.shape) for a in one))
 
 
 def written_out(part: tuple):
@@ -152,7 +152,8 @@ def _padded_frictions(arrays: list) -> list:
 
 def pack(runs: list, motions: _Motions) -> Members:
     """The batch's :class:`Members` of ``runs`` (set up, not yet stepped): every member with a store of every pair of
-    its bodies (a list cannot overflow it) and as many retired slips as the most any member starts with."""
+    its bodies (a list cannot overflow it) and as many retired slips as the most any member starts with, and a
+    scratch with room for the largest polygon of any member."""
     from .engine._members import RUNNING
 
     n_bodies = runs[0].arrays.body.shape[1]
@@ -162,7 +163,8 @@ def pack(runs: list, motions: _Motions) -> Members:
     settings = _stacked([run.settings for run in runs])
     settings.real[:, SCALE] = motions.scale
     outputs = runs[0].empty_outputs(max(run.output_rows for run in runs))
-    scratch = make_scratch(runs[0].arrays, pairs, set(settings.integer[:, INTEGRATOR].tolist()),
+    widest = max(runs, key=lambda run: int(np.max(np.diff(run.arrays.vstart))))  # the clipping's room: its polygon
+    scratch = make_scratch(widest.arrays, pairs, set(settings.integer[:, INTEGRATOR].tolist()),
                            set(settings.integer[:, CONTACT_LAW].tolist()))
     arrays = [run.arrays for run in runs]
     shared = all(a is arrays[0] for a in arrays)  # one scene's set-up (set_up_scene)
@@ -175,9 +177,10 @@ def pack(runs: list, motions: _Motions) -> Members:
 
 def _on_device(members: Members, cuda) -> Members:
     """``members`` with every array copied to the GPU (named tuples of device arrays), a :func:`repeated` array
-    written out there from its one member's blank."""
+    written out there from its one member's row."""
     def moved(a):
-        return cuda.to_device(a) if a.flags.writeable else _repeated_on_device(np.array(a[0]), len(a), cuda)
+        return cuda.to_device(a) if a.flags.writeable else _repeated_on_device(np.array(a[0], order="C"), len(a),
+                                                                                cuda)
 
     def part_moved(part):
         return type(part)(*(moved(a) for a in part)) if isinstance(part, tuple) else moved(part)
@@ -185,13 +188,13 @@ def _on_device(members: Members, cuda) -> Members:
     return Members(*(part_moved(getattr(members, name)) for name in Members.__dataclass_fields__))
 
 
-def _repeated_on_device(blank: np.ndarray, count: int, cuda):
-    """A (count, ...) device array whose every row is ``blank`` (an array of its own: a row of a :func:`repeated`
+def _repeated_on_device(row: np.ndarray, count: int, cuda):
+    """A (count, ...) device array whose every row is ``row`` (an array of its own: a row of a :func:`repeated`
     view has stride 0 on its axes of length 1, which numba's copies drop as broadcast): one copy to the GPU, then
     the rows written so far copied on the GPU after themselves, doubling them (log2(count) copies, nothing the size
     of the batch on the host)."""
-    rows = cuda.device_array((count,) + blank.shape, blank.dtype)
-    rows[0].copy_to_device(blank)
+    rows = cuda.device_array((count,) + row.shape, row.dtype)
+    rows[0].copy_to_device(row)
     done = 1
     while done < count:
         more = min(done, count - done)
@@ -288,8 +291,9 @@ def serial_launcher():
     from .engine._members import SERIAL
 
     def launch(members: Members, samples: np.ndarray, n_steps: int) -> np.ndarray:
-        members.model, members.outputs, members.scratch = (written_out(part) for part in
-                                                           (members.model, members.outputs, members.scratch))
+        members.model = written_out(members.model)
+        members.outputs = written_out(members.outputs)
+        members.scratch = written_out(members.scratch)
         SERIAL[members.integrator](members.model, members.settings, members.state, members.outputs, members.scratch,
                                samples, members.motion, n_steps, members.status)
         return members.status

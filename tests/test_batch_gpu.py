@@ -115,6 +115,36 @@ def test_a_batch_holds_one_blank_and_one_shared_model_for_its_members_until_its_
         for a, whole in zip(part, written_out(part)):
             assert whole.flags.c_contiguous and whole.flags.writeable and whole.shape == (len(runs),) + a[0].shape
             assert all(np.array_equal(row, a[0], equal_nan=True) for row in whole)
+    assert all(np.shares_memory(a, own) for a, own in zip(members.model, shared.arrays) if own.size)
+    apart = [Simulation(scene, scaled(EL_CENTRO, f), 1.0, integrator="moreau") for f in (1.0, 2.0)]
+    assert all(a.flags.writeable for a in pack(apart, _motions(apart)).model)  # each its own set-up: stacked
+
+
+#: convex outlines (m) with a flat bottom, and a flat top where a block rests on them: 5 and 5, and 4 and 6 vertices
+PENTAGON = [(-0.5, 0.0), (0.5, 0.0), (0.6, 0.25), (0.5, 0.5), (-0.5, 0.5)]
+HOUSE = [(-0.4, 0.5), (0.4, 0.5), (0.4, 0.8), (0.0, 1.0), (-0.4, 0.8)]
+SQUARE = [(-0.5, 0.0), (0.5, 0.0), (0.5, 0.5), (-0.5, 0.5)]
+HEXAGON = [(-0.4, 0.5), (0.4, 0.5), (0.5, 0.7), (0.4, 0.9), (-0.4, 0.9), (-0.5, 0.7)]
+
+
+def _two_blocks(lower, upper):
+    """A block on a block on the ground, under the overlap-area law (which clips their polygons)."""
+    return dem_core.Scene((dem_core.Block("lower", np.array(lower)), dem_core.Block("upper", np.array(upper))),
+                          dem_core.Block("base", np.array([(-5.0, -1.0), (5.0, -1.0), (5.0, 0.0), (-5.0, 0.0)])),
+                          contact=ContactParameters(law="overlap_area"))
+
+
+def test_a_member_whose_polygons_are_larger_than_member_0s_has_room_in_the_batchs_scratch():
+    """Members of one shape (bodies, vertices in all) may differ in their largest polygon: the overlap-area law's
+    clipping has room for the largest of any member (member 1's hexagon, 2 x 6 + 2 points, where member 0's
+    largest has 5), and each member runs as simulate runs it."""
+    motion = sine_pulse(4.0, 0.5)
+    members = [_two_blocks(PENTAGON, HOUSE), _two_blocks(SQUARE, HEXAGON)]
+    runs = [Simulation(scene, motion, 1.0, integrator="explicit") for scene in members]
+    assert pack(runs, _motions(runs)).scratch.clip_x.shape[-1] == 2 * 6 + 2
+    run_members(runs, launcher=serial_launcher())
+    for scene, run in zip(members, runs):
+        _assert_same_run(dem_core.simulate(scene, motion, 1.0, integrator="explicit"), run.result())
 
 
 def test_a_member_whose_store_fills_is_run_again_on_the_cpu(monkeypatch):

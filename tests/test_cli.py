@@ -20,7 +20,7 @@ from dem_core import cli
 from dem_core.analyses import thresholds
 from dem_core.cli import main
 from dem_core.inputs.suites import load_suite
-from dem_core.pictures import slip_scale
+from dem_core.pictures import SLIP_IN_MM_BELOW
 
 REPOSITORY = Path(__file__).resolve().parents[1]
 
@@ -67,8 +67,8 @@ def test_run_writes_tables_summary_and_figures(tmp_path, capsys):
     assert list(interfaces.interface) == ["base/drum1", "drum1/drum2", "drum2/drum3"]
     assert interfaces.sliding_m.sum() == pytest.approx(summary["total_sliding_m"], rel=1e-12, abs=1e-15)
     assert "sliding_m" not in metrics and "sliding_at_its_joints_m" in metrics
-    scale, unit = slip_scale(summary["total_sliding_m"])  # mm under 0.1 m, as sliding.png
-    assert f", total sliding {scale * summary['total_sliding_m']:.4g} {unit}, " in printed
+    assert summary["total_sliding_m"] < SLIP_IN_MM_BELOW
+    assert f", total sliding {1e3 * summary['total_sliding_m']:.4g} mm, " in printed
     joint = dict(zip(interfaces.interface, interfaces.sliding_m))
     assert metrics.sliding_at_its_joints_m[1] == pytest.approx(joint["drum1/drum2"] + joint["drum2/drum3"])
     assert "interfaces.csv" in summary["files"]
