@@ -151,9 +151,9 @@ def _padded_frictions(arrays: list) -> list:
 
 
 def pack(runs: list, motions: _Motions) -> Members:
-    """The batch's :class:`Members` of ``runs`` (set up, not yet stepped): every member with a store of every pair of
-    its bodies (a list cannot overflow it) and as many retired slips as the most any member starts with, and a
-    scratch with room for the largest polygon of any member."""
+    """The batch's :class:`Members` of ``runs`` (set up, not yet stepped, of one shape: :func:`check_members`): every
+    member with a store of every pair of its bodies (a list cannot overflow it) and as many retired slips as the
+    most any member starts with, and a scratch with room for the largest polygon of any member."""
     from .engine._members import RUNNING
 
     n_bodies = runs[0].arrays.body.shape[1]
@@ -163,11 +163,11 @@ def pack(runs: list, motions: _Motions) -> Members:
     settings = _stacked([run.settings for run in runs])
     settings.real[:, SCALE] = motions.scale
     outputs = runs[0].empty_outputs(max(run.output_rows for run in runs))
-    widest = max(runs, key=lambda run: int(np.max(np.diff(run.arrays.vstart))))  # the clipping's room: its polygon
-    scratch = make_scratch(widest.arrays, pairs, set(settings.integer[:, INTEGRATOR].tolist()),
-                           set(settings.integer[:, CONTACT_LAW].tolist()))
     arrays = [run.arrays for run in runs]
     shared = all(a is arrays[0] for a in arrays)  # one scene's set-up (set_up_scene)
+    widest = arrays[0] if shared else max(arrays, key=lambda a: int(np.max(np.diff(a.vstart))))  # clipping's room
+    scratch = make_scratch(widest, pairs, set(settings.integer[:, INTEGRATOR].tolist()),
+                           set(settings.integer[:, CONTACT_LAW].tolist()))
     return Members(
         model=repeated(arrays[0], len(runs)) if shared else _stacked(_padded_frictions(arrays)),
         settings=settings, state=_stacked(states), outputs=repeated(outputs, len(runs)),

@@ -137,7 +137,8 @@ def _two_blocks(lower, upper):
 def test_a_member_whose_polygons_are_larger_than_member_0s_has_room_in_the_batchs_scratch():
     """Members of one shape (bodies, vertices in all) may differ in their largest polygon: the overlap-area law's
     clipping has room for the largest of any member (member 1's hexagon, 2 x 6 + 2 points, where member 0's
-    largest has 5), and each member runs as simulate runs it."""
+    largest has 5 and left room for 12); and members of different polygons run as simulate runs them.  (Here no
+    clipped overlap of a resting pair needs more than 10 points, so only the room tells the two sizings apart.)"""
     motion = sine_pulse(4.0, 0.5)
     members = [_two_blocks(PENTAGON, HOUSE), _two_blocks(SQUARE, HEXAGON)]
     runs = [Simulation(scene, motion, 1.0, integrator="explicit") for scene in members]
