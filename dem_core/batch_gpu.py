@@ -132,10 +132,15 @@ def repeated(one: tuple, count: int):
     return type(one)(*(np.broadcast_to(a, (count,) + a.shape) for a in one))
 
 
+def _is_repeated(a: np.ndarray) -> bool:
+    """Whether ``a`` is a :func:`repeated` view (read-only; the batch's other arrays are writable)."""
+    return not a.flags.writeable
+
+
 def written_out(part: tuple):
     """``part`` (a named tuple of the members' arrays) with each :func:`repeated` array copied into a C-contiguous
     array of its own (the others as they are): what the compiled kernels take."""
-    return type(part)(*(a if a.flags.writeable else np.array(a, order="C") for a in part))
+    return type(part)(*(np.array(a, order="C") if _is_repeated(a) else a for a in part))
 
 
 def _padded_frictions(arrays: list) -> list:
@@ -179,8 +184,7 @@ def _on_device(members: Members, cuda) -> Members:
     """``members`` with every array copied to the GPU (named tuples of device arrays), a :func:`repeated` array
     written out there from its one member's row."""
     def moved(a):
-        return cuda.to_device(a) if a.flags.writeable else _repeated_on_device(np.array(a[0], order="C"), len(a),
-                                                                                cuda)
+        return _repeated_on_device(np.array(a[0], order="C"), len(a), cuda) if _is_repeated(a) else cuda.to_device(a)
 
     def part_moved(part):
         return type(part)(*(moved(a) for a in part)) if isinstance(part, tuple) else moved(part)
