@@ -361,6 +361,8 @@ def _gpu_rows(runs: dict, members: list, motions, measures, keep, rows: dict, ke
         run = runs[m]
         if ended_only and run.status is None:
             continue
+        if m in keep:  # a kept history holds outputs of its own, not views that hold every member's
+            run.outputs = type(run.outputs)(*(a.copy() for a in run.outputs))
         rows[m], result = _measured(m, motions[m], run, set_up[m] + share, measures)
         if m in keep:
             kept[m] = result

@@ -274,7 +274,9 @@ def run_members(runs: list, progress=None, launcher=None) -> float:
 
 def _hand_back(runs: list, members: Members, took: float) -> None:
     """Each run's state, outputs and status from the batch's arrays (its share of the kernel's wall time as its run
-    time); a member whose store filled is run again from its start on the CPU."""
+    time); a member whose store filled is run again from its start on the CPU, and a batch stopped before its
+    kernel first ran leaves each run as it was set up.  A run's outputs are views of its rows of the batch's
+    (copying them would hold every member's outputs twice): the batch's outputs stay in memory while any run's do."""
     from .engine._members import RUNNING
 
     for m, run in enumerate(runs):
@@ -283,8 +285,10 @@ def _hand_back(runs: list, members: Members, took: float) -> None:
         if code == STATUS_FULL:  # the run's own state is still its start's
             run.advance()
             continue
+        if _is_repeated(members.outputs.pos):  # no kernel wrote them out: the batch stopped before its first chunk
+            continue
         run.state = State(*(a[m].copy() for a in members.state))
-        run.outputs = Outputs(*(a[m, :run.output_rows].copy() for a in members.outputs))
+        run.outputs = Outputs(*(a[m, :run.output_rows] for a in members.outputs))
         if code != RUNNING:
             run.status, run.stopped_by = code, ((i, j) if code != STATUS_OK else None)
 
