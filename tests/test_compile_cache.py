@@ -1,4 +1,5 @@
-"""Compiled kernels are cached on disk: a second process loads them instead of compiling."""
+"""Compiled kernels are cached on disk: a second process loads them instead of compiling; and one compile of the
+driver serves every run of a process."""
 
 import subprocess
 import sys
@@ -45,3 +46,38 @@ def test_every_function_compiled_for_its_own_call_is_named_with_the_engines_dige
                 cached.append((module.__name__, name, value.py_func.__name__))
     assert len(cached) >= 10
     assert [c for c in cached if not c[2].endswith(ENGINE_DIGEST)] == []
+
+
+#: runs of every kind a scene and its options give the driver: both integrators, both contact laws, connectors, a
+#: moving base and a run going on from another's end; then the driver's signatures and each run's compile time
+KINDS = """
+import dem_core
+from dem_core import ContactParameters, scenes
+from dem_core.engine import _driver
+from dem_core.inputs.connectors import titanium_bar
+from dem_core.inputs.excitation import record, scaled, sine_pulse
+pulse, el_centro = sine_pulse(2.0, 0.5), scaled(record("el_centro_1940"), 2.0)
+times = []
+for integrator in ("explicit", "moreau"):
+    first = dem_core.simulate(scenes.block(1.0, 6.0), pulse, 0.1, integrator=integrator)
+    runs = [first,
+            dem_core.simulate(scenes.column(connectors=[(titanium_bar(), "all")]), el_centro, 0.1,
+                              integrator=integrator),
+            dem_core.simulate(scenes.colonnade(), el_centro, 0.1, integrator=integrator, ground_motion="moving_base"),
+            dem_core.simulate(scenes.block(1.0, 6.0), pulse, 0.1, integrator=integrator, start=first)]
+    times += [run.info["compile_time_s"] for run in runs]
+overlap = dem_core.simulate(scenes.stack([(0.8, 1.0), (0.6, 0.8)], contact=ContactParameters(law="overlap_area")),
+                            pulse, 0.1, integrator="explicit")
+times.append(overlap.info["compile_time_s"])
+print(len(_driver.drive_serial.signatures), *times)
+"""
+
+
+def test_one_compile_of_the_driver_serves_runs_of_every_kind():
+    """The driver's arguments have one type for every scene and option, so a process compiles it (or loads it from
+    the cache) once, at its first run, and every later run's set-up skips the compiling call (compile time 0)."""
+    done = subprocess.run([sys.executable, "-c", KINDS], capture_output=True, text=True, check=True)
+    signatures, first, *later = done.stdout.split()
+    assert int(signatures) == 1
+    assert float(first) > 0.0
+    assert [float(t) for t in later] == [0.0] * 8
