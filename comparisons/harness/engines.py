@@ -2,18 +2,16 @@
 
 * ``dem``: the native core with its default contact law (springs at the corners);
 * ``dem-overlap``: the native core with the thesis' overlap-area law;
-* ``dem-moreau``: the native core's Moreau-Jean integrator on the corner law's points (rigid contacts,
-  no stiffness);
+* ``dem-moreau``: the native core's Moreau-Jean integrator on the corner law's points (rigid contacts, no stiffness);
 * ``pymunk``, ``pybullet``, ``mujoco``: the adapters of :mod:`adapters`.
 
-A native run replaces the scene's contact with its law's default parameters, with K_n multiplied by
-``kn_factor`` when its settings ask for a stiffer contact (``{"kn_factor": 100}``), and stops at the
-first overturn, as :func:`dem_core.simulate` does by default.  Its step is a divisor N of the
-automatic step, labelled ``auto/N``: the step :func:`dem_core.simulate` picks when given none
-(explicit: the smaller of 0.8 of the stability limit and a fifteenth of the shortest impact, both for
-the contact it runs with; Moreau-Jean: :func:`dem_core.simulation.moreau_time_step`) divided by N.  The other
-engines take a step in seconds and their own solver settings
-(``{"iterations": 200}``).
+A native run replaces the scene's contact with its law's default parameters, with K_n multiplied by ``kn_factor``
+when its settings ask for a stiffer contact (``{"kn_factor": 100}``), and stops at the first overturn, as
+:func:`dem_core.simulate` does by default.  Its step is a divisor N of the automatic step, labelled ``auto/N``: the
+step :func:`dem_core.simulate` picks when given none (explicit: the smaller of 0.8 of the stability limit and a
+fifteenth of the shortest impact, both for the contact it runs with; Moreau-Jean:
+:func:`dem_core.simulation.moreau_time_step`) divided by N.  The other engines take a step in seconds and their own
+solver settings (``{"iterations": 200}``).
 """
 
 import contextlib
