@@ -110,7 +110,8 @@ def simulate_batch(scene, motions, duration: float | None = None, *, device: str
         :attr:`Batch.device` says which ran.
     threads : how many members run at once on the CPU (default ``numba.get_num_threads()``, all cores).
     histories : indices of the members whose :class:`Result` is kept (in :attr:`Batch.histories`).
-    measures : optional ``function(result) -> dict`` whose items are added to each member's row.
+    measures : optional ``function(result) -> dict`` whose items are added to each member's row.  On the GPU a
+        result's histories are views of the batch's outputs: a ``measures`` that keeps a result keeps them all.
     progress : optional ``function(done, total)`` called as members finish.
     finished : optional ``function(member, row)`` called on the caller's thread with each member's row as soon as
         the batch has it (as each member ends on the CPU, when the batch ends on the GPU, and for the members that
@@ -361,7 +362,7 @@ def _gpu_rows(runs: dict, members: list, motions, measures, keep, rows: dict, ke
         run = runs[m]
         if ended_only and run.status is None:
             continue
-        if m in keep:  # a kept history holds outputs of its own, not views that hold every member's
+        if m in keep and run.outputs is not None:  # its own outputs, not views that hold every member's
             run.outputs = type(run.outputs)(*(a.copy() for a in run.outputs))
         rows[m], result = _measured(m, motions[m], run, set_up[m] + share, measures)
         if m in keep:

@@ -275,8 +275,9 @@ def run_members(runs: list, progress=None, launcher=None) -> float:
 def _hand_back(runs: list, members: Members, took: float) -> None:
     """Each run's state, outputs and status from the batch's arrays (its share of the kernel's wall time as its run
     time); a member whose store filled is run again from its start on the CPU, and a batch stopped before its
-    kernel first ran leaves each run as it was set up.  A run's outputs are views of its rows of the batch's
-    (copying them would hold every member's outputs twice): the batch's outputs stay in memory while any run's do."""
+    launcher first wrote the outputs out leaves each run as it was set up.  A run's outputs are views of its rows of
+    the batch's (copying them would hold every member's outputs twice): the batch's outputs stay in memory while any
+    run's do."""
     from .engine._members import RUNNING
 
     for m, run in enumerate(runs):

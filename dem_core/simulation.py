@@ -881,10 +881,10 @@ def _physical_memory() -> float:
 
 def _ensure_compiled(run: Simulation) -> float:
     """Compile the kernel (or load it from numba's cache) with a zero-step call, unless this process has; returns the
-    seconds it took (0 where it had been).  The driver's arguments, named tuples of C-contiguous arrays of fixed
-    dtypes and ranks, have one type for every scene, so one compile serves every run (and the call's throwaway
-    arguments were most of a batch member's set-up)."""
-    if run.kernel.signatures:
+    seconds it took (0 where it had been, and where numba compiles nothing: NUMBA_DISABLE_JIT's plain function).
+    The driver's arguments, named tuples of C-contiguous arrays of fixed dtypes and ranks, have one type for every
+    scene, so one compile serves every run."""
+    if getattr(run.kernel, "signatures", True):
         return 0.0
     started = time.perf_counter()
     run.kernel(run.arrays, run.settings, run.state.copy(), run.empty_outputs(1), run.new_scratch(),

@@ -124,8 +124,9 @@ def test_a_batch_holds_one_blank_and_one_shared_model_for_its_members_until_its_
 def test_a_batch_hands_each_run_its_rows_of_the_outputs_it_fetched_without_copying_them():
     """The outputs a batch fetches from its kernel are most of its bytes (2.4 GB for 4,096 columns of 20 s): each run
     is handed its rows of them as views, so that handing 40 columns back allocates their states (7 KB each; 1.8% of
-    the outputs traced in all) and not their outputs again (577 KB each).  A batch stopped before its kernel first ran leaves each run as it was
-    set up.  (A kept history holds a copy of its own: the simulator's test.)"""
+    the outputs traced in all) and not their outputs again (577 KB each).  A batch stopped before its launcher
+    first wrote the outputs out leaves each run as it was set up.  (A kept history holds a copy of its own: the
+    simulator's test.)"""
     scene = scenes.column()
     shared = set_up_scene(scene, integrator="moreau")
     runs = [Simulation(scene, scaled(EL_CENTRO, f), 20.0, integrator="moreau", scene_set_up=shared)
