@@ -110,8 +110,9 @@ def simulate_batch(scene, motions, duration: float | None = None, *, device: str
         :attr:`Batch.device` says which ran.
     threads : how many members run at once on the CPU (default ``numba.get_num_threads()``, all cores).
     histories : indices of the members whose :class:`Result` is kept (in :attr:`Batch.histories`).
-    measures : optional ``function(result) -> dict`` whose items are added to each member's row.  On the GPU a
-        result's histories are views of the batch's outputs: a ``measures`` that keeps a result keeps them all.
+    measures : optional ``function(result) -> dict`` whose items are added to each member's row.  On the GPU the
+        histories of a result outside ``histories`` are views of the batch's outputs: a ``measures`` that keeps
+        such a result keeps them all.
     progress : optional ``function(done, total)`` called as members finish.
     finished : optional ``function(member, row)`` called on the caller's thread with each member's row as soon as
         the batch has it (as each member ends on the CPU, when the batch ends on the GPU, and for the members that

@@ -35,8 +35,8 @@ def progress_bar(**options):
 class ProgressLines:
     """The part of a tqdm bar the commands use (``n``, ``total``, :meth:`update`, :meth:`set_postfix_str`,
     :meth:`close`, a context) as a line on stderr every :data:`LOG_EVERY_S` s and one at the end: what is done of
-    the total, the time so far and, from the rate so far, the time left ("runs: 120 of 1600 (7.5%), 45 s, about 9.2
-    min left"; a bar whose ``bar_format`` shows no count gives its share alone: "runs: 29.4%, ...")."""
+    the total, the time so far and, from the rate so far, the time left ("runs: 120 of 1600 (7.5%), 45 s,
+    about 9.2 min left"; a bar whose ``bar_format`` shows no count gives its share alone: "runs: 29.4%, ...")."""
 
     def __init__(self, total=None, desc: str = "", unit: str = "it", initial: int = 0, disable: bool = False,
                  bar_format: str | None = None, clock=time.perf_counter, **_):
