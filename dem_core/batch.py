@@ -10,6 +10,7 @@ history is kept only where asked for, so memory does not grow with the number of
 
 from __future__ import annotations
 
+import difflib
 import inspect
 import itertools
 import queue
@@ -29,6 +30,7 @@ from .gpu_kernels import load_named_kernels
 from .engine.result import Result
 from .inputs.excitation import GroundMotion, MotionSequence, describe, strong_motion_cuts
 from .inputs.number_types import is_integer
+from .inputs.run_settings import check_settings
 from .simulation import Simulation, SimulationUnstable, check_run_arguments, set_up_scene, warn_caller
 
 #: where a batch can run: ``"auto"`` takes the GPU where numba-cuda finds one and the batch has at least
@@ -47,6 +49,11 @@ WAKE_SECONDS = 0.2
 _RECORDING = threading.Lock()
 #: the options of simulate that a scene's set-up depends on (set_up_scene's keywords)
 STEP_OPTIONS = tuple(inspect.signature(set_up_scene).parameters)[1:]
+#: the keywords of simulate that a batch passes to every member's run (``simulate_options``): Simulation's after
+#: its scene, motion and duration, but the set-up, which the batch makes
+MEMBER_OPTIONS = tuple(name for name in tuple(inspect.signature(Simulation).parameters)[3:] if name != "scene_set_up")
+#: the options check_settings checks without a scene
+CHECKED_SETTINGS = tuple(inspect.signature(check_settings).parameters)
 
 
 @dataclass(frozen=True)
@@ -130,7 +137,8 @@ def simulate_batch(scene, motions, duration: float | None = None, *, device: str
     step beyond the stability limit, a long run) are given on the caller's thread as members start (within
     WAKE_SECONDS), each distinct one once, at the caller's line.
     """
-    threads, scenes, motions, keep = _checked(scene, motions, device, threads, histories, simulate_options)
+    threads, scenes, motions, keep = _checked(scene, motions, duration, device, threads, histories,
+                                              simulate_options)
     for said in strong_motion_cuts((motion, duration) for motion in motions):
         warn_caller(f"the strong motion is cut: {said}")
     gpu = _gpu_for(device, motions, threads)
@@ -370,13 +378,29 @@ def _gpu_rows(runs: dict, members: list, motions, measures, keep, rows: dict, ke
             kept[m] = result
 
 
-def _checked(scene, motions, device, threads, histories, simulate_options) -> tuple:
+def _check_options(simulate_options: dict) -> None:
+    """``TypeError`` naming the first of ``simulate_options`` that is not an option of the members' runs (with the
+    closest of simulate_batch's keywords and theirs)."""
+    for name in simulate_options:
+        if name not in MEMBER_OPTIONS:
+            known = [*MEMBER_OPTIONS, *(k for k in inspect.signature(simulate_batch).parameters
+                                        if k != "simulate_options")]
+            close = difflib.get_close_matches(name, known, n=1)
+            raise TypeError(f"simulate_batch has no option {name!r}"
+                            + (f" (did you mean {close[0]!r}?)" if close else "")
+                            + f"; its members' runs take {', '.join(MEMBER_OPTIONS)}")
+
+
+def _checked(scene, motions, duration, device, threads, histories, simulate_options) -> tuple:
     """``(threads, the members' scenes and motions as lists, members whose histories are kept)``, or the error
     naming what is wrong."""
     check_device(device)
     if "parallel" in simulate_options:
         raise TypeError("simulate_batch spreads its members over threads; 'parallel' (one run over threads) does "
                         "not apply")
+    _check_options(simulate_options)
+    check_settings(duration=duration, **{name: value for name, value in simulate_options.items()
+                                         if name in CHECKED_SETTINGS})
     threads = _thread_count(threads)
     scenes, motions = _member_inputs(scene, motions)
     for m, (member_scene, motion) in enumerate(zip(scenes, motions)):
@@ -452,9 +476,11 @@ def _thread_count(threads) -> int:
 
 
 def _members(histories, count: int) -> set:
+    if isinstance(histories, (str, bytes)) or not hasattr(histories, "__iter__"):
+        raise TypeError(f"histories must be a sequence of members' indices, such as [0, 3], got {histories!r}")
     keep = set()
     for m in histories:
-        if not is_integer(m) or not 0 <= m < count:
+        if isinstance(m, bool) or not is_integer(m) or not 0 <= m < count:
             raise ValueError(f"histories names member {m!r}; members are 0 to {count - 1}")
         keep.add(int(m))
     return keep

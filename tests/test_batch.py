@@ -131,6 +131,10 @@ def test_progress_counts_every_member():
     ({"device": "gpu"}, ValueError, "CUDA"),
     ({"device": "tpu"}, ValueError, "device must be one of"),
     ({"histories": [5]}, ValueError, "histories names member 5"),
+    ({"histories": [True]}, ValueError, "histories names member True"),
+    ({"histories": 0}, TypeError, r"histories must be a sequence of members' indices, such as \[0, 3\], got 0"),
+    ({"duraton": 1.0}, TypeError, r"simulate_batch has no option 'duraton' \(did you mean 'duration'\?\)"),
+    ({"integrater": "moreau"}, TypeError, r"no option 'integrater' \(did you mean 'integrator'\?\); its members"),
     ({"threads": 0}, ValueError, "threads must be"),
     ({"parallel": True}, TypeError, "parallel"),
     ({"dt": -1.0}, ValueError, "dt must be positive"),
@@ -139,6 +143,11 @@ def test_bad_input_is_refused_naming_it(arguments, error, words):
     given = {"motions": _motions(), **arguments}
     with pytest.raises(error, match=words):
         simulate_batch(scenes.block(0.6, 3.0), given.pop("motions"), 0.5, **given)
+
+
+def test_a_wrong_duration_is_refused_once_for_the_batch():
+    with pytest.raises(ValueError, match="duration must be positive"):
+        simulate_batch(scenes.block(0.6, 3.0), _motions(), -2.0)
 
 
 def test_ctrl_c_hands_back_the_members_that_finished():
