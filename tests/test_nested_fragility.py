@@ -60,6 +60,23 @@ def test_the_joint_fit_maximises_the_summed_likelihood_and_is_the_single_fit_for
     assert one[0] == pytest.approx(alone[0], rel=1e-5) and one_beta == pytest.approx(alone[1], rel=1e-5)
 
 
+def test_counts_a_step_fits_as_well_as_any_lognormal_get_a_note_saying_beta_is_not_measured():
+    """Two records at four levels, as a newcomer's first study: the milder state exceeded by one record at the
+    lowest level and by both above it, the severe one by neither at the lowest, one at the next and both above.
+    Steps at those stripes give every stripe its observed fraction (1/2, 0 or 1), so the likelihood grows as beta
+    shrinks toward them: the stripes do not measure beta, and the fit says so.  Counts that rise over several
+    stripes (the crossing counts, above) get no note."""
+    levels, runs = np.array([2.5, 4.9, 7.4, 9.8]), np.full((4, 2), 2)
+    exceed = np.array([[1, 0], [2, 1], [2, 2], [2, 2]])
+    medians, beta, note = nested_fragility.fit_nested(levels, runs, exceed)
+    assert "beta is not measured" in note
+    np.testing.assert_allclose(medians, [2.5, 4.9], rtol=0.05)
+    assert beta < 0.1
+    n, mild, severe = _counts_that_cross()
+    _, beta, note = nested_fragility.fit_nested(LEVELS, np.stack([n, n], 1), np.stack([mild, severe], 1))
+    assert beta > 0.1 and note == ""
+
+
 #: seeded suites of 10 records from a known lognormal, and the least of them whose band drawn by record covers its
 #: median (docs/method.md quotes both, tests/test_method_figures.py reads them here)
 COVERAGE_SUITES, COVERED_AT_LEAST = 100, 80
