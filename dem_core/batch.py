@@ -50,8 +50,9 @@ _RECORDING = threading.Lock()
 #: the options of simulate that a scene's set-up depends on (set_up_scene's keywords)
 STEP_OPTIONS = tuple(inspect.signature(set_up_scene).parameters)[1:]
 #: the keywords of simulate that a batch passes to every member's run (``simulate_options``): Simulation's after
-#: its scene, motion and duration, but the set-up, which the batch makes
-MEMBER_OPTIONS = tuple(name for name in tuple(inspect.signature(Simulation).parameters)[3:] if name != "scene_set_up")
+#: its scene, motion and duration, but the set-up, which the batch makes, and ``parallel``, which does not apply
+MEMBER_OPTIONS = tuple(name for name in tuple(inspect.signature(Simulation).parameters)[3:]
+                       if name not in ("scene_set_up", "parallel"))
 #: the options check_settings checks without a scene
 CHECKED_SETTINGS = tuple(inspect.signature(check_settings).parameters)
 
@@ -480,7 +481,7 @@ def _members(histories, count: int) -> set:
         raise TypeError(f"histories must be a sequence of members' indices, such as [0, 3], got {histories!r}")
     keep = set()
     for m in histories:
-        if isinstance(m, bool) or not is_integer(m) or not 0 <= m < count:
+        if not is_integer(m) or not 0 <= m < count:
             raise ValueError(f"histories names member {m!r}; members are 0 to {count - 1}")
         keep.add(int(m))
     return keep

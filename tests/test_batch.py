@@ -131,7 +131,6 @@ def test_progress_counts_every_member():
     ({"device": "gpu"}, ValueError, "CUDA"),
     ({"device": "tpu"}, ValueError, "device must be one of"),
     ({"histories": [5]}, ValueError, "histories names member 5"),
-    ({"histories": [True]}, ValueError, "histories names member True"),
     ({"histories": 0}, TypeError, r"histories must be a sequence of members' indices, such as \[0, 3\], got 0"),
     ({"duraton": 1.0}, TypeError, r"simulate_batch has no option 'duraton' \(did you mean 'duration'\?\)"),
     ({"integrater": "moreau"}, TypeError, r"no option 'integrater' \(did you mean 'integrator'\?\); its members"),
@@ -146,7 +145,7 @@ def test_bad_input_is_refused_naming_it(arguments, error, words):
 
 
 def test_a_wrong_duration_is_refused_once_for_the_batch():
-    with pytest.raises(ValueError, match="duration must be positive"):
+    with pytest.raises(ValueError, match="^duration must be positive"):  # not "every member was refused; ..."
         simulate_batch(scenes.block(0.6, 3.0), _motions(), -2.0)
 
 

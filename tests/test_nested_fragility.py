@@ -69,9 +69,16 @@ def test_counts_a_step_fits_as_well_as_any_lognormal_get_a_note_saying_beta_is_n
     levels, runs = np.array([2.5, 4.9, 7.4, 9.8]), np.full((4, 2), 2)
     exceed = np.array([[1, 0], [2, 1], [2, 2], [2, 2]])
     medians, beta, note = nested_fragility.fit_nested(levels, runs, exceed)
-    assert "beta is not measured" in note
+    assert note == fragility.UNMEASURED_BETA
     np.testing.assert_allclose(medians, [2.5, 4.9], rtol=0.05)
     assert beta < 0.1
+    for state in (0, 1):  # each state fitted on its own says so too
+        assert fragility.fit_lognormal(levels, runs[:, state], exceed[:, state])[2] == fragility.UNMEASURED_BETA
+    # one run a level, as the intensity measures' fits take them: two runs of the lowest level, one exceeding,
+    # are its stripe whichever comes first
+    for order in ([0, 1, 2, 3, 4], [1, 0, 2, 3, 4]):
+        single = np.array([2.5, 2.5, 4.9, 7.4, 9.8])[order], np.ones(5), np.array([1, 0, 1, 1, 1])[order]
+        assert fragility.step_like(np.log(single[0]), *single[1:])
     n, mild, severe = _counts_that_cross()
     _, beta, note = nested_fragility.fit_nested(LEVELS, np.stack([n, n], 1), np.stack([mild, severe], 1))
     assert beta > 0.1 and note == ""

@@ -104,6 +104,30 @@ def _counts(levels, runs, exceed) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     return levels, runs, exceed
 
 
+#: the note of a fit whose counts do not measure its dispersion (:func:`step_like`)
+UNMEASURED_BETA = ("no state has two stripes between none and all: a step fits the counts at least as well as any "
+                   "lognormal, and beta is not measured (finer stripes or more records measure it)")
+
+
+def step_like(x, n, z) -> bool:
+    """Whether the counts ``n``, ``z`` ((L,) or (L, K) states) at log levels ``x`` (L,) rise in every state from
+    none to all with at most one stripe between (stripes whose levels agree to 1e-9 taken together): each state's
+    median can then sit where that stripe's fraction puts it for any beta, and the likelihood's supremum is
+    approached as beta -> 0."""
+    x, inverse = np.unique(np.round(np.asarray(x, float), 9), return_inverse=True)
+    stripes = (len(x),) + np.shape(n)[1:]
+    runs, exceeded = np.zeros(stripes), np.zeros(stripes)
+    np.add.at(runs, inverse, n)
+    np.add.at(exceeded, inverse, z)
+    runs, exceeded = runs.reshape(len(x), -1), exceeded.reshape(len(x), -1)
+    for n_s, z_s in zip(runs.T, exceeded.T):
+        placed = n_s > 0
+        fraction = z_s[placed] / n_s[placed]
+        if np.sum((fraction > 0) & (fraction < 1)) > 1 or np.any(np.diff(fraction) < 0):
+            return False
+    return True
+
+
 def fit_lognormal(levels, runs, exceed) -> tuple[float, float, str]:
     """Maximum-likelihood median and dispersion of a lognormal fragility to the stripes' counts.
 
@@ -111,7 +135,8 @@ def fit_lognormal(levels, runs, exceed) -> tuple[float, float, str]:
     note)``: nan, nan and the reason where the counts place no median (no exceedance at all, exceedance in
     every run, or counts so flat that the likelihood grows as beta passes LARGEST_BETA); where the counts jump
     from none to all between two stripes (the likelihood grows as beta -> 0), SMALLEST_BETA and the median midway
-    between them in log intensity, with the note saying so."""
+    between them in log intensity, with the note saying so; UNMEASURED_BETA where one stripe lies between
+    (:func:`step_like`)."""
     levels, runs, exceed = _counts(levels, runs, exceed)
     used = np.flatnonzero(runs > 0)
     used = used[np.argsort(levels[used])]
@@ -154,7 +179,7 @@ def fit_lognormal(levels, runs, exceed) -> tuple[float, float, str]:
     if not (log_beta <= math.log(LARGEST_BETA) and abs(mu) < LARGEST_LOG_MEDIAN):
         return math.nan, math.nan, (f"the counts barely rise with the intensity: the best lognormal is wider than "
                                     f"beta = {LARGEST_BETA:g} and places no median")
-    return math.exp(mu), math.exp(max(log_beta, lowest)), ""
+    return math.exp(mu), math.exp(max(log_beta, lowest)), UNMEASURED_BETA if step_like(x, n, z) else ""
 
 
 def fit_fragility(levels, runs, exceed, samples: int = BOOTSTRAP_SAMPLES, seed: int = 0) -> Fragility:

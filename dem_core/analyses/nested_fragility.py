@@ -29,7 +29,8 @@ import math
 import numpy as np
 from scipy import optimize, special
 
-from .fragility import (BOOTSTRAP_SAMPLES, HALF_LOG_TWO_PI, LARGEST_BETA, SMALLEST_BETA, Fragility, fit_lognormal)
+from .fragility import (BOOTSTRAP_SAMPLES, HALF_LOG_TWO_PI, LARGEST_BETA, SMALLEST_BETA, UNMEASURED_BETA, Fragility,
+                        fit_lognormal, step_like)
 
 #: what a bootstrap can draw again: the suite's records (every stripe of a drawn record together), or each
 #: stripe's runs on its own
@@ -93,8 +94,8 @@ def fit_nested(levels, runs, exceed, start: tuple | None = None) -> tuple[np.nda
     levels : (L,) intensities; runs, exceed : (L, K) per level and state (mildest state first), each state placing
     a median (some run exceeds it, some does not).  start : ``(medians, beta)`` to start the search from (default:
     each state's own fit, :func:`~.fragility.fit_lognormal`).  Returns ``(medians (K,), beta, note)``; nan medians
-    and the reason where the counts place none; a note too where the counts do not measure the dispersion
-    (:func:`_step_like`)."""
+    and the reason where the counts place none; UNMEASURED_BETA where they do not measure the dispersion
+    (:func:`~.fragility.step_like`)."""
     levels = np.asarray(levels, float)
     n = np.asarray(runs, float)
     z = np.asarray(exceed, float)
@@ -116,19 +117,7 @@ def fit_nested(levels, runs, exceed, start: tuple | None = None) -> tuple[np.nda
         return np.full(k, np.nan), math.nan, (f"the counts barely rise with the intensity: the best common "
                                               f"dispersion is above {LARGEST_BETA:g} and places no median")
     mu = params[0] + np.concatenate(([0.0], np.cumsum(np.exp(params[1:k]))))
-    unmeasured = ("no state has two stripes between none and all: a step fits the counts as well as any lognormal, "
-                  "and beta is not measured (finer stripes or more records measure it)" if _step_like(x, n, z) else "")
-    return np.exp(mu), beta, unmeasured
-
-
-def _step_like(x, n, z) -> bool:
-    """Whether the counts ``n``, ``z`` (L, K) at log levels ``x`` (L,) rise in every state from none to all with at
-    most one stripe between: each state's median can then sit where that stripe's fraction says for any beta, and
-    the likelihood only grows as beta shrinks to nothing."""
-    order = np.argsort(x)
-    n, z = n[order], z[order]
-    partial = np.sum((z > 0) & (z < n), axis=0)
-    return bool(np.all(partial <= 1) and np.all(np.diff(z / n, axis=0) >= 0))
+    return np.exp(mu), beta, UNMEASURED_BETA if step_like(x, n, z) else ""
 
 
 def fit_states(levels, outcomes, samples: int = BOOTSTRAP_SAMPLES, seed: int = 0,
