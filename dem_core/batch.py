@@ -450,10 +450,9 @@ def member_row(member: int, motion: GroundMotion, result: Result, status: str, e
                    connectors_ruptured=int(result.connectors.ruptured.sum()),
                    connectors_pulled_out=int(result.connectors.pulled_out.sum()),
                    peak_connector_shear_N=float(result.connectors.peak_shear_N.max()))
-    for block in result.metrics().to_dict("records"):
-        name = block.pop("block")
-        row.update({f"{measure}[{name}]": value.item() if isinstance(value, np.generic) else value
-                    for measure, value in block.items()})
+    measures = {measure: np.asarray(values).tolist() for measure, values in result.block_measures().items()}
+    for b, name in enumerate(result.names):
+        row.update({f"{measure}[{name}]": values[b] for measure, values in measures.items()})
     return row
 
 

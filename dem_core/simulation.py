@@ -135,15 +135,16 @@ def check_run_arguments(scene, excitation) -> GroundMotion:
 class SceneSetUp(NamedTuple):
     """What a run's set-up derives from its scene and step options alone (:func:`set_up_scene`), shared by runs of
     one scene under different motions (a batch's members): the ``scene`` and the ``options`` it was made with, the
-    ``stacks``, the compiled ``model``, its ``arrays`` (what the driver reads of it) and the ``columns``; for central
-    differences the stability ``limit`` and
-    the shortest ``impact`` (s), the step ``dt`` (s) and the ``substeps`` a step past alpha is taken in (Moreau-Jean:
-    inf, NaN, None, since its step depends on the motion, and 1)."""
+    ``stacks``, the compiled ``model`` and its ``digest`` (:func:`model_digest`), its ``arrays`` (what the driver
+    reads of it) and the ``columns``; for central differences the stability ``limit`` and the shortest ``impact``
+    (s), the step ``dt`` (s) and the ``substeps`` a step past alpha is taken in (Moreau-Jean: inf, NaN, None, since
+    its step depends on the motion, and 1)."""
 
     scene: object
     options: dict
     stacks: list
     model: Model
+    digest: str
     arrays: ModelArrays
     columns: tuple
     limit: float
@@ -175,8 +176,8 @@ def set_up_scene(scene, dt: float | None = None, *, safety: float = DEFAULT_SAFE
     stacks = find_stacks(scene)
     model = compile_model(scene, stacks)
     if integrator_code(integrator) == MOREAU:
-        return SceneSetUp(scene, options, stacks, model, model_arrays(model), columns(scene, stacks), math.inf,
-                          math.nan, None, 1)
+        return SceneSetUp(scene, options, stacks, model, model_digest(model), model_arrays(model),
+                          columns(scene, stacks), math.inf, math.nan, None, 1)
     limit = stability.stability_limit(model)
     impact = stability.impact_duration(model)
     dt = _time_step(model, dt, limit, impact, safety, steps_per_impact, step_fraction, enforce_stability_limit)
@@ -188,8 +189,8 @@ def set_up_scene(scene, dt: float | None = None, *, safety: float = DEFAULT_SAFE
         collapse = COLLAPSE_STEP_FACTOR * _time_step(model, None, stability.stability_limit(model, toppled=True),
                                                      impact, safety, steps_per_impact, step_fraction, True)
         substeps = max(1, math.ceil(dt / collapse - 1e-9))
-    return SceneSetUp(scene, options, stacks, model, model_arrays(model), columns(scene, stacks), limit, impact, dt,
-                      substeps)
+    return SceneSetUp(scene, options, stacks, model, model_digest(model), model_arrays(model), columns(scene, stacks),
+                      limit, impact, dt, substeps)
 
 
 class Simulation:
@@ -233,6 +234,7 @@ class Simulation:
             raise ValueError("scene_set_up was made for another scene or other step options than this run's")
         self.scene, self.ground_motion = scene, ground_motion
         self.model: Model = scene_set_up.model
+        self.model_digest = scene_set_up.digest
         if start is not None:
             _check_start(start, scene, self.model, integrator)
         self.stacks = scene_set_up.stacks
@@ -487,7 +489,7 @@ class Simulation:
                         interfaces=tuple((bodies[a].name, bodies[b].name) for a, b in pairs),
                         slip_history=outputs.slip[:written].copy(),
                         critical_angle=self.model.bodies.critical_angle[1:].copy(),
-                        columns=self.columns, final_state=state.copy(), model_digest=model_digest(self.model),
+                        columns=self.columns, final_state=state.copy(), model_digest=self.model_digest,
                         lost_stability=lost,
                         events=(pd.DataFrame(self.event_rows) if isinstance(self.excitation, MotionSequence)
                                 else None),

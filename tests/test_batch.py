@@ -52,6 +52,22 @@ def test_an_explicit_column_member_is_the_run_simulate_gives():
         assert table["total_sliding_m"][m] == alone.total_sliding
 
 
+def test_a_members_block_columns_are_its_runs_metrics_block_by_block():
+    """A row's ``<measure>[<block>]`` columns are Result.metrics() of the run alone, each block's measures together
+    in the scene's order."""
+    column = scenes.column(n_drums=3, width=1.0, height=4.0)
+    motions = [excitation.sine_pulse(a, 0.6) for a in (2.0, 9.0)]
+    table = simulate_batch(column, motions, 1.0, integrator="moreau", threads=1).table
+    for m, motion in enumerate(motions):
+        metrics = dem_core.simulate(column, motion, 1.0, integrator="moreau").metrics()
+        assert [c for c in table if "[" in c] == [f"{measure}[{block}]" for block in metrics["block"]
+                                                  for measure in BLOCK_MEASURES]
+        for block in metrics.itertuples(index=False):
+            for measure in BLOCK_MEASURES:
+                np.testing.assert_array_equal(table[f"{measure}[{block.block}]"][m], getattr(block, measure))
+    assert table["max_peak_abs_theta_rad"].nunique() == 2
+
+
 def test_a_column_batch_is_the_same_on_one_thread_and_on_two():
     column = scenes.column(n_drums=3, width=1.0, height=4.0)
     motions = [excitation.record("el_centro_1940", pga=a) for a in (2.0, 3.0, 4.0, 5.0)]

@@ -220,18 +220,16 @@ class Result:
         """(n_blocks,) peak |horizontal displacement| relative to the base from the start, over the outputs, m."""
         return np.max(np.abs(self.relative_x - self.relative_x[:1]), axis=0)
 
+    def block_measures(self) -> dict:
+        """The :data:`BLOCK_MEASURES`, each a (n_blocks,) array in scene order."""
+        return {"peak_abs_theta_rad": self.peak_theta, "peak_abs_displacement_m": self.peak_displacement,
+                "residual_displacement_m": self.residual_displacement, "sliding_at_its_joints_m": self.block_sliding,
+                "mean_abs_theta_rad": self.mean_rocking, "overturned": np.isfinite(self.overturn_time),
+                "overturn_time_s": self.overturn_time}
+
     def metrics(self) -> pd.DataFrame:
-        """One row per block: ``block`` and the :data:`BLOCK_MEASURES`."""
-        return pd.DataFrame({
-            "block": list(self.names),
-            "peak_abs_theta_rad": self.peak_theta,
-            "peak_abs_displacement_m": self.peak_displacement,
-            "residual_displacement_m": self.residual_displacement,
-            "sliding_at_its_joints_m": self.block_sliding,
-            "mean_abs_theta_rad": self.mean_rocking,
-            "overturned": np.isfinite(self.overturn_time),
-            "overturn_time_s": self.overturn_time,
-        }, columns=["block", *BLOCK_MEASURES])
+        """One row per block: ``block`` and the :data:`BLOCK_MEASURES` (:meth:`block_measures`)."""
+        return pd.DataFrame({"block": list(self.names), **self.block_measures()}, columns=["block", *BLOCK_MEASURES])
 
     def interface_metrics(self) -> pd.DataFrame:
         """One row per interface: ``interface`` ("drum1/drum2": its two bodies in the scene's order, "base" for the
