@@ -18,7 +18,7 @@ import numpy as np
 from .engine.model_arrays import NO_KEY, ModelArrays
 from .engine.scratch import make_scratch
 from .engine.settings import CONTACT_LAW, INTEGRATOR, INTEGRATORS, SCALE, STATUS_FULL, STATUS_OK
-from .engine.state import Outputs, State, with_capacities
+from .engine.state import Outputs, State, stacked_with_capacities
 from .engine._ground import ground_samples
 from .inputs.excitation import GroundMotion, Scaled
 from .simulation import Simulation, next_chunk
@@ -164,7 +164,6 @@ def pack(runs: list, motions: _Motions) -> Members:
     n_bodies = runs[0].arrays.body.shape[1]
     pairs = max(1, n_bodies * (n_bodies - 1) // 2)
     retired = max(run.state.capacities[1] for run in runs)
-    states = [with_capacities(run.state, pairs, retired) for run in runs]
     settings = _stacked([run.settings for run in runs])
     settings.real[:, SCALE] = motions.scale
     outputs = runs[0].empty_outputs(max(run.output_rows for run in runs))
@@ -175,8 +174,8 @@ def pack(runs: list, motions: _Motions) -> Members:
                            set(settings.integer[:, CONTACT_LAW].tolist()))
     return Members(
         model=repeated(arrays[0], len(runs)) if shared else _stacked(_padded_frictions(arrays)),
-        settings=settings, state=_stacked(states), outputs=repeated(outputs, len(runs)),
-        scratch=repeated(scratch, len(runs)), motion=motions.index.copy(),
+        settings=settings, state=stacked_with_capacities([run.state for run in runs], pairs, retired),
+        outputs=repeated(outputs, len(runs)), scratch=repeated(scratch, len(runs)), motion=motions.index.copy(),
         status=np.tile(np.array([RUNNING, 0, 0], np.int64), (len(runs), 1)))
 
 

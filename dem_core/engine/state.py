@@ -119,13 +119,25 @@ class State(NamedTuple):
 
 def with_capacities(state: State, pairs: int, retired: int) -> State:
     """A copy of ``state`` with stores of ``pairs`` pairs and ``retired`` slips, the entries kept."""
-    fields = state.copy()._asdict()
-    for name in PAIR_FIELDS + RETIRED_FIELDS:
-        old = fields[name]
+    return State(*(a[0] for a in stacked_with_capacities([state], pairs, retired)))
+
+
+def stacked_with_capacities(states: list, pairs: int, retired: int) -> State:
+    """``states`` (M of one shape but their stores') as one :class:`State` of (M, ...) arrays, each member's stores
+    of ``pairs`` pairs and ``retired`` slips, its entries kept and the rest empty (-1, or 0.0 where not integers)."""
+    fields = {}
+    for name, members in zip(State._fields, zip(*states)):
+        if name not in PAIR_FIELDS + RETIRED_FIELDS:
+            fields[name] = np.stack(members)
+            continue
         capacity = pairs if name in PAIR_FIELDS else retired
-        new = np.full((capacity,) + old.shape[1:], -1 if old.dtype == np.int64 else 0.0, old.dtype)
-        new[:min(capacity, len(old))] = old[:capacity]
-        fields[name] = new
+        first = members[0]
+        stores = np.full((len(members), capacity) + first.shape[1:], -1 if first.dtype == np.int64 else 0.0,
+                         first.dtype)
+        for store, old in zip(stores, members):
+            kept = min(capacity, len(old))
+            store[:kept] = old[:kept]
+        fields[name] = stores
     return State(**fields)
 
 
