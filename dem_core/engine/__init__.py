@@ -10,6 +10,5 @@ stage each: ``_ground``, ``_outputs``, ``_world`` (world geometry and boxes), ``
 (contact forces and central differences) with ``_manifold`` (corner law geometry), ``_polygon`` (overlap-area law
 geometry) and ``_contact_law``, ``_moreau`` (Moreau-Jean) with ``_points`` and ``_active_set``, ``_tally`` (where
 slip goes) and ``_checks``, and ``_angles`` (quick sines and cosines of small angles) for several.  The engine
-imports nothing from the rest of the package:
-:mod:`dem_core.simulation` joins it to the inputs.
+imports nothing from the rest of the package: :mod:`dem_core.simulation` joins it to the inputs.
 """
