@@ -416,6 +416,28 @@ def test_every_command_that_runs_scenes_takes_the_integrator_and_its_runs_use_it
     assert seen == ["moreau"]
 
 
+@pytest.mark.parametrize("quiet", [False, True])
+@pytest.mark.parametrize("command", ["threshold", "stiffness", "fragility"])
+def test_no_progress_turns_off_the_bar_over_a_commands_runs(command, quiet, tmp_path, monkeypatch):
+    """The bar's lines in a log are noise to a script that reads what a command prints: ``--no-progress`` turns
+    them off (the bar is caught as it is made, and the command stopped as Ctrl-C would stop it)."""
+    scene = tmp_path / "column.toml"
+    scene.write_text(COLUMN)
+    module = getattr(cli, command)
+    monkeypatch.setattr(module, "compile_first", lambda *args: None)
+    asked = []
+
+    def bar(**options):
+        asked.append(options.get("disable", False))
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(module, "progress_bar", bar)
+    argv = [a.format(scene=scene, out=tmp_path / "out")
+            for a in RUNNING_COMMANDS.get(command, ["stiffness", "{scene}"])]
+    assert main([*argv, *["--no-progress"] * quiet]) == 130
+    assert asked == [quiet]
+
+
 def test_the_stiffness_check_runs_the_explicit_integrator_and_says_so(tmp_path, capsys, monkeypatch):
     scene = tmp_path / "column.toml"
     scene.write_text(COLUMN.replace("[simulation]", "[simulation]\nintegrator = 'moreau'"))

@@ -144,6 +144,12 @@ def add_integrator(command) -> None:
                          "overlap-area law)")
 
 
+def add_no_progress(command) -> None:
+    """The ``--no-progress`` option of a command with a bar over its runs."""
+    command.add_argument("--no-progress", action="store_true", help="no progress shown: neither the bar on a "
+                         "terminal nor the progress lines in a log or a pipe")
+
+
 def with_integrator(settings: dict, args) -> dict:
     """``settings`` (a scene file's [simulation]) with the command's ``--integrator`` where it has one and it is
     given."""

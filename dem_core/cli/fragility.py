@@ -18,7 +18,7 @@ from ..inputs.suites import BUNDLED_SUITES, DEFAULT_SUITE, METADATA, SuiteError,
 from ..output_files import output_folder
 from ..simulation import integrator_for
 from .arguments import (DEFAULT_SCENE, LEVELS, POSITIVE, REST, SECONDS, STATE, WORKERS, add_integrator,
-                        scene_and_settings)
+                        add_no_progress, scene_and_settings)
 from .progress import compile_first, progress_bar
 
 
@@ -74,6 +74,7 @@ def add(sub):
     fragility.add_argument("--scheduler", help="address of a running Dask scheduler, e.g. tcp://10.0.0.5:8786, whose "
                            "workers each run one record's stripes as a batch on their cores or GPU (default: none, "
                            "this machine)")
+    add_no_progress(fragility)
 
 
 def run(args) -> int:
@@ -107,7 +108,7 @@ def run(args) -> int:
           f"{levels[-1]:.4g} {unit} ({total} runs), integrator {integrator}{where}", flush=True)
     if args.scheduler is None:
         compile_first(spec.scene, next(iter(suite.values())), settings)
-    bar = progress_bar(total=total, desc="runs", unit="run")
+    bar = progress_bar(total=total, desc="runs", unit="run", disable=args.no_progress)
     log = out / LOG
     done = [0]
 

@@ -7,7 +7,7 @@ import numpy as np
 
 from ..analyses.convergence import FLOORS, MEASURES, RELATIVE_TOLERANCE, stiffness_convergence, verdicts
 from ..simulation import SimulationUnstable
-from .arguments import DEFAULT_SCENE, POSITIVE, SECONDS, scene_and_settings
+from .arguments import DEFAULT_SCENE, POSITIVE, SECONDS, add_no_progress, scene_and_settings
 from .console import failed_run, percent
 from .progress import compile_first, progress_bar, simulate_options
 
@@ -29,6 +29,7 @@ def add(sub):
                            help="multiples of the scene's K_n, each positive (default: 1 10 100)")
     stiffness.add_argument("--duration", type=SECONDS, help="simulated time in s (default: from the file or the "
                            "record)")
+    add_no_progress(stiffness)
 
 
 def run(args) -> int:
@@ -44,7 +45,8 @@ def run(args) -> int:
     compile_first(spec.scene, spec.excitation, settings)
     # a run's length grows as the square root of the stiffness (the step shrinks so): the bar counts that
     bar = progress_bar(total=sum(math.sqrt(max(f, 0.0)) for f in args.factors), desc="runs",
-                    bar_format="{desc}: {percentage:3.0f}%|{bar}| [{elapsed}<{remaining}{postfix}]")
+                       bar_format="{desc}: {percentage:3.0f}%|{bar}| [{elapsed}<{remaining}{postfix}]",
+                       disable=args.no_progress)
 
     def on_run(factor, result):
         bar.set_postfix_str(f"K_n x {factor:g} done")

@@ -6,7 +6,7 @@ import sys
 from ..analyses.sweep import SweepError, load_sweep, run_sweep, saved_runs, with_simulation
 from ..engine.settings import INTEGRATORS
 from ..output_files import output_folder
-from .arguments import SECONDS, WORKERS
+from .arguments import SECONDS, WORKERS, add_no_progress
 from .progress import compile_first, progress_bar
 
 
@@ -30,8 +30,7 @@ def add(sub):
     command.add_argument("--integrator", choices=INTEGRATORS, help="the integrator of every run, replacing the file's "
                          "[simulation] integrator; part of what identifies a run, as --duration is (default: the "
                          "file's, else moreau, or explicit for the overlap-area law)")
-    command.add_argument("--no-progress", action="store_true", help="no progress bar (there is one only when "
-                         "stderr is a terminal anyway)")
+    add_no_progress(command)
 
 
 def run(args) -> int:

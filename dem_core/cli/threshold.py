@@ -14,8 +14,8 @@ from ..analyses.sweep import SceneFileBuild
 from ..analyses.thresholds import SCAN_STEP, TOLERANCE, onset_threshold, overturning_threshold, scan_grid
 from ..inputs.scene_file import SceneFileError, read_toml
 from ..output_files import output_folder, replacing
-from .arguments import (DEFAULT_SCENE, FRACTION, POSITIVE, SCALES, SECONDS, add_integrator, default_scene_path,
-                        with_integrator)
+from .arguments import (DEFAULT_SCENE, FRACTION, POSITIVE, SCALES, SECONDS, add_integrator, add_no_progress,
+                        default_scene_path, with_integrator)
 from .console import acceleration_text, percent
 from .progress import compile_first, progress_bar, simulate_options
 
@@ -57,6 +57,7 @@ def add(sub):
                            "(default: none, nothing written)")
     threshold.add_argument("--scheduler", help="address of a running Dask scheduler, e.g. tcp://10.0.0.5:8786, whose "
                            "workers run the scan's runs, one a task (default: none, this machine's cores)")
+    add_no_progress(threshold)
 
 
 #: excitation kinds whose ``amplitude`` is an acceleration (a harmonic's is a displacement, m)
@@ -121,7 +122,7 @@ def run(args) -> int:
         return min(step * value, args.absolute_step or math.inf)
 
     bar = progress_bar(total=len(grid) + _bisections(gap(args.high), args.high, args.tolerance), desc="runs",
-                    unit="run")
+                       unit="run", disable=args.no_progress)
 
     def on_run(value, happened):
         if happened and not any(h for _, h in runs_so_far):
