@@ -25,7 +25,7 @@ import numpy as np
 import pandas as pd
 
 from . import batch_gpu
-from .batch_gpu import gpu_available
+from .batch_gpu import gpu_available, numba_cuda_installed
 from .gpu_kernels import load_named_kernels
 from .engine.result import Result
 from .inputs.excitation import GroundMotion, MotionSequence, describe, strong_motion_cuts
@@ -314,9 +314,10 @@ def check_device(device: str) -> None:
     if device not in DEVICES:
         raise ValueError(f"device must be one of {DEVICES}, got {device!r}")
     if device == "gpu" and not gpu_available():
-        raise ValueError("device='gpu': numba-cuda finds no CUDA GPU here (install the GPU extra, pip install -e "
-                         "'.[gpu]', on a machine with an NVIDIA GPU and its driver); device='cpu' or 'auto' runs the "
-                         "members on the CPU's threads")
+        why = ("numba-cuda finds no CUDA GPU here (an NVIDIA GPU and its driver are needed)" if numba_cuda_installed()
+               else "numba-cuda, the GPU extra, is not installed (pip install -e '.[gpu]', on a machine with an "
+                    "NVIDIA GPU and its driver)")
+        raise ValueError(f"device='gpu': {why}; device='cpu' or 'auto' runs the members on the CPU's threads")
 
 
 def _gpu_for(device: str, motions: list, threads: int) -> str:

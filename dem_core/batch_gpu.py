@@ -10,6 +10,7 @@ scale it, and each member's thread scales it.
 
 from __future__ import annotations
 
+import importlib.util
 import time
 from dataclasses import dataclass
 
@@ -39,6 +40,11 @@ def gpu_available() -> str:
         return name.decode() if isinstance(name, bytes) else str(name)
     except Exception:  # noqa: BLE001  (no driver, no toolkit, a broken install: no GPU to use)
         return ""
+
+
+def numba_cuda_installed() -> bool:
+    """Whether the GPU extra's numba-cuda is installed (numba's own ``numba.cuda`` imports without it)."""
+    return importlib.util.find_spec("numba_cuda") is not None
 
 
 def check_members(runs: list) -> None:

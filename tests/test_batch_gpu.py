@@ -222,6 +222,19 @@ def test_without_a_gpu_auto_runs_on_the_cpu_and_gpu_is_refused():
         simulate_batch(scenes.block(1.0, 6.0), [sine_pulse(2.0, 0.5)], 0.1, device="gpu")
 
 
+def test_the_gpu_refused_without_numba_cuda_says_to_install_the_extra(monkeypatch):
+    """numba's own numba.cuda imports without the GPU extra: the refusal names what is missing."""
+    import dem_core.batch as batch_module
+
+    monkeypatch.setattr(batch_module, "gpu_available", lambda: "")
+    monkeypatch.setattr(batch_module, "numba_cuda_installed", lambda: False)
+    with pytest.raises(ValueError, match=r"numba-cuda, the GPU extra, is not installed \(pip install -e '\.\[gpu\]'"):
+        simulate_batch(scenes.block(1.0, 6.0), [sine_pulse(2.0, 0.5)], 0.1, device="gpu")
+    monkeypatch.setattr(batch_module, "numba_cuda_installed", lambda: True)
+    with pytest.raises(ValueError, match="numba-cuda finds no CUDA GPU here"):
+        simulate_batch(scenes.block(1.0, 6.0), [sine_pulse(2.0, 0.5)], 0.1, device="gpu")
+
+
 #: run by numba's CUDA simulator (with the CPU's JIT off, so that the simulator's arrays reach the stages): the
 #: CUDA kernels through simulate_batch, two members of a block (a pulse and a scaled record) and a stack of three by
 #: central differences, and two members of the stack by Moreau-Jean; and one member's blank written out on the
