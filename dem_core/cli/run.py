@@ -149,7 +149,8 @@ def _solver_lines(result) -> list:
     differences): how many, in how many steps (a step split at an impact solves each part), which of them a part
     keeps (those whose last sweep, after up to ``MOREAU_RESCUE_SWEEPS`` more, changed no velocity by more than
     ``MOREAU_SOLVER_FAILURE`` g times the part's length; the others' parts are taken again at half their length, and
-    a part whose retries fail too stops the run with an error), and where summary.json and the method say more."""
+    a part whose retries fail too stops the run with an error), what a finished run's kept solves met and how to
+    check its measures (the run again at half its step), and where summary.json and the method say more."""
     unconverged = result.info.get("unconverged_steps", 0)
     if not unconverged:
         return []
@@ -157,7 +158,9 @@ def _solver_lines(result) -> list:
             f"after the sweeps a part allows; such a solve is kept where its last sweep (after up to "
             f"{MOREAU_RESCUE_SWEEPS:,} more) changed no velocity by more than {MOREAU_SOLVER_FAILURE:g} g times the "
             "part's length, else the part is taken again at half its length, and a run whose retries fail too stops "
-            "with an error (unconverged_steps in summary.json; docs/method.md 1.8)"]
+            "with an error. The run finished, so each solve it kept met that bound, not the tolerance; the same run at "
+            f"half the step ([simulation] dt = {result.dt / 2:g}) shows how far its measures are from converged, "
+            "these solves included (unconverged_steps in summary.json; docs/method.md 1.8)"]
 
 
 def _connector_lines(result) -> list:
