@@ -236,7 +236,7 @@ class Simulation:
         self.model: Model = scene_set_up.model
         self.model_digest = scene_set_up.digest
         if start is not None:
-            _check_start(start, scene, self.model, integrator)
+            _check_start(start, scene, self.model_digest, integrator)
         self.stacks = scene_set_up.stacks
         self.columns = scene_set_up.columns
         self.integrator = integrator
@@ -596,8 +596,8 @@ def move_with_base(state: State, samples: np.ndarray, settings: Settings) -> Non
         state.vel[:, :2] += kick
 
 
-def _check_start(start, scene, model: Model, integrator: str) -> None:
-    """``TypeError``/``ValueError`` in one line where a run of ``scene`` (compiled to ``model``) under ``integrator``
+def _check_start(start, scene, digest: str, integrator: str) -> None:
+    """``TypeError``/``ValueError`` in one line where a run of ``scene`` (its model's ``digest``) under ``integrator``
     cannot go on from ``start``: not a result, a result without the native engine's final state, of a run that lost
     stability or stopped at an overturn, of another scene or another integrator."""
     if not isinstance(start, Result):
@@ -615,7 +615,7 @@ def _check_start(start, scene, model: Model, integrator: str) -> None:
     if tuple(start.names) != tuple(scene.block_names):
         raise ValueError(f"start: the result is of a scene with blocks {', '.join(start.names)}, this scene's are "
                          f"{', '.join(scene.block_names)}")
-    if start.model_digest != model_digest(model):
+    if start.model_digest != digest:
         raise ValueError("start: the result is of another scene with the same block names (its compiled model, "
                          "geometry, masses, contact or friction, differs from this scene's)")
     if start.info.get("integrator") != integrator:

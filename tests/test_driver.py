@@ -95,17 +95,21 @@ def test_a_run_whose_stores_fill_goes_on_with_them_grown_to_the_same_trajectory(
     assert a.interface_slip == b.interface_slip and a.info["steps"] == b.info["steps"]
 
 
-@pytest.mark.parametrize("wanted", ["room to spare", "a pair and a retired slip"])
+@pytest.mark.parametrize("wanted", ["room to spare", "just the entries"])
 def test_a_batchs_stores_keep_each_members_entries_and_leave_the_rest_empty(wanted):
-    """A GPU batch packs its members' states into stores of one capacity: each member's entries first (as many as
-    fit), then empty entries (-1, or 0.0 where not integers); every other field is the member's own."""
+    """A GPU batch packs its members' states into stores of one capacity: each member's entries first, then empty
+    entries (-1, or 0.0 where not integers); every other field is the member's own.  A store smaller than a
+    member's entries is refused naming the member."""
     runs = [Simulation(scenes.column(3), scaled(EL_CENTRO, f), 2.0, integrator="moreau") for f in (2.0, 3.0)]
     for run in runs:
         run.advance()
     states = [run.state for run in runs]
-    assert all(state.counters[LISTED] > 0 for state in states)
-    pairs, retired = (max(s.capacities[0] for s in states) + 3, max(s.capacities[1] for s in states) + 2) \
-        if wanted == "room to spare" else (1, 1)
+    listed, retired_slips = ([int(s.counters[k]) for s in states] for k in (LISTED, RETIRED))
+    assert min(listed) > 0 and max(listed) < max(s.capacities[0] for s in states)
+    if wanted == "room to spare":
+        pairs, retired = max(s.capacities[0] for s in states) + 3, max(s.capacities[1] for s in states) + 2
+    else:
+        pairs, retired = max(listed), max(1, max(retired_slips))
     batch = state_module.stacked_with_capacities(states, pairs, retired)
     for m, state in enumerate(states):
         for name, own, packed in zip(state_module.State._fields, state, batch):
@@ -114,9 +118,16 @@ def test_a_batchs_stores_keep_each_members_entries_and_leave_the_rest_empty(want
                 assert np.array_equal(packed, own, equal_nan=True), name
                 continue
             capacity = pairs if name in state_module.PAIR_FIELDS else retired
+            entries = listed[m] if name in state_module.PAIR_FIELDS else retired_slips[m]
+            assert len(packed) == capacity, name
+            assert np.array_equal(packed[:entries], own[:entries], equal_nan=True), name
             kept = min(capacity, len(own))
-            assert len(packed) == capacity and np.array_equal(packed[:kept], own[:kept], equal_nan=True), name
+            assert np.array_equal(packed[entries:kept], own[entries:kept], equal_nan=True), name
             assert np.all(packed[kept:] == (-1 if own.dtype == np.int64 else 0.0)), name
         single = state_module.with_capacities(state, pairs, retired)
-        assert all(np.array_equal(a, b[m], equal_nan=True) and not np.shares_memory(a, own)
+        assert all(np.array_equal(a, b[m], equal_nan=True) and a.flags.c_contiguous and not np.shares_memory(a, own)
                    for a, b, own in zip(single, batch, state))
+    fullest = int(np.argmax(listed))
+    with pytest.raises(ValueError, match=f"member {fullest} holds {listed[fullest]} pair entries, more than a store "
+                                         f"of {listed[fullest] - 1}"):
+        state_module.stacked_with_capacities(states, listed[fullest] - 1, retired)

@@ -221,7 +221,8 @@ class Result:
         return np.max(np.abs(self.relative_x - self.relative_x[:1]), axis=0)
 
     def block_measures(self) -> dict:
-        """The :data:`BLOCK_MEASURES`, each a (n_blocks,) array in scene order."""
+        """The :data:`BLOCK_MEASURES`, each a (n_blocks,) array in scene order: peak |theta| (rad), peak and
+        residual displacement and the slip at its joints (m), mean |theta| (rad), overturned (bool), when (s)."""
         return {"peak_abs_theta_rad": self.peak_theta, "peak_abs_displacement_m": self.peak_displacement,
                 "residual_displacement_m": self.residual_displacement, "sliding_at_its_joints_m": self.block_sliding,
                 "mean_abs_theta_rad": self.mean_rocking, "overturned": np.isfinite(self.overturn_time),

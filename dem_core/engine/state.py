@@ -118,17 +118,24 @@ class State(NamedTuple):
 
 
 def with_capacities(state: State, pairs: int, retired: int) -> State:
-    """A copy of ``state`` with stores of ``pairs`` pairs and ``retired`` slips, the entries kept."""
+    """A copy of ``state`` with stores of ``pairs`` pairs and ``retired`` slips, the entries kept
+    (:func:`stacked_with_capacities` of one)."""
     return State(*(a[0] for a in stacked_with_capacities([state], pairs, retired)))
 
 
 def stacked_with_capacities(states: list, pairs: int, retired: int) -> State:
-    """``states`` (M of one shape but their stores') as one :class:`State` of (M, ...) arrays, each member's stores
-    of ``pairs`` pairs and ``retired`` slips, its entries kept and the rest empty (-1, or 0.0 where not integers)."""
+    """``states`` (M of one shape but their stores') as one :class:`State` of C-ordered (M, ...) arrays, each
+    member's stores of ``pairs`` pairs and ``retired`` slips, its entries kept and the rest empty (-1, or 0.0 where
+    not integers); ``ValueError`` naming the member and the store where a capacity is below its entries."""
+    for m, state in enumerate(states):
+        for store, entries, capacity in (("pair", state.counters[LISTED], pairs),
+                                         ("retired slip", state.counters[RETIRED], retired)):
+            if capacity < entries:
+                raise ValueError(f"member {m} holds {entries} {store} entries, more than a store of {capacity}")
     fields = {}
     for name, members in zip(State._fields, zip(*states)):
         if name not in PAIR_FIELDS + RETIRED_FIELDS:
-            fields[name] = np.stack(members)
+            fields[name] = np.ascontiguousarray(np.stack(members))
             continue
         capacity = pairs if name in PAIR_FIELDS else retired
         first = members[0]
