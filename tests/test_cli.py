@@ -438,6 +438,21 @@ def test_no_progress_turns_off_the_bar_over_a_commands_runs(command, quiet, tmp_
     assert asked == [quiet]
 
 
+def test_stiffness_with_no_progress_shows_no_bar_over_a_runs_steps_either(tmp_path, monkeypatch):
+    """Each of stiffness' runs is long and has a bar of its own over its steps on a terminal: off too."""
+    scene = tmp_path / "column.toml"
+    scene.write_text(COLUMN)
+    seen = []
+    monkeypatch.setattr(cli.stiffness, "compile_first", lambda *args: None)
+    monkeypatch.setattr(cli.stiffness, "simulate_options",
+                        lambda settings, progress=True: seen.append(progress) or settings)
+    monkeypatch.setattr(cli.stiffness, "stiffness_convergence", lambda *args, **options: (_ for _ in ()).throw(
+        KeyboardInterrupt))
+    assert main(["stiffness", str(scene), "--no-progress"]) == 130
+    assert main(["stiffness", str(scene)]) == 130
+    assert seen == [False, True]
+
+
 def test_the_stiffness_check_runs_the_explicit_integrator_and_says_so(tmp_path, capsys, monkeypatch):
     scene = tmp_path / "column.toml"
     scene.write_text(COLUMN.replace("[simulation]", "[simulation]\nintegrator = 'moreau'"))

@@ -54,7 +54,7 @@ def run(args) -> int:
 
     try:
         table = stiffness_convergence(spec.scene, spec.excitation, factors=args.factors, on_run=on_run,
-                                      **simulate_options(settings))
+                                      **simulate_options(settings, progress=not args.no_progress))
     except (SimulationUnstable, TypeError, ValueError) as exc:
         return failed_run(exc)
     finally:
