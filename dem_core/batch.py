@@ -443,7 +443,7 @@ def member_row(member: int, motion: GroundMotion, result: Result, status: str, e
     (:meth:`Result.measures`), ``dt_s``, ``steps``, ``wall_time_s`` (its set-up, run and measures), where the
     scene has connectors how many ``connectors_yielded`` and ``connectors_ruptured`` (``connectors_pulled_out`` of
     them in tension) and their ``peak_connector_shear_N``, and for each block ``<measure>[<block>]`` of its measures
-    (:meth:`Result.metrics`, :data:`~dem_core.engine.result.BLOCK_MEASURES`)."""
+    (:func:`block_columns`)."""
     row = {"member": member, **describe(motion), "status": status, "error": error, **result.measures(),
            "dt_s": result.dt, "steps": int(result.info.get("steps", 0)), "wall_time_s": wall_time}
     if result.connectors is not None:
@@ -451,10 +451,16 @@ def member_row(member: int, motion: GroundMotion, result: Result, status: str, e
                    connectors_ruptured=int(result.connectors.ruptured.sum()),
                    connectors_pulled_out=int(result.connectors.pulled_out.sum()),
                    peak_connector_shear_N=float(result.connectors.peak_shear_N.max()))
+    return {**row, **block_columns(result)}
+
+
+def block_columns(result: Result) -> dict:
+    """``{"<measure>[<block>]": value}``: each block's :data:`~dem_core.engine.result.BLOCK_MEASURES`
+    (:meth:`Result.block_measures`) as plain numbers, a block's measures together, the blocks in the scene's order:
+    the per-block columns of a batch's rows and of a sweep's."""
     measures = {measure: np.asarray(values).tolist() for measure, values in result.block_measures().items()}
-    for b, name in enumerate(result.names):
-        row.update({f"{measure}[{name}]": values[b] for measure, values in measures.items()})
-    return row
+    return {f"{measure}[{name}]": values[b] for b, name in enumerate(result.names)
+            for measure, values in measures.items()}
 
 
 def _cpu(threads: int) -> str:

@@ -12,7 +12,7 @@ import pytest
 
 import dem_core
 from dem_core import compile_model, excitation, scenes, stability
-from dem_core.batch import BatchInterrupted, simulate_batch
+from dem_core.batch import BatchInterrupted, block_columns, simulate_batch
 from dem_core.engine.result import BLOCK_MEASURES
 
 MEASURED = ["overturned", "overturn_time_s", "max_peak_abs_theta_rad", "total_sliding_m", "dt_s", "steps"]
@@ -54,12 +54,14 @@ def test_an_explicit_column_member_is_the_run_simulate_gives():
 
 def test_a_members_block_columns_are_its_runs_metrics_block_by_block():
     """A row's ``<measure>[<block>]`` columns are Result.metrics() of the run alone, each block's measures together
-    in the scene's order."""
+    in the scene's order, as plain Python numbers (a row is written out as JSON by the studies' logs)."""
     column = scenes.column(n_drums=3, width=1.0, height=4.0)
     motions = [excitation.sine_pulse(a, 0.6) for a in (2.0, 9.0)]
     table = simulate_batch(column, motions, 1.0, integrator="moreau", threads=1).table
     for m, motion in enumerate(motions):
-        metrics = dem_core.simulate(column, motion, 1.0, integrator="moreau").metrics()
+        alone = dem_core.simulate(column, motion, 1.0, integrator="moreau")
+        assert {type(value) for value in block_columns(alone).values()} == {float, bool}
+        metrics = alone.metrics()
         assert [c for c in table if "[" in c] == [f"{measure}[{block}]" for block in metrics["block"]
                                                   for measure in BLOCK_MEASURES]
         for block in metrics.itertuples(index=False):

@@ -18,6 +18,7 @@ import dem_core
 from dem_core import excitation, scenes
 from dem_core.analyses.cluster import local_cluster
 from dem_core.analyses.sweep import RunSpec, Sweep, SweepError, load_sweep, run_id, run_sweep
+from dem_core.engine.result import BLOCK_MEASURES
 from dem_core.inputs.excitation import Component, GroundMotion
 
 SPEC = """
@@ -85,6 +86,10 @@ def test_sweep_matches_direct_runs_and_writes_histories(tmp_path):
     row = table[(table["excitation.frequency"] == 2.0) & (table["excitation.pga"] == 6.0)].iloc[0]
     direct = dem_core.simulate(scenes.block(0.5, 2.0), excitation.harmonic(pga=6.0, frequency=2.0), duration=1.0)
     assert row.max_peak_abs_theta_rad == direct.peak_theta.max()  # same code, same numbers
+    block = direct.metrics().iloc[0]  # the block's measures in the columns a batch's rows have
+    for measure in BLOCK_MEASURES:
+        np.testing.assert_array_equal(row[f"{measure}[block]"], block[measure])
+    assert row.max_peak_displacement_m == block.peak_abs_displacement_m
     history = pd.read_parquet(tmp_path / "out" / "histories" / f"{row.run_id}.parquet")
     assert history.theta.abs().max() == pytest.approx(direct.peak_theta.max(), rel=0.05)
 

@@ -66,6 +66,7 @@ import numpy as np
 import pandas as pd
 from tqdm import tqdm
 
+from ..batch import block_columns
 from ..simulation import SimulationUnstable, simulate
 from ..inputs import scene_file
 from ..inputs.text_files import did_you_mean
@@ -306,15 +307,12 @@ def _plan(sweep: Sweep) -> list:
 
 
 def measures(result) -> dict:
-    """The scene-level measures of a run (those of ``Result.summary`` that are numbers), its end time,
-    and peak rotation / displacement of each block."""
-    rel = result.relative_x - result.relative_x[0]
+    """The scene-level measures of a run (those of ``Result.summary`` that are numbers), the largest peak
+    displacement of any block (m), its end time (s), and each block's measures as a batch's rows have them
+    (:func:`~dem_core.batch.block_columns`: ``<measure>[<block>]``)."""
     row = {k: v for k, v in result.summary().items() if isinstance(v, (bool, int, float, np.number))}
-    row.update(max_peak_displacement_m=float(np.max(np.abs(rel))), end_time_s=float(result.t[-1]))
-    for k, name in enumerate(result.names):
-        row[f"peak_theta:{name}"] = float(result.peak_theta[k])
-        row[f"peak_displacement:{name}"] = float(np.max(np.abs(rel[:, k])))
-    return row
+    row.update(max_peak_displacement_m=float(np.max(result.peak_displacement)), end_time_s=float(result.t[-1]))
+    return {**row, **block_columns(result)}
 
 
 def run_point(spec: RunSpec, params: dict, run: str, history_dir: str | None = None) -> dict:

@@ -41,7 +41,7 @@ def two_tier(p):
 
 def epistyle_displacement(table, prefix=""):
     """Largest peak displacement (m) of the epistyles named ``<prefix>epistyle...``."""
-    cols = [c for c in table.columns if c.startswith(f"peak_displacement:{prefix}epistyle")]
+    cols = [c for c in table.columns if c.startswith(f"peak_abs_displacement_m[{prefix}epistyle")]
     return table[cols].max(axis=1)
 
 
