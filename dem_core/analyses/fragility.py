@@ -109,16 +109,26 @@ UNMEASURED_BETA = ("no state has two stripes between none and all: a step fits t
                    "lognormal, and beta is not measured (finer stripes or more records measure it)")
 
 
-def step_like(x, n, z) -> bool:
-    """Whether the counts ``n``, ``z`` ((L,) or (L, K) states) at log levels ``x`` (L,) rise in every state from
-    none to all with at most one stripe between (stripes whose levels agree to 1e-9 taken together): each state's
-    median can then sit where that stripe's fraction puts it for any beta, and the likelihood's supremum is
-    approached as beta -> 0."""
-    x, inverse = np.unique(np.round(np.asarray(x, float), 9), return_inverse=True)
-    stripes = (len(x),) + np.shape(n)[1:]
+def _stripes(x, n, z) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """``(x, n, z)``: the counts ``n``, ``z`` ((L,) or (L, K) states) at log levels ``x`` (L,) with the stripes
+    whose levels agree to 1e-9 taken together, in rising order of level (S stripes).  Runs at one level are one
+    binomial draw, so the likelihood is the same; a test of the counts' shape (none, then all) is then the same
+    whatever order tied stripes came in."""
+    x = np.asarray(x, float)
+    _, first, inverse = np.unique(np.round(x, 9), return_index=True, return_inverse=True)
+    stripes = (len(first),) + np.shape(n)[1:]
     runs, exceeded = np.zeros(stripes), np.zeros(stripes)
     np.add.at(runs, inverse, n)
     np.add.at(exceeded, inverse, z)
+    return x[first], runs, exceeded
+
+
+def step_like(x, n, z) -> bool:
+    """Whether the counts ``n``, ``z`` ((L,) or (L, K) states) at log levels ``x`` (L,) rise in every state from
+    none to all with at most one stripe between (:func:`_stripes`: tied levels taken together): each state's
+    median can then sit where that stripe's fraction puts it for any beta, and the likelihood's supremum is
+    approached as beta -> 0."""
+    x, runs, exceeded = _stripes(x, n, z)
     runs, exceeded = runs.reshape(len(x), -1), exceeded.reshape(len(x), -1)
     for n_s, z_s in zip(runs.T, exceeded.T):
         placed = n_s > 0
@@ -138,9 +148,8 @@ def fit_lognormal(levels, runs, exceed) -> tuple[float, float, str]:
     between them in log intensity, with the note saying so; UNMEASURED_BETA where one stripe lies between
     (:func:`step_like`)."""
     levels, runs, exceed = _counts(levels, runs, exceed)
-    used = np.flatnonzero(runs > 0)
-    used = used[np.argsort(levels[used])]
-    x, n, z = np.log(levels[used]), runs[used].astype(float), exceed[used].astype(float)
+    x, n, z = _stripes(np.log(levels), runs, exceed)
+    x, n, z = x[n > 0], n[n > 0], z[n > 0]
     if z.sum() == 0:
         return math.nan, math.nan, "no run exceeded: the median is above the highest level"
     if z.sum() == n.sum():
