@@ -97,13 +97,15 @@ def test_a_run_whose_stores_fill_goes_on_with_them_grown_to_the_same_trajectory(
 
 @pytest.mark.parametrize("wanted", ["room to spare", "just the entries"])
 def test_a_batchs_stores_keep_each_members_entries_and_leave_the_rest_empty(wanted):
-    """A GPU batch packs its members' states into stores of one capacity: each member's entries first, then empty
-    entries (-1, or 0.0 where not integers); every other field is the member's own.  A store smaller than a
-    member's entries is refused naming the member."""
+    """A GPU batch packs its members' states into stores of one capacity: each member's entries first, then its
+    store's other rows as far as both reach, then empty rows (-1, or 0.0 where not integers); every other field
+    is the member's own, C-ordered whatever the member's order.  A store smaller than a member's entries is
+    refused naming the member."""
     runs = [Simulation(scenes.column(3), scaled(EL_CENTRO, f), 2.0, integrator="moreau") for f in (2.0, 3.0)]
     for run in runs:
         run.advance()
     states = [run.state for run in runs]
+    states[0] = states[0]._replace(pos=np.asfortranarray(states[0].pos))
     listed, retired_slips = ([int(s.counters[k]) for s in states] for k in (LISTED, RETIRED))
     assert min(listed) > 0 and max(listed) < max(s.capacities[0] for s in states)
     if wanted == "room to spare":
@@ -111,6 +113,7 @@ def test_a_batchs_stores_keep_each_members_entries_and_leave_the_rest_empty(want
     else:
         pairs, retired = max(listed), max(1, max(retired_slips))
     batch = state_module.stacked_with_capacities(states, pairs, retired)
+    assert all(a.flags.c_contiguous for a in batch)
     for m, state in enumerate(states):
         for name, own, packed in zip(state_module.State._fields, state, batch):
             packed = packed[m]

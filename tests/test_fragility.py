@@ -71,6 +71,17 @@ def test_counts_that_jump_from_none_to_all_are_fitted_by_a_step_between_the_two_
     assert "none to all" in note
 
 
+def test_runs_of_one_level_are_one_stripe_whatever_order_they_come_in():
+    """One run a level, as the intensity measures' fits take them: of two runs at 4.9, one exceeded.  That level is
+    a stripe of 1 in 2, between none (2.5) and all (7.4): a lognormal with a fitted median near 4.9 and no measured
+    beta, the fit of the same counts given as one stripe, whichever of the two runs comes first (taken apart in
+    the order none, all, they would read as a jump from none to all between two stripes)."""
+    merged = fragility.fit_lognormal([2.5, 4.9, 7.4], [1, 2, 1], [0, 1, 1])
+    assert merged[2] == fragility.UNMEASURED_BETA and merged[0] == pytest.approx(4.9, rel=0.05)
+    for exceeded in ([0, 1, 0, 1], [0, 0, 1, 1]):
+        assert fragility.fit_lognormal([2.5, 4.9, 4.9, 7.4], [1, 1, 1, 1], exceeded) == merged
+
+
 @pytest.mark.parametrize("exceed, words", [(0, "no run exceeded"), (4, "every run exceeded")])
 def test_counts_that_place_no_median_give_none_and_say_why(exceed, words):
     runs = np.full(LEVELS.size, 4)

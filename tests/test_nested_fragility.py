@@ -84,17 +84,6 @@ def test_counts_a_step_fits_as_well_as_any_lognormal_get_a_note_saying_beta_is_n
     assert beta > 0.1 and note == ""
 
 
-def test_runs_of_one_level_are_one_stripe_whatever_order_they_come_in():
-    """One run a level, as the intensity measures' fits take them: of two runs at 4.9, one exceeded.  That level is
-    a stripe of 1 in 2, between none (2.5) and all (7.4): a lognormal with a fitted median near 4.9 and no measured
-    beta, the fit of the same counts given as one stripe, whichever of the two runs comes first.  (Taken apart in
-    the order none, all, the counts looked like a jump from none to all between two stripes.)"""
-    merged = fragility.fit_lognormal([2.5, 4.9, 7.4], [1, 2, 1], [0, 1, 1])
-    assert merged[2] == fragility.UNMEASURED_BETA and merged[0] == pytest.approx(4.9, rel=0.05)
-    for exceeded in ([0, 1, 0, 1], [0, 0, 1, 1]):
-        assert fragility.fit_lognormal([2.5, 4.9, 4.9, 7.4], [1, 1, 1, 1], exceeded) == merged
-
-
 #: seeded suites of 10 records from a known lognormal, and the least of them whose band drawn by record covers its
 #: median (docs/method.md quotes both, tests/test_method_figures.py reads them here)
 COVERAGE_SUITES, COVERED_AT_LEAST = 100, 80
