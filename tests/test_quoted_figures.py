@@ -151,6 +151,26 @@ def test_the_default_runs_peak_that_cli_md_quotes_is_the_runs():
     assert f"the default run rocks to about {float(np.max(result.peak_theta)):.1g} rad" in cli_md
 
 
+def test_what_validation_md_says_of_the_default_runs_step_is_the_runs(validation):
+    """The bundled default by Moreau-Jean at 1e-3, 5e-4 and 2.5e-4 s: its peak over alpha and its total sliding."""
+    import dem_core
+    from dem_core.cli import default_scene_path
+    from dem_core.inputs.scene_file import load
+
+    spec = load(default_scene_path())
+    runs = [dem_core.simulate(spec.scene, spec.excitation, **{**spec.simulation, "dt": dt, "integrator": "moreau"})
+            for dt in (1e-3, 5e-4, 2.5e-4)]
+    peaks = [run.damage_ratio for run in runs]
+    slides = [1e3 * run.total_sliding for run in runs]
+    short = 100 * (1 - peaks[0] / peaks[2])
+    said = (f"peaks of {peaks[0]:.3f}, {peaks[1]:.3f} and {peaks[2]:.3f} alpha and total sliding of {slides[0]:.2f}, "
+            f"{slides[1]:.2f} and {slides[2]:.2f} mm: the run's peak at 1e-3 s is {short:.0f}% under its value at "
+            f"2.5e-4 s")
+    assert _words(said) in validation, said
+    times = {2: "twice", 3: "three times", 4: "four times"}[round(slides[0] / slides[2])]
+    assert f"is {times} it" in validation
+
+
 #: validation.md's ensemble table: its engines, as it labels them
 ENSEMBLE_TABLE = {"dem": "dem (auto/1)", "dem-moreau": "dem-moreau (auto/1)", "dem-overlap": "dem-overlap (auto/1)",
                   "pymunk": "pymunk (1e-3 s)", "pybullet": "PyBullet (1e-3 s)", "mujoco": "MuJoCo (1e-3 s)"}
