@@ -111,9 +111,9 @@ UNMEASURED_BETA = ("no state has two stripes between none and all: a step fits t
 
 def _stripes(x, n, z) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """``(x, n, z)``: the counts ``n``, ``z`` ((L,) or (L, K) states) at log levels ``x`` (L,) with the stripes
-    whose log levels are equal rounded to 9 decimals taken together, in rising order of level (S stripes).  Runs at one level are one
-    binomial draw, so the likelihood is the same; a test of the counts' shape (none, then all) is then the same
-    whatever order tied stripes came in."""
+    whose log levels are equal rounded to 9 decimals taken together, in rising order of level (S stripes).  Runs at
+    one level are one binomial draw, so the likelihood is the same; a test of the counts' shape (none, then all) is
+    then the same whatever order tied stripes came in."""
     x = np.asarray(x, float)
     _, first, inverse = np.unique(np.round(x, 9), return_index=True, return_inverse=True)
     stripes = (len(first),) + np.shape(n)[1:]
