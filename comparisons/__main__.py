@@ -27,6 +27,7 @@ BENCHMARKS = {
     "moreau-stages": "moreau_stages",
     "restitution": "restitution",
     "gpu-check": "gpu_check",
+    "gpu-reference": "gpu_reference",
     "fragility-suite": "fragility_suite",
     "connector-cost": "connector_cost",
 }

@@ -332,7 +332,7 @@ def _device_check(tmp_path, *options) -> subprocess.CompletedProcess:
 def test_the_device_check_runs_every_section_under_the_simulator(tmp_path):
     """Every section prints its lines, in the order ``--sections`` gives, none fails, and the fine scan writes its
     table."""
-    order = ("device", "throughput", "fragility", "fine", "agreement", "throughput-other", "scaling")
+    order = ("device", "throughput", "fragility", "fine", "agreement", "agreement-other", "throughput-other", "scaling")
     done = _device_check(tmp_path, "--sections", *order)
     assert done.returncode == 0, done.stderr[-3000:]
     ended = [done.stdout.find(f"| {section:16s} | section's wall time") for section in order]
@@ -341,6 +341,41 @@ def test_the_device_check_runs_every_section_under_the_simulator(tmp_path):
     assert "| agreement        | column, moreau: steady members within 1e-9" in done.stdout
     scanned = pd.read_csv(tmp_path / "fine_scan.csv")
     assert len(scanned) == 1 and scanned["runs"][0] > 1
+
+
+def test_the_device_check_takes_the_cpus_side_run_ahead_where_it_is_for_its_members(tmp_path):
+    """``gpu-reference`` run here (compiled) at the smoke check's members: the check under the simulator takes each
+    case's CPU side from it, naming the machine, and its members agree; a case whose key is not the file's, and a
+    file that is not a reference, have the CPU run there, saying why."""
+    from comparisons.__main__ import main
+    from comparisons.benchmarks import gpu_reference
+    from comparisons.benchmarks.record_members import CASES
+    from dem_core.analyses.run_identity import machine
+
+    reference = tmp_path / "agreement.json"
+    main(["gpu-reference", "--sample", "2", "--duration", "0.05", "--out", str(reference)])
+    cases, made = gpu_reference.load(reference)
+    assert len(cases) == len(CASES) and made["machine"] == machine()
+    done = _device_check(tmp_path, "--cpu-reference", str(reference), "--sections", "agreement", "agreement-other")
+    assert done.returncode == 0, done.stderr[-3000:]
+    for name, integrator in CASES:
+        assert f"| agreement        | {name}, {integrator}: the CPU's side" in done.stdout
+        assert re.search(rf"\| {name}, {integrator}: steady members within 1e-9 +\| (\d) of \1 \(of 2\) +\| met",
+                         done.stdout), done.stdout
+    assert done.stdout.count("run ahead (cpu, ") == len(CASES), done.stdout
+    assert done.stdout.count(f"run on {machine()}, numpy ") == 2, done.stdout  # once a section
+
+    written = json.loads(reference.read_text(encoding="utf-8"))
+    written["cases"][0]["key"] = "another"
+    reference.write_text(json.dumps(written), encoding="utf-8")
+    done = _device_check(tmp_path, "--cpu-reference", str(reference), "--sections", "agreement")
+    assert done.returncode == 0, done.stderr[-3000:]
+    assert "run here (the reference is for other code or members)" in done.stdout, done.stdout
+    assert done.stdout.count("run ahead (") == 1, done.stdout
+
+    reference.write_text("{}", encoding="utf-8")
+    done = _device_check(tmp_path, "--cpu-reference", str(reference), "--sections", "agreement")
+    assert done.returncode == 0 and "is not a CPU reference" in done.stdout, done.stdout + done.stderr[-3000:]
 
 
 def test_the_device_check_cuts_a_study_at_its_budget_and_goes_on(tmp_path):

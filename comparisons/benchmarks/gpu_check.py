@@ -11,26 +11,29 @@ where the budget's end comes first (the table says which were cut):
 2. scaling: the block by central differences and the column by Moreau-Jean (2 s of El Centro) on a few
    multiprocessors, a block of threads on each, and (the block) as many threads as they hold: the time of one
    thread's step at each load, which says whether the kernel waits on latency or on bandwidth.
-3. throughput: the block (``--block-members``, 65,536) and the column (``--column-members``, 4,096) under
+3. agreement: ``--sample`` members of the 1 x 6 m block by central differences and of the 8-drum column by
+   Moreau-Jean (the issue's marked cases) under El Centro, scaled evenly from 1.2 to 3 times g tan(alpha), on the
+   GPU and on the CPU's threads.  A member whose CPU run moves by less than 1e-10 when its scale moves by 1e-12 is
+   not chaotic, and its GPU peak must be within 1e-9 of the CPU's; the medians of the peak theta/alpha over the
+   members must lie within each other's 90% bootstrap intervals (members drawn again).  And how many times as long
+   a GPU thread takes for a member's step as a CPU core, the ratio that ``simulate_batch(device="auto")`` rests on.
+   The CPU's side is taken from ``--cpu-reference`` where that file was run ahead for this code and these members
+   (``python -m comparisons gpu-reference``; its line names the machine it ran on); otherwise it runs here, its
+   kernels compiled first (minutes on a fresh machine).
+4. throughput: the block (``--block-members``, 65,536) and the column (``--column-members``, 4,096) under
    ``--duration`` s of El Centro, at the integrator's automatic step: the kernels' member-steps per second, the
    members' set-up and the whole batch's time (the set-up, the packing of the members' arrays, their copies to
    and from the GPU and the kernel), and, with ``--cpu-members``, the CPU's threads on as many of the same members.
-   The issue's marked cases (the block by central differences, the column by Moreau-Jean) run here; the other two
-   (``throughput-other``) run last.
-4. fragility: the committed study (examples/studies/fragility.py: the bundled default column, the demonstration
+   The issue's marked cases run here; the other two (``throughput-other``) run last.
+5. fragility: the committed study (examples/studies/fragility.py: the bundled default column, the demonstration
    suite's 40 motions x 40 stripes, each followed by 10 s at rest, Moreau-Jean) on the GPU: its time and its
    overturning median.
-5. fine scan: the first overturn of each of record_overturning's 28 systems (examples/studies/record_overturning.py:
+6. fine scan: the first overturn of each of record_overturning's 28 systems (examples/studies/record_overturning.py:
    columns of 1 to 3 drums and colonnades of 1, 2, 3 and 5 drums under the four records), every 0.02 m/s^2 from
    its lowest PGA to its cap, one GPU batch a system: the time, and ``fine_scan.csv`` in ``--out``.
-6. agreement: ``--sample`` members of the 1 x 6 m block and of the 8-drum column under El Centro, scaled evenly from
-   1.2 to 3 times g tan(alpha), for each integrator, on the GPU and on the CPU's threads (whose kernels compile
-   first: minutes on a fresh machine).  A member whose CPU run moves by less than 1e-10 when its scale moves by
-   1e-12 is not chaotic, and its GPU peak must be within 1e-9 of the CPU's; the medians of the peak theta/alpha
-   over the members must lie within each other's 90% bootstrap intervals (members drawn again).  And how many
-   times as long a GPU thread takes for a member's step as a CPU core, the ratio that
-   ``simulate_batch(device="auto")`` rests on.
-7. throughput-other: the block by Moreau-Jean and the column by central differences, as in 3.
+7. agreement-other: the agreement of the block by Moreau-Jean and of the column by central differences (the GPU's
+   slowest case by far).
+8. throughput-other: the block by Moreau-Jean and the column by central differences, as in 4.
 
 The issue's marks (H100 or H200): the block by central differences at least 1e10 member-steps/s; the column's 4,096
 members by Moreau-Jean in at most 10 s; the fragility study in at most 60 s; the fine scan in at most 10 minutes.
@@ -42,7 +45,6 @@ import os
 import sys
 import time
 import traceback
-import warnings
 from importlib import metadata
 from pathlib import Path
 
@@ -50,24 +52,26 @@ import numpy as np
 import pandas as pd
 
 import dem_core
-from dem_core import excitation, scenes
+from dem_core import scenes
 from dem_core.analyses.study_members import MembersInterrupted
 from dem_core.batch import BatchInterrupted, simulate_batch
 from dem_core.batch_gpu import gpu_available, run_members
 from dem_core.gpu_kernels import ENVIRONMENT, load_named_kernels
 from dem_core.engine.settings import INTEGRATORS
-from dem_core.inputs.records import G_STANDARD
 from dem_core.engine.state import STEP
 from dem_core.simulation import Simulation, set_up_scene
 
-from .record_members import RECORD, SCENES, motions
+from . import gpu_reference
+from .gpu_reference import STEADY, cpu_side, members_key, peaks
+from .record_members import MARKED_CASES, OTHER_CASES, RECORD, SCENES, ignore_the_cut_strong_motion, motions
 
 STUDIES = Path(__file__).resolve().parents[2] / "examples" / "studies"
-#: a member is not chaotic when its CPU peak moves less than this (relative) as its scale moves by NUDGE
-STEADY, NUDGE, AGREEMENT = 1e-10, 1e-12, 1e-9
-#: the sections in the order they run: what decides the kernel's design and the issue's marks first; the agreement,
-#: which compiles the CPU's kernels first (minutes on a fresh machine), and the other throughputs last
-SECTION_ORDER = ("device", "scaling", "throughput", "fragility", "fine", "agreement", "throughput-other")
+#: a steady member's GPU peak is within this (relative) of its CPU peak
+AGREEMENT = 1e-9
+#: the sections in the order they run: what decides the kernel's design first, the marked cases' agreement, the
+#: issue's marks, then the other cases (the column by central differences is the GPU's slowest by far)
+SECTION_ORDER = ("device", "scaling", "agreement", "throughput", "fragility", "fine", "agreement-other",
+                 "throughput-other")
 #: s of every run under --smoke (the record's whole length otherwise, where a study runs it)
 SMOKE_DURATION = 0.05
 #: motions of the fragility study's suite run under --smoke
@@ -82,14 +86,19 @@ def arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--budget", type=float, default=450.0, help="s for every section together (default 450)")
     parser.add_argument("--out", default=".", help="folder for fine_scan.csv and each section's gpu_check_<section>.csv "
                         "(default: here)")
-    parser.add_argument("--sample", type=int, default=64, help="members of each agreement check (default 64)")
+    parser.add_argument("--sample", type=int, default=gpu_reference.SAMPLE,
+                        help=f"members of each agreement check (default {gpu_reference.SAMPLE})")
+    parser.add_argument("--cpu-reference", default=None,
+                        help="the agreement's CPU side run ahead (`python -m comparisons gpu-reference`): its cases "
+                             "are taken where they are for this code and these members, and run here otherwise")
     parser.add_argument("--block-members", type=int, default=65536)
     parser.add_argument("--column-members", type=int, default=4096)
     parser.add_argument("--cpu-members", type=int, default=0,
                         help="members of the CPU's throughput beside the GPU's (default 0: none; the CPU's threaded "
                              "kernel compiles first, minutes on a fresh machine; the agreement section measures a GPU "
                              "thread against a CPU core in any case)")
-    parser.add_argument("--duration", type=float, default=20.0, help="s of El Centro (default 20)")
+    parser.add_argument("--duration", type=float, default=gpu_reference.DURATION,
+                        help=f"s of El Centro (default {gpu_reference.DURATION:g})")
     parser.add_argument("--stripes", type=int, default=None, help="the fragility study's stripes (default its own)")
     parser.add_argument("--systems", type=int, default=None, help="the fine scan's first N systems (default all)")
     parser.add_argument("--fine-step", type=float, default=None, help="m/s^2 (default the study's 0.02)")
@@ -166,51 +175,66 @@ def _version(name: str) -> str:
         return "-"
 
 
-def _peaks(batch, alpha: float) -> np.ndarray:
-    return batch.table["max_peak_abs_theta_rad"].to_numpy(float) / alpha
-
-
 def _median_interval(values: np.ndarray, rng, samples: int = 2000) -> tuple:
     drawn = rng.choice(values, size=(samples, len(values)), replace=True)
     medians = np.median(drawn, axis=1)
     return float(np.median(values)), float(np.quantile(medians, 0.05)), float(np.quantile(medians, 0.95))
 
 
-def agreement_section(args, clock: Clock) -> None:
-    import numba
+def _cpu_reference(path) -> dict:
+    """The cases by key of ``--cpu-reference`` (:func:`gpu_reference.load`), with a line naming the machine they
+    ran on; none, with a line saying why, where it is not given, not there or not a reference."""
+    if path is None:
+        return {}
+    if not Path(path).is_file():
+        _line("agreement", "CPU reference", f"{path} not found: the CPU runs here")
+        return {}
+    try:
+        cases, made = gpu_reference.load(path)
+    except ValueError as error:
+        _line("agreement", "CPU reference", f"{error}; the CPU runs here")
+        return {}
+    _line("agreement", "CPU reference", f"{path}: run on {made['machine']}, numpy {made['numpy']}, "
+          f"numba {made['numba']}")
+    return cases
 
+
+def agreement_section(args, clock: Clock, cases=MARKED_CASES) -> None:
     rng = np.random.default_rng(0)
-    threads = min(numba.get_num_threads(), args.sample)
-    for name, (build, tan_alpha) in SCENES.items():
+    reference = _cpu_reference(args.cpu_reference)
+    for name, integrator in cases:
+        build, tan_alpha = SCENES[name]
         alpha = float(np.arctan(tan_alpha))
-        for integrator in INTEGRATORS:
-            options = {"integrator": integrator, "stop_at_overturn": True}
-            members = motions(tan_alpha, args.sample)
-            gpu = simulate_batch(build(), members, args.duration, device="gpu", progress=clock.progress, **options)
-            cpu = simulate_batch(build(), members, args.duration, device="cpu", threads=threads,
-                                 progress=clock.progress, **options)
-            nudged = simulate_batch(build(), motions(tan_alpha, args.sample, NUDGE), args.duration, device="cpu",
-                                    threads=threads, progress=clock.progress, **options)
-            on_gpu, on_cpu, moved = _peaks(gpu, alpha), _peaks(cpu, alpha), _peaks(nudged, alpha)
-            steady = np.abs(moved - on_cpu) <= STEADY * np.abs(on_cpu)
-            within = int(np.sum(np.abs(on_gpu - on_cpu)[steady] <= AGREEMENT * np.abs(on_cpu)[steady]))
-            g, c = _median_interval(on_gpu, rng), _median_interval(on_cpu, rng)
-            overlap = g[1] <= c[0] <= g[2] and c[1] <= g[0] <= c[2]
-            _line("agreement", f"{name}, {integrator}: steady members within 1e-9",
-                  f"{within} of {int(steady.sum())} (of {len(on_cpu)})",
-                  "met" if within == int(steady.sum()) else "NOT met")
-            _line("agreement", f"{name}, {integrator}: median theta/alpha GPU, CPU",
-                  f"{g[0]:.4f} ({g[1]:.4f}-{g[2]:.4f}), {c[0]:.4f}", "met" if overlap else "NOT met")
-            _line("agreement", f"{name}, {integrator}: a GPU thread's step against a CPU core's",
-                  f"{_thread_against_core(gpu, cpu, threads):.3g} times as long")
+        gpu = simulate_batch(build(), motions(tan_alpha, args.sample), args.duration, device="gpu",
+                             integrator=integrator, progress=clock.progress, **gpu_reference.OPTIONS)
+        cpu = reference.get(members_key(name, integrator, args.sample, args.duration))
+        if cpu is not None:
+            where = f"run ahead ({cpu['device']})"
+        else:
+            cpu = cpu_side(name, integrator, args.sample, args.duration, progress=clock.progress)
+            where = "run here" + (" (the reference is for other code or members)" if reference else "")
+        on_gpu, on_cpu, moved = peaks(gpu, alpha), np.array(cpu["peaks"]), np.array(cpu["nudged"])
+        steady = np.abs(moved - on_cpu) <= STEADY * np.abs(on_cpu)
+        within = int(np.sum(np.abs(on_gpu - on_cpu)[steady] <= AGREEMENT * np.abs(on_cpu)[steady]))
+        g, c = _median_interval(on_gpu, rng), _median_interval(on_cpu, rng)
+        overlap = g[1] <= c[0] <= g[2] and c[1] <= g[0] <= c[2]
+        _line("agreement", f"{name}, {integrator}: the CPU's side", where)
+        _line("agreement", f"{name}, {integrator}: steady members within 1e-9",
+              f"{within} of {int(steady.sum())} (of {len(on_cpu)})",
+              "met" if within == int(steady.sum()) else "NOT met")
+        _line("agreement", f"{name}, {integrator}: median theta/alpha GPU, CPU",
+              f"{g[0]:.4f} ({g[1]:.4f}-{g[2]:.4f}), {c[0]:.4f}", "met" if overlap else "NOT met")
+        _line("agreement", f"{name}, {integrator}: a GPU thread's step against a CPU core's",
+              f"{_thread_against_core(gpu, cpu):.3g} times as long")
 
 
-def _thread_against_core(gpu, cpu, threads: int) -> float:
+def _thread_against_core(gpu, cpu: dict) -> float:
     """How many times as long a GPU thread takes for a member's step as a CPU core, from one batch of the same
-    members on each: the GPU's members run at once (its time is its longest member's), the CPU's on ``threads``
-    threads, a member each at a time (its time is all their steps over its threads)."""
-    steps = cpu.table["steps"].to_numpy(float)
-    return (gpu.wall_time_s / steps.max()) / (cpu.wall_time_s * threads / steps.sum())
+    members on each (``cpu``: :func:`gpu_reference.cpu_side`'s): the GPU's members run at once (its time is its
+    longest member's), the CPU's on its threads, a member each at a time (its time is all their steps over its
+    threads)."""
+    steps = np.array(cpu["steps"], float)
+    return (gpu.wall_time_s / steps.max()) / (cpu["wall_time_s"] * cpu["threads"] / steps.sum())
 
 
 def _set_up_members(scene, integrator: str, tan_alpha: float, members: int, duration: float) -> list:
@@ -219,11 +243,6 @@ def _set_up_members(scene, integrator: str, tan_alpha: float, members: int, dura
     shared = set_up_scene(scene, integrator=integrator)
     return [Simulation(scene, motion, duration, scene_set_up=shared, integrator=integrator)
             for motion in motions(tan_alpha, members)]
-
-
-#: the throughput's cases (scene, integrator): the issue's marks first, the other two after the studies
-MARKED_CASES = (("block", "explicit"), ("column", "moreau"))
-OTHER_CASES = (("block", "moreau"), ("column", "explicit"))
 
 
 def throughput_section(args, clock: Clock, cases=MARKED_CASES) -> list:
@@ -362,6 +381,7 @@ def fine_section(args, clock: Clock) -> None:
 
 SECTIONS = {"device": device_section, "agreement": agreement_section, "throughput": throughput_section,
             "throughput-other": lambda args, clock: throughput_section(args, clock, OTHER_CASES),
+            "agreement-other": lambda args, clock: agreement_section(args, clock, OTHER_CASES),
             "fragility": fragility_section, "fine": fine_section, "scaling": scaling_section}
 
 
@@ -376,8 +396,7 @@ def run(args: argparse.Namespace) -> None:
     Path(args.out).mkdir(parents=True, exist_ok=True)
     load_named_kernels()  # before any section: the throughput's batches are launched without simulate_batch
     clock = Clock(args.budget)
-    # the issue's measures run 20 s of El Centro, short of its strong motion's end (26.3 s), by design
-    warnings.filterwarnings("ignore", message="the strong motion is cut")
+    ignore_the_cut_strong_motion()
     print(f"gpu-check, budget {args.budget:g} s, {args.duration:g} s of {RECORD}", flush=True)
     _line("section", "item", "value", "issue's mark")
     for name in dict.fromkeys(args.sections):
