@@ -6,6 +6,7 @@ headers are plain words, which states its commit and its sources digest, and whi
 import html.parser
 import re
 import shutil
+import sys
 import warnings
 
 import matplotlib.pyplot as plt
@@ -270,3 +271,16 @@ def test_report_opens_with_its_provenance_and_the_scoreboard(quick_report):
     assert "inf%" not in page and "nan%" not in page
     if shutil.which("chromium"):
         assert (index.parent / "first_screen.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+
+
+def test_the_harness_bars_show_on_a_terminal_and_are_silent_in_a_log(capsys, monkeypatch):
+    """The report in a log (stderr not a terminal) writes no bar; on a terminal its bars show unless progress is off."""
+    from comparisons.harness.progress import bar
+
+    assert list(bar(range(3), progress=True, desc="cases")) == [0, 1, 2]
+    assert capsys.readouterr().err == ""
+    monkeypatch.setattr(sys.stderr, "isatty", lambda: True)
+    list(bar(range(3), progress=False, desc="cases"))
+    assert capsys.readouterr().err == ""
+    list(bar(range(3), progress=True, desc="cases"))
+    assert "cases: 100%" in capsys.readouterr().err

@@ -16,16 +16,15 @@ run.  There is no exact answer for a column: the ensemble shows whether Moreau-J
 studies measure (its 1e-3 s against 2.5e-4 s), and how close the integrators and pymunk come to each other.
 """
 
-import sys
 import warnings
 
 import numpy as np
 import pandas as pd
-from tqdm import tqdm
 
 import adapters
 from comparisons.cases.strong_motion import strong_motion
 from comparisons.harness.ensembles import ROCKING_FLOOR
+from comparisons.harness.progress import bar as progress_bar
 from dem_core import records, scenes
 
 DRUMS = 8
@@ -67,7 +66,7 @@ def run_column_ensemble(quick: bool = False, progress: bool = True, scales=None,
     threshold = column.gravity * WIDTH / HEIGHT
     chosen = members((QUICK_SCALES if quick else SCALES) if scales is None else scales)
     rows = []
-    for name, scale in tqdm(chosen, desc="column ensemble", disable=not progress, file=sys.stderr):
+    for name, scale in progress_bar(chosen, desc="column ensemble", progress=progress):
         motion = strong_motion(name, scale * threshold)
         for label, engine, options in RUNS:
             with warnings.catch_warnings():

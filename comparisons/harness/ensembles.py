@@ -28,18 +28,17 @@ it agrees with the reference about overturning, and the median wall time of a ru
 the tidy table of every run, for the report, a benchmark script or a test.
 """
 
-import sys
 from dataclasses import dataclass, field
 
 import numpy as np
 import pandas as pd
-from tqdm import tqdm
 
 from comparisons.cases.case import ENGINES, by_name, declared_band
 from comparisons.cases.measures import peak_until_overturn
 from comparisons.cases.strong_motion import strong_motion
 from comparisons.harness import engines
 from comparisons.harness.engines import settings_label
+from comparisons.harness.progress import bar as progress_bar
 from comparisons.references import analytical
 from comparisons.references.rocking_equation import rocking_response
 from dem_core import records, scenes
@@ -248,8 +247,7 @@ def run_ensemble(ens: Ensemble, engine_names=ENGINES, steps: dict | None = None,
     output_dts = [min(0.005, motion.horizontal.dt / 2) for motion in motions]
     runs = [(engine, step, settings) for engine, ladder in plan.items() for step, settings in ladder]
     rows = []
-    bar = tqdm(total=len(runs) * len(members), desc=ens.name, unit="run",
-               disable=not (progress and sys.stderr.isatty()))
+    bar = progress_bar(total=len(runs) * len(members), desc=ens.name, unit="run", progress=progress)
     with bar:
         for engine, step, settings in runs:
             done = engines.simulate_members(member_scenes, motions, [m.duration for m in members], engine, step,

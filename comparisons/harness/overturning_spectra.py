@@ -28,16 +28,15 @@ that leaves the pulse with enough energy overturns (one that leaves it within ``
 energy it needs would take longer; the reference runs as long, so both are judged alike).
 """
 
-import sys
 from dataclasses import dataclass, field
 from itertools import pairwise
 
 import numpy as np
 import pandas as pd
-from tqdm import tqdm
 
 from comparisons.cases.case import ENGINES, by_name, declared_band
 from comparisons.harness import engines
+from comparisons.harness.progress import bar as progress_bar
 from comparisons.references import analytical
 from comparisons.references.rocking_equation import rocking_response
 from dem_core import excitation, scenes
@@ -214,8 +213,7 @@ def run_spectrum(spec: Spectrum, engine_names=ENGINES, steps: dict | None = None
     motions, durations = zip(*(spec.motion(point.column, point.amplitude) for point in judged))
     block = scenes.block(*spec.block)
     rows = []
-    bar = tqdm(total=len(engine_names) * len(judged), desc=spec.name, unit="run",
-               disable=not (progress and sys.stderr.isatty()))
+    bar = progress_bar(total=len(engine_names) * len(judged), desc=spec.name, unit="run", progress=progress)
     with bar:
         for engine in engine_names:
             step = (steps or {}).get(engine, engines.USUAL_STEP[engine])

@@ -125,8 +125,10 @@ def with_capacities(state: State, pairs: int, retired: int) -> State:
 
 def stacked_with_capacities(states: list, pairs: int, retired: int) -> State:
     """``states`` (M of one shape but their stores') as one :class:`State` of C-ordered (M, ...) arrays, each
-    member's stores of ``pairs`` pairs and ``retired`` slips, its entries kept and the rest empty (-1, or 0.0 where
-    not integers); ``ValueError`` naming the member and the store where a capacity is below its entries."""
+    member's stores of ``pairs`` pairs and ``retired`` slips: its rows copied as far as both its store and the new
+    one reach (its entries, the first ``counters[LISTED]`` and ``counters[RETIRED]`` rows, among them), the rows
+    beyond its store empty (-1, or 0.0 where not integers); ``ValueError`` naming the member and the store where a
+    capacity is below its entries."""
     for m, state in enumerate(states):
         for store, entries, capacity in (("pair", state.counters[LISTED], pairs),
                                          ("retired slip", state.counters[RETIRED], retired)):
