@@ -28,6 +28,7 @@ BENCHMARKS = {
     "restitution": "restitution",
     "gpu-check": "gpu_check",
     "gpu-reference": "gpu_reference",
+    "kernel-accesses": "kernel_accesses",
     "fragility-suite": "fragility_suite",
     "connector-cost": "connector_cost",
 }

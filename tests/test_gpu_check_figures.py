@@ -3,6 +3,8 @@ and tables, as ``bash .ci/gpu-check`` wrote them on a lent H200): docs/performan
 it, the README's sentence, and ``GPU_MEMBERS_PER_THREAD``, where ``device="auto"`` takes the GPU."""
 
 import re
+import subprocess
+import sys
 from pathlib import Path
 
 import numpy as np
@@ -163,3 +165,58 @@ def test_the_members_bytes_and_the_shortfalls_are_so(section, logs):
     assert f"column {(column.set_up_s + column.kernel_s) / 10.0:.1f} times" in section
     took = float(_row(logs["second_call"], r"\d+ runs \(gpu")[1].split()[0])
     assert f"fragility study {took / 60.0:.1f} times" in section
+
+
+def _accesses(scene: str, integrator: str) -> dict:
+    """``python -m comparisons kernel-accesses`` on its default windows: each window's reads and writes a step, the
+    last window's bytes touched of the member's, and the elements it touched of each array."""
+    done = subprocess.run([sys.executable, "-m", "comparisons", "kernel-accesses", "--scene", scene, "--integrator",
+                           integrator], capture_output=True, text=True, cwd=REPOSITORY, timeout=600, check=True)
+    windows = [tuple(int(v) for v in found) for found in
+               re.findall(r"steps \d+ to \d+: (\d+) reads and (\d+) writes a step", done.stdout)]
+    touched, held = (int(v.replace(",", "")) for v in
+                     re.search(r"touched ([\d,]+) B of the member's arrays .* of ([\d,]+) B", done.stdout).groups())
+    elements = {name: int(n.replace(",", "")) for name, n in
+                re.findall(r"^  (\S+) +\d+ +[\d.]+% +([\d,]+) ", done.stdout, re.MULTILINE)}
+    return {"windows": windows, "touched": touched, "held": held, "elements": elements}
+
+
+def test_what_a_threads_step_waits_on_is_the_counts_over_the_h200s_steps():
+    """docs/performance.md's table of reads a step against the H200's per-thread steps, and the working sets a
+    multiprocessor's members touch, from ``kernel-accesses`` and the check's committed throughput."""
+    text = (REPOSITORY / "docs" / "performance.md").read_text()
+    start = text.index("### What a thread's step waits on, counted without a GPU")
+    section = _words(text[start:text.index("\n### ", start + 1)])
+    table = pd.read_csv(CHECK / "throughput.csv").set_index("scene")
+    resident = MULTIPROCESSORS * (REGISTERS // (32 * 256)) * 32
+    counted = {}
+    for scene, integrator, label in (("block", "explicit", "1 x 6 m block, central differences"),
+                                     ("column", "moreau", "8-drum column, Moreau-Jean")):
+        counted[scene] = found = _accesses(scene, integrator)
+        _, (reads, writes) = found["windows"]
+        step = per_thread_step(table.loc[scene])
+        shown = f"{step * 1e6:.0f} us" if step < 1e-3 else f"{step * 1e3:.2f} ms"
+        row = (f"| {label} | {reads:,} | {writes:,} | {found['touched']:,} B of {found['held']:,} B | {shown} | "
+               f"{step / reads * 1e9:.0f} ns |")
+        assert row in section, row
+    block, column = counted["block"], counted["column"]
+    assert f"reads {block['windows'][0][0]} times a step and the column {column['windows'][0][0]:,}" in section
+    assert f"{block['touched']:,} B of the block's arrays and {column['touched']:,} B of the column's" in section
+    assert f"of the band, {column['elements']['scratch.band']} elements of {column_band_elements():,}" in section
+    assert f"held {resident:,} threads at once (256 on each multiprocessor) and the column's {4096:,}" in section
+    assert table.loc["block"].members > resident and table.loc["column"].members == 4096
+    assert f"{ {8: 'eight'}[round(resident / 4096)]} times as many" in section
+    assert (f"block's members touch {256 * block['touched']:,} B a step, and at 64 the column's "
+            f"{64 * column['touched']:,} B") in section
+    assert f"the block's touch {64 * block['touched']:,} B" in section
+
+
+def column_band_elements() -> int:
+    """The elements of the 8-drum column's band, a Moreau-Jean member's scratch."""
+    from dem_core import scenes
+    from dem_core.batch_gpu import _motions, pack
+    from dem_core.inputs.excitation import sine_pulse
+    from dem_core.simulation import Simulation
+
+    runs = [Simulation(scenes.column(), sine_pulse(2.0, 0.5), 0.1, integrator="moreau")]
+    return pack(runs, _motions(runs)).scratch.band[0].size
