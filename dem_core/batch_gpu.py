@@ -212,24 +212,26 @@ def _repeated_on_device(row: np.ndarray, count: int, cuda):
     return rows
 
 
-def cuda_launcher():
+def cuda_launcher(threads_per_block: int | None = None):
     """``(launch, fetch)``: ``launch(members, samples, n_steps)`` runs the CUDA kernel of the members' integrator
-    over them for a chunk and returns their status (M, 3), the arrays moved to the GPU at its first call and kept
-    there;
+    over them for a chunk, ``threads_per_block`` a block of threads (default
+    :data:`~dem_core.engine._members.THREADS_PER_BLOCK`), and returns their status (M, 3), the arrays moved to the
+    GPU at its first call and kept there;
     ``fetch(members)`` copies what the kernel writes (the state, the outputs, the status) back into ``members``."""
     from numba import cuda
 
     from .engine._members import KERNELS, THREADS_PER_BLOCK
 
+    threads = threads_per_block or THREADS_PER_BLOCK
     held = []
 
     def launch(members: Members, samples: np.ndarray, n_steps: int) -> np.ndarray:
         if not held:
             held.append(_on_device(members, cuda))
         d = held[0]
-        blocks = (len(members.status) + THREADS_PER_BLOCK - 1) // THREADS_PER_BLOCK
-        KERNELS[members.integrator][blocks, THREADS_PER_BLOCK](d.model, d.settings, d.state, d.outputs, d.scratch,
-                                                               cuda.to_device(samples), d.motion, n_steps, d.status)
+        blocks = (len(members.status) + threads - 1) // threads
+        KERNELS[members.integrator][blocks, threads](d.model, d.settings, d.state, d.outputs, d.scratch,
+                                                     cuda.to_device(samples), d.motion, n_steps, d.status)
         cuda.synchronize()
         return d.status.copy_to_host()
 

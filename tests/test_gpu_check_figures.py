@@ -11,6 +11,7 @@ import numpy as np
 import pandas as pd
 import pytest
 
+from comparisons.benchmarks.gpu_check import SCALING
 from dem_core.batch import GPU_MEMBERS_PER_THREAD
 from dem_core.engine._members import THREADS_PER_BLOCK
 from test_quoted_figures import _words
@@ -209,6 +210,13 @@ def test_what_a_threads_step_waits_on_is_the_counts_over_the_h200s_steps():
     assert (f"block's members touch {256 * block['touched']:,} B a step, and at 64 the column's "
             f"{64 * column['touched']:,} B") in section
     assert f"the block's touch {64 * block['touched']:,} B" in section
+    loads = {scene: sorted(round(threads * blocks) for threads, blocks in SCALING[scene, integrator] if blocks >= 1)
+             for scene, integrator in SCALING}
+    assert loads == {"block": [16, 64, 256], "column": [8, 64]}
+    said = {scene: [f"{n * counted[scene]['touched']:,} B" for n in loads[scene]] for scene in loads}
+    assert (f"block at 16, 64 and 256 threads a multiprocessor (its members touching {said['block'][0]}, "
+            f"{said['block'][1]} and {said['block'][2]} a step) and the column at 8 and 64 ({said['column'][0]} and "
+            f"{said['column'][1]})") in section
 
 
 def column_band_elements() -> int:

@@ -9,8 +9,9 @@ where the budget's end comes first (the table says which were cut):
 1. device: the GPU, its compute capability, the driver, the versions of numpy, numba and numba-cuda, and each
    integrator's kernel as compiled for this GPU (registers and local memory per thread).
 2. scaling: the block by central differences and the column by Moreau-Jean (2 s of El Centro) on a few
-   multiprocessors, a block of threads on each, and (the block) as many threads as they hold: the time of one
-   thread's step at each load, which says whether the kernel waits on latency or on bandwidth.
+   multiprocessors, a block of threads on each, a block of fewer threads on each (whose members' working sets fit
+   its L1 cache) and (the block) as many threads as they hold: the time of one thread's step at each load, which
+   says whether the kernel waits on latency, on bandwidth, or on where its reads find their bytes.
 3. agreement: ``--sample`` members of the 1 x 6 m block by central differences and of the 8-drum column by
    Moreau-Jean (the issue's marked cases) under El Centro, scaled evenly from 1.2 to 3 times g tan(alpha), on the
    GPU and on the CPU's threads.  A member whose CPU run moves by less than 1e-10 when its scale moves by 1e-12 is
@@ -286,9 +287,12 @@ def throughput_section(args, clock: Clock, cases=MARKED_CASES) -> list:
     return rows
 
 
-#: the scaling section's cases and their loads, in blocks of threads per multiprocessor: a block on a few of them,
-#: one on each, and as many as they hold at 255 registers a thread (four of 64 threads)
-SCALING = {("block", "explicit"): (1 / 32, 1, 4), ("column", "moreau"): (1 / 32, 1)}
+#: the scaling section's cases and their loads: (threads a block, blocks a multiprocessor).  At 64 threads a block, a
+#: block on a few multiprocessors, one on each and as many as they hold at 255 registers a thread (four); and one
+#: block a multiprocessor of fewer threads, whose members' working sets (docs/performance.md, "What a thread's step
+#: waits on") fit its L1 cache
+SCALING = {("block", "explicit"): ((64, 1 / 32), (16, 1), (64, 1), (64, 4)),
+           ("column", "moreau"): ((64, 1 / 32), (8, 1), (64, 1))}
 #: s of El Centro in each of the scaling section's batches
 SCALING_DURATION = 2.0
 
@@ -296,11 +300,11 @@ SCALING_DURATION = 2.0
 def scaling_section(args, clock: Clock) -> list:
     """Each case of :data:`SCALING` at each of its loads: the time of one thread's step.  The same time at every
     load says a thread waits on its own chain of memory accesses (latency); a time that grows with the load says
-    the threads share a limit (bandwidth); one that falls at the lightest load, whose members' arrays fit the L2
-    cache, says the heavier loads wait on the GPU's memory."""
+    the threads share a limit (bandwidth); one that falls where a multiprocessor's members' working sets fit its L1
+    cache says the reads wait on the L2 cache or the memory beyond it."""
     from numba import cuda
 
-    from dem_core.engine._members import THREADS_PER_BLOCK
+    from dem_core.batch_gpu import cuda_launcher
 
     sms = getattr(cuda.get_current_device(), "MULTIPROCESSOR_COUNT", 1)  # none on the simulator's device
     duration = SMOKE_DURATION if args.smoke else SCALING_DURATION
@@ -308,15 +312,15 @@ def scaling_section(args, clock: Clock) -> list:
     for (name, integrator), loads in SCALING.items():
         build, tan_alpha = SCENES[name]
         scene = build()
-        for load in loads:
-            members = 2 if args.smoke else round(load * sms * THREADS_PER_BLOCK)
+        for threads, blocks in loads:
+            members = 2 if args.smoke else round(blocks * sms * threads)
             runs = _set_up_members(scene, integrator, tan_alpha, members, duration)
-            kernel = run_members(runs, progress=clock.progress)
+            kernel = run_members(runs, progress=clock.progress, launcher=cuda_launcher(threads))
             steps = sum(int(run.state.counters[STEP]) for run in runs) / members
-            _line("scaling", f"{name}, {integrator}, M={members} on {sms} multiprocessors",
+            _line("scaling", f"{name}, {integrator}, M={members}, {threads} a block, {sms} multiprocessors",
                   f"{kernel / steps * 1e6:.3g} us a step a thread")
-            rows.append({"scene": name, "integrator": integrator, "members": members, "multiprocessors": sms,
-                         "steps_per_member": steps, "kernel_s": kernel})
+            rows.append({"scene": name, "integrator": integrator, "members": members, "threads_per_block": threads,
+                         "multiprocessors": sms, "steps_per_member": steps, "kernel_s": kernel})
     return rows
 
 
