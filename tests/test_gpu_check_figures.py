@@ -203,7 +203,9 @@ def test_what_a_threads_step_waits_on_is_the_counts_over_the_h200s_steps():
     block, column = counted["block"], counted["column"]
     assert f"reads {block['windows'][0][0]} times a step and the column {column['windows'][0][0]:,}" in section
     assert f"{block['touched']:,} B of the block's arrays and {column['touched']:,} B of the column's" in section
-    assert f"of the band, {column['elements']['scratch.band']} elements of {column_band_elements():,}" in section
+    band, elements = column["elements"]["scratch.band"], column_band_elements()
+    assert f"of the band, {band} elements of {elements:,}" in section
+    assert f"a step touches {band} of its {elements:,} elements" in section
     assert f"held {resident:,} threads at once (256 on each multiprocessor) and the column's {4096:,}" in section
     assert table.loc["block"].members > resident and table.loc["column"].members == 4096
     assert f"{ {8: 'eight'}[round(resident / 4096)]} times as many" in section
