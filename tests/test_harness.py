@@ -275,12 +275,12 @@ def test_report_opens_with_its_provenance_and_the_scoreboard(quick_report):
 
 def test_the_harness_bars_show_on_a_terminal_and_are_silent_in_a_log(capsys, monkeypatch):
     """The report in a log (stderr not a terminal) writes no bar; on a terminal its bars show unless progress is off."""
-    from comparisons.harness.progress import bar
+    from comparisons.harness.progress import terminal_bar
 
-    assert list(bar(range(3), progress=True, desc="cases")) == [0, 1, 2]
+    assert list(terminal_bar(range(3), progress=True, desc="cases")) == [0, 1, 2]
     assert capsys.readouterr().err == ""
     monkeypatch.setattr(sys.stderr, "isatty", lambda: True)
-    list(bar(range(3), progress=False, desc="cases"))
+    list(terminal_bar(range(3), progress=False, desc="cases"))
     assert capsys.readouterr().err == ""
-    list(bar(range(3), progress=True, desc="cases"))
+    list(terminal_bar(range(3), progress=True, desc="cases"))
     assert "cases: 100%" in capsys.readouterr().err

@@ -9,7 +9,6 @@ runs at its automatic step and fractions of it; the other engines at fixed steps
 engine at its finest and next-finest settings instead (the native core at 10 and 100 times K_n).
 """
 
-
 import numpy as np
 import pandas as pd
 
@@ -17,7 +16,7 @@ from comparisons.cases.case import ENGINES
 from comparisons.cases.catalogue import all_cases
 from comparisons.harness import consensus, engines
 from comparisons.harness.engines import settings_label
-from comparisons.harness.progress import bar as progress_bar
+from comparisons.harness.progress import terminal_bar
 
 #: steps of each engine: for the native core, divisors of its automatic step; for the others, s.  PyBullet's
 #: quick ladder stops at 5e-4 s: its steps cost five times pymunk's (docs/performance.md), and the quick run
@@ -78,7 +77,7 @@ def run_harness(quick: bool = True, cases=None, engine_names=ENGINES, progress: 
     runs = plan(quick, cases, engine_names)
     references = {}
     rows = []
-    bar = progress_bar(runs, desc="runs", unit="run", progress=progress)
+    bar = terminal_bar(runs, desc="runs", unit="run", progress=progress)
     for case, engine, step, settings in bar:
         bar.set_postfix_str(f"{case.name}, {engine}", refresh=False)
         if case.name not in references:

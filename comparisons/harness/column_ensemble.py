@@ -24,7 +24,7 @@ import pandas as pd
 import adapters
 from comparisons.cases.strong_motion import strong_motion
 from comparisons.harness.ensembles import ROCKING_FLOOR
-from comparisons.harness.progress import bar as progress_bar
+from comparisons.harness.progress import terminal_bar
 from dem_core import records, scenes
 
 DRUMS = 8
@@ -66,7 +66,7 @@ def run_column_ensemble(quick: bool = False, progress: bool = True, scales=None,
     threshold = column.gravity * WIDTH / HEIGHT
     chosen = members((QUICK_SCALES if quick else SCALES) if scales is None else scales)
     rows = []
-    for name, scale in progress_bar(chosen, desc="column ensemble", progress=progress):
+    for name, scale in terminal_bar(chosen, desc="column ensemble", progress=progress):
         motion = strong_motion(name, scale * threshold)
         for label, engine, options in RUNS:
             with warnings.catch_warnings():

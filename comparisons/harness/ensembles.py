@@ -38,7 +38,7 @@ from comparisons.cases.measures import peak_until_overturn
 from comparisons.cases.strong_motion import strong_motion
 from comparisons.harness import engines
 from comparisons.harness.engines import settings_label
-from comparisons.harness.progress import bar as progress_bar
+from comparisons.harness.progress import terminal_bar
 from comparisons.references import analytical
 from comparisons.references.rocking_equation import rocking_response
 from dem_core import records, scenes
@@ -247,7 +247,7 @@ def run_ensemble(ens: Ensemble, engine_names=ENGINES, steps: dict | None = None,
     output_dts = [min(0.005, motion.horizontal.dt / 2) for motion in motions]
     runs = [(engine, step, settings) for engine, ladder in plan.items() for step, settings in ladder]
     rows = []
-    bar = progress_bar(total=len(runs) * len(members), desc=ens.name, unit="run", progress=progress)
+    bar = terminal_bar(total=len(runs) * len(members), desc=ens.name, unit="run", progress=progress)
     with bar:
         for engine, step, settings in runs:
             done = engines.simulate_members(member_scenes, motions, [m.duration for m in members], engine, step,

@@ -36,7 +36,7 @@ import pandas as pd
 
 from comparisons.cases.case import ENGINES, by_name, declared_band
 from comparisons.harness import engines
-from comparisons.harness.progress import bar as progress_bar
+from comparisons.harness.progress import terminal_bar
 from comparisons.references import analytical
 from comparisons.references.rocking_equation import rocking_response
 from dem_core import excitation, scenes
@@ -213,7 +213,7 @@ def run_spectrum(spec: Spectrum, engine_names=ENGINES, steps: dict | None = None
     motions, durations = zip(*(spec.motion(point.column, point.amplitude) for point in judged))
     block = scenes.block(*spec.block)
     rows = []
-    bar = progress_bar(total=len(engine_names) * len(judged), desc=spec.name, unit="run", progress=progress)
+    bar = terminal_bar(total=len(engine_names) * len(judged), desc=spec.name, unit="run", progress=progress)
     with bar:
         for engine in engine_names:
             step = (steps or {}).get(engine, engines.USUAL_STEP[engine])

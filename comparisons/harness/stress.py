@@ -27,7 +27,7 @@ import adapters
 import dem_core
 from comparisons.cases import catalogue
 from comparisons.harness.engines import NATIVE_INTEGRATORS, is_native
-from comparisons.harness.progress import bar as progress_bar
+from comparisons.harness.progress import terminal_bar
 from dem_core import excitation, scenes, stability
 from dem_core.engine.model import compile_model
 
@@ -57,7 +57,7 @@ def time_step_ladder(quick, progress):
     """Free rocking and Newmark's pulse at growing time steps, judged against their analytical references."""
     rows = []
     chosen = [c for c in catalogue.all_cases() if c.name in ("free_rocking", "newmark")]
-    for case in progress_bar(chosen, desc="time-step ladder", progress=progress):
+    for case in terminal_bar(chosen, desc="time-step ladder", progress=progress):
         reference = case.reference()
         metric = case.primary or "max_slip"
         limit = stability.stability_limit(compile_model(case.scene()))
@@ -84,7 +84,7 @@ def stiffness_sweep(quick, progress):
     stiffnesses = (1e6, 1e8, 1e10, 1e11) if quick else (1e6, 1e7, 1e8, 1e9, 1e10, 1e11)
     case = catalogue.case("free_rocking")
     reference = case.reference()
-    for kn in progress_bar(stiffnesses, desc="contact stiffness", progress=progress):
+    for kn in terminal_bar(stiffnesses, desc="contact stiffness", progress=progress):
         scene = catalogue.housner_scene(contact=dem_core.ContactParameters(kn=kn))
         result, status, message, wall = _run("dem", scene, None, case.duration, output_dt=case.output_dt)
         errors = case.errors(result, reference) if status == "ok" else {"peak_decay": np.nan}
@@ -104,7 +104,7 @@ def resting_stack(quick, progress):
     duration = 10.0 if quick else 60.0
     column = scenes.column(8)
     weight = np.array([b.mass for b in column.blocks]) * column.gravity
-    for engine in progress_bar(ENGINES, desc="resting stack", progress=progress):
+    for engine in terminal_bar(ENGINES, desc="resting stack", progress=progress):
         result, status, message, wall = _run(engine, column, None, duration)
         settled = result.t >= 1.0
         values = {"horizontal_drift_m": np.max(np.abs(result.x - result.x[0])),
@@ -120,7 +120,7 @@ def resting_stack(quick, progress):
 def large_motion(quick, progress):
     rows = []
     motion = excitation.record("el_centro_1940", pga=10.0)
-    for engine in progress_bar(ENGINES, desc="very large motion", progress=progress):
+    for engine in terminal_bar(ENGINES, desc="very large motion", progress=progress):
         extra = {"stop_at_overturn": False} if engine.startswith("dem") else {}
         result, status, message, wall = _run(engine, scenes.column(8), motion, 8.0 if quick else 20.0, **extra)
         overturn = result.time_of_overturn if result is not None else np.nan
