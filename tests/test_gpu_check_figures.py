@@ -11,7 +11,9 @@ import numpy as np
 import pandas as pd
 import pytest
 
+import dem_core
 from comparisons.benchmarks.gpu_check import SCALING
+from comparisons.benchmarks.record_members import SCENES, motions
 from dem_core.batch import GPU_MEMBERS_PER_THREAD
 from dem_core.engine._members import THREADS_PER_BLOCK
 from test_quoted_figures import _words
@@ -51,13 +53,17 @@ def _value(log: str, item: str) -> str:
     return _row(log, re.escape(item))[1]
 
 
-def per_thread_step(row) -> float:
-    """s a step of one member takes a GPU thread: the kernel's time over the waves of resident threads it ran in,
-    over each member's steps.  At r registers a thread (allocated by the warp, in 256s) a multiprocessor holds
-    REGISTERS / (32 r) warps."""
+def resident_threads() -> int:
+    """The threads the H200 holds at once at 255 registers a thread: a multiprocessor holds REGISTERS / (32 r) warps
+    at r registers (allocated by the warp, in 256s), in whole blocks of THREADS_PER_BLOCK."""
     warps = REGISTERS // (32 * 256)
-    resident = MULTIPROCESSORS * (warps * 32 // THREADS_PER_BLOCK) * THREADS_PER_BLOCK
-    waves = int(np.ceil(row.members / resident))
+    return MULTIPROCESSORS * (warps * 32 // THREADS_PER_BLOCK) * THREADS_PER_BLOCK
+
+
+def per_thread_step(row) -> float:
+    """s a step of one member takes a GPU thread: the kernel's time over the waves of :func:`resident_threads` it
+    ran in, over each member's steps."""
+    waves = int(np.ceil(row.members / resident_threads()))
     return row.kernel_s / waves / (row.member_steps / row.members)
 
 
@@ -151,7 +157,7 @@ def test_the_members_bytes_and_the_shortfalls_are_so(section, logs):
     from dem_core.inputs.excitation import sine_pulse
     from dem_core.simulation import Simulation
 
-    resident = MULTIPROCESSORS * (REGISTERS // (32 * 256)) * 32
+    resident = resident_threads()
     table = pd.read_csv(CHECK / "throughput.csv").set_index("scene")
     for name, build, integrator, members in (("block", lambda: scenes.block(1.0, 6.0), "explicit", resident),
                                              ("column", scenes.column, "moreau", table.loc["column"].members)):
@@ -175,13 +181,16 @@ def _accesses(scene: str, integrator: str) -> dict:
                            integrator], capture_output=True, text=True, cwd=REPOSITORY, timeout=600, check=True)
     windows = [tuple(int(v) for v in found) for found in
                re.findall(r"steps \d+ to \d+: (\d+) reads and (\d+) writes a step", done.stdout)]
+    solver = [tuple(float(v) for v in found) for found in
+              re.findall(r"([\d.]+) passes by statuses and ([\d.]+) sweeps a step", done.stdout)]
     touched, held = (int(v.replace(",", "")) for v in
                      re.search(r"touched ([\d,]+) B of the member's arrays .* of ([\d,]+) B", done.stdout).groups())
     elements = {name: int(n.replace(",", "")) for name, n in
                 re.findall(r"^  (\S+) +\d+ +[\d.]+% +([\d,]+) ", done.stdout, re.MULTILINE)}
-    return {"windows": windows, "touched": touched, "held": held, "elements": elements}
+    return {"windows": windows, "solver": solver, "touched": touched, "held": held, "elements": elements}
 
 
+@pytest.mark.slow
 def test_what_a_threads_step_waits_on_is_the_counts_over_the_h200s_steps():
     """docs/performance.md's table of reads a step against the H200's per-thread steps, and the working sets a
     multiprocessor's members touch, from ``kernel-accesses`` and the check's committed throughput."""
@@ -189,7 +198,7 @@ def test_what_a_threads_step_waits_on_is_the_counts_over_the_h200s_steps():
     start = text.index("### What a thread's step waits on, counted without a GPU")
     section = _words(text[start:text.index("\n### ", start + 1)])
     table = pd.read_csv(CHECK / "throughput.csv").set_index("scene")
-    resident = MULTIPROCESSORS * (REGISTERS // (32 * 256)) * 32
+    resident = resident_threads()
     counted = {}
     for scene, integrator, label in (("block", "explicit", "1 x 6 m block, central differences"),
                                      ("column", "moreau", "8-drum column, Moreau-Jean")):
@@ -206,6 +215,14 @@ def test_what_a_threads_step_waits_on_is_the_counts_over_the_h200s_steps():
     band, elements = column["elements"]["scratch.band"], column_band_elements()
     assert f"of the band, {band} elements of {elements:,}" in section
     assert f"a step touches {band} of its {elements:,} elements" in section
+    passes, sweeps = column["solver"][1]
+    assert f"{passes:.3g} passes by statuses and no Gauss-Seidel sweep a step in the second window" in section
+    assert sweeps == 0.0
+    build, tan_alpha = SCENES["column"]
+    ends = [dem_core.simulate(build(), motion, 20.0, integrator="moreau").info for motion in
+            (lambda members: (members[0], members[-1]))(motions(tan_alpha, 64))]
+    assert (f"{ends[0]['status_passes_per_step']:.3f} and {ends[1]['status_passes_per_step']:.3f} passes and "
+            f"{ends[0]['sweeps_per_step']:.3f} and {ends[1]['sweeps_per_step']:.3f} sweeps a step") in section
     assert f"held {resident:,} threads at once (256 on each multiprocessor) and the column's {4096:,}" in section
     assert table.loc["block"].members > resident and table.loc["column"].members == 4096
     assert f"{ {8: 'eight'}[round(resident / 4096)]} times as many" in section
@@ -222,11 +239,10 @@ def test_what_a_threads_step_waits_on_is_the_counts_over_the_h200s_steps():
 
 
 def column_band_elements() -> int:
-    """The elements of the 8-drum column's band, a Moreau-Jean member's scratch."""
-    from dem_core import scenes
+    """The elements of the device check's 8-drum column's band, a Moreau-Jean member's scratch."""
     from dem_core.batch_gpu import _motions, pack
     from dem_core.inputs.excitation import sine_pulse
     from dem_core.simulation import Simulation
 
-    runs = [Simulation(scenes.column(), sine_pulse(2.0, 0.5), 0.1, integrator="moreau")]
+    runs = [Simulation(SCENES["column"][0](), sine_pulse(2.0, 0.5), 0.1, integrator="moreau")]
     return pack(runs, _motions(runs)).scratch.band[0].size

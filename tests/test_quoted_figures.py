@@ -151,6 +151,7 @@ def test_the_default_runs_peak_that_cli_md_quotes_is_the_runs():
     assert f"the default run rocks to about {float(np.max(result.peak_theta)):.1g} rad" in cli_md
 
 
+@pytest.mark.slow
 def test_what_validation_md_says_of_the_default_runs_step_is_the_runs(validation):
     """The bundled default by Moreau-Jean at 1e-3, 5e-4 and 2.5e-4 s, and at 1e-3 s with every contact solve
     converged: its peak over alpha and its total sliding."""
@@ -183,7 +184,7 @@ def test_what_validation_md_says_of_the_default_runs_step_is_the_runs(validation
     assert converged.damage_ratio > peaks[0], "validation.md: the unsettled solves held back part of the peak"
 
 
-#: the sweeps allowed to the converged run of validation.md's default step, whose tolerance is a hundredth of the default
+#: the sweeps allowed to the converged run of validation.md's default step (its tolerance a hundredth of the default)
 CONVERGED_SWEEPS = 5000
 
 
@@ -192,8 +193,7 @@ def _with_every_solve_converged(spec):
     up to :data:`CONVERGED_SWEEPS` Gauss-Seidel sweeps a step."""
     from dem_core.simulation import Simulation
 
-    run = Simulation(spec.scene, spec.excitation, dt=1e-3, integrator="moreau",
-                     output_dt=spec.simulation.get("output_dt"))
+    run = Simulation(spec.scene, spec.excitation, **{**spec.simulation, "dt": 1e-3, "integrator": "moreau"})
     run.settings = run.settings.replace(max_sweeps=CONVERGED_SWEEPS,
                                         solver_tolerance=run.settings.solver_tolerance / 100)
     run.advance()

@@ -9,5 +9,8 @@
 * :mod:`.column_ensemble` (``column-ensemble``): the 8-drum column's ensemble, Moreau-Jean against the peers;
 * :mod:`.batch_throughput` (``batch-throughput``): member-runs per second of ``simulate_batch``;
 * :mod:`.overturn_rule` (``overturn-rule``): whether blocks that pass their critical angle come back;
-* :mod:`.moreau_stages` (``moreau-stages``): where Moreau-Jean's step spends its time.
+* :mod:`.moreau_stages` (``moreau-stages``): where Moreau-Jean's step spends its time;
+* :mod:`.gpu_check` (``gpu-check``): the GPU path measured on the machine it runs on;
+* :mod:`.gpu_reference` (``gpu-reference``): the device check's CPU side, run ahead where there is no GPU;
+* :mod:`.kernel_accesses` (``kernel-accesses``): a GPU thread's reads and writes a step, counted without a GPU.
 """

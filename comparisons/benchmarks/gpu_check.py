@@ -19,8 +19,8 @@ where the budget's end comes first (the table says which were cut):
    members must lie within each other's 90% bootstrap intervals (members drawn again).  And how many times as long
    a GPU thread takes for a member's step as a CPU core, the ratio that ``simulate_batch(device="auto")`` rests on.
    The CPU's side is taken from ``--cpu-reference`` where that file was run ahead for this code and these members
-   (``python -m comparisons gpu-reference``; its line names the machine it ran on); otherwise it runs here, its
-   kernels compiled first (minutes on a fresh machine).
+   (``python -m comparisons gpu-reference``; its line names the machine it ran on); a case it lacks is put off to
+   ``agreement-other``, whose CPU side runs here, its kernels compiled first (minutes on a fresh machine).
 4. throughput: the block (``--block-members``, 65,536) and the column (``--column-members``, 4,096) under
    ``--duration`` s of El Centro, at the integrator's automatic step: the kernels' member-steps per second, the
    members' set-up and the whole batch's time (the set-up, the packing of the members' arrays, their copies to
@@ -32,8 +32,8 @@ where the budget's end comes first (the table says which were cut):
 6. fine scan: the first overturn of each of record_overturning's 28 systems (examples/studies/record_overturning.py:
    columns of 1 to 3 drums and colonnades of 1, 2, 3 and 5 drums under the four records), every 0.02 m/s^2 from
    its lowest PGA to its cap, one GPU batch a system: the time, and ``fine_scan.csv`` in ``--out``.
-7. agreement-other: the agreement of the block by Moreau-Jean and of the column by central differences (the GPU's
-   slowest case by far).
+7. agreement-other: the agreement of the cases put off and of the block by Moreau-Jean and the column by central
+   differences (the GPU's slowest case by far).
 8. throughput-other: the block by Moreau-Jean and the column by central differences, as in 4.
 
 The issue's marks (H100 or H200): the block by central differences at least 1e10 member-steps/s; the column's 4,096
@@ -57,6 +57,7 @@ from dem_core import scenes
 from dem_core.analyses.study_members import MembersInterrupted
 from dem_core.batch import BatchInterrupted, simulate_batch
 from dem_core.batch_gpu import gpu_available, run_members
+from dem_core.cli.arguments import WORKERS
 from dem_core.gpu_kernels import ENVIRONMENT, load_named_kernels
 from dem_core.engine.settings import INTEGRATORS
 from dem_core.engine.state import STEP
@@ -85,9 +86,9 @@ MARKS = {"block explicit member-steps/s": 1e10, "column moreau batch s": 10.0, "
 def arguments(parser: argparse.ArgumentParser) -> None:
     """The options of its subcommand of ``python -m comparisons``."""
     parser.add_argument("--budget", type=float, default=450.0, help="s for every section together (default 450)")
-    parser.add_argument("--out", default=".", help="folder for fine_scan.csv and each section's gpu_check_<section>.csv "
-                        "(default: here)")
-    parser.add_argument("--sample", type=int, default=gpu_reference.SAMPLE,
+    parser.add_argument("--out", default=".",
+                        help="folder for fine_scan.csv and each section's gpu_check_<section>.csv (default: here)")
+    parser.add_argument("--sample", type=WORKERS, default=gpu_reference.SAMPLE,
                         help=f"members of each agreement check (default {gpu_reference.SAMPLE})")
     parser.add_argument("--cpu-reference", default=None,
                         help="the agreement's CPU side run ahead (`python -m comparisons gpu-reference`): its cases "
@@ -187,33 +188,37 @@ def _cpu_reference(path) -> dict:
     ran on; none, with a line saying why, where it is not given, not there or not a reference."""
     if path is None:
         return {}
-    if not Path(path).is_file():
-        _line("agreement", "CPU reference", f"{path} not found: the CPU runs here")
-        return {}
     try:
         cases, made = gpu_reference.load(path)
     except ValueError as error:
-        _line("agreement", "CPU reference", f"{error}; the CPU runs here")
+        _line("agreement", "CPU reference not used", str(error))
         return {}
     _line("agreement", "CPU reference", f"{path}: run on {made['machine']}, numpy {made['numpy']}, "
           f"numba {made['numba']}")
     return cases
 
 
-def agreement_section(args, clock: Clock, cases=MARKED_CASES) -> None:
+def agreement_section(args, clock: Clock, cases=MARKED_CASES, cpu_here: bool = False) -> None:
+    """Each of ``cases`` on the GPU against its CPU side: from ``args.reference`` (:func:`_cpu_reference`) where it
+    has the case, else run here if ``cpu_here``, else put off to ``agreement-other`` (``args.put_off``): the CPU's
+    kernels would compile first, minutes of device time ahead of the issue's marks."""
     rng = np.random.default_rng(0)
-    reference = _cpu_reference(args.cpu_reference)
     for name, integrator in cases:
+        cpu = args.reference.get(members_key(name, integrator, args.sample, args.duration))
+        if cpu is None and not cpu_here:
+            args.put_off.append((name, integrator))
+            _line("agreement", f"{name}, {integrator}: put off to agreement-other",
+                  "no CPU reference for this code and these members (python -m comparisons gpu-reference)")
+            continue
         build, tan_alpha = SCENES[name]
         alpha = float(np.arctan(tan_alpha))
         gpu = simulate_batch(build(), motions(tan_alpha, args.sample), args.duration, device="gpu",
                              integrator=integrator, progress=clock.progress, **gpu_reference.OPTIONS)
-        cpu = reference.get(members_key(name, integrator, args.sample, args.duration))
         if cpu is not None:
             where = f"run ahead ({cpu['device']})"
         else:
             cpu = cpu_side(name, integrator, args.sample, args.duration, progress=clock.progress)
-            where = "run here" + (" (the reference is for other code or members)" if reference else "")
+            where = "run here" + (" (the reference is for other code or members)" if args.reference else "")
         on_gpu, on_cpu, moved = peaks(gpu, alpha), np.array(cpu["peaks"]), np.array(cpu["nudged"])
         steady = np.abs(moved - on_cpu) <= STEADY * np.abs(on_cpu)
         within = int(np.sum(np.abs(on_gpu - on_cpu)[steady] <= AGREEMENT * np.abs(on_cpu)[steady]))
@@ -385,7 +390,8 @@ def fine_section(args, clock: Clock) -> None:
 
 SECTIONS = {"device": device_section, "agreement": agreement_section, "throughput": throughput_section,
             "throughput-other": lambda args, clock: throughput_section(args, clock, OTHER_CASES),
-            "agreement-other": lambda args, clock: agreement_section(args, clock, OTHER_CASES),
+            "agreement-other": lambda args, clock: agreement_section(args, clock, [*args.put_off, *OTHER_CASES],
+                                                                     cpu_here=True),
             "fragility": fragility_section, "fine": fine_section, "scaling": scaling_section}
 
 
@@ -399,6 +405,8 @@ def run(args: argparse.Namespace) -> None:
         args.duration, args.systems, args.fine_step = SMOKE_DURATION, 1, 1.0
     Path(args.out).mkdir(parents=True, exist_ok=True)
     load_named_kernels()  # before any section: the throughput's batches are launched without simulate_batch
+    args.reference = _cpu_reference(args.cpu_reference) if {"agreement", "agreement-other"} & set(args.sections) else {}
+    args.put_off = []
     clock = Clock(args.budget)
     ignore_the_cut_strong_motion()
     print(f"gpu-check, budget {args.budget:g} s, {args.duration:g} s of {RECORD}", flush=True)

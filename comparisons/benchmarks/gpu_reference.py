@@ -24,6 +24,7 @@ import numpy as np
 
 from dem_core.analyses.run_identity import code_digest, describe, digest, machine
 from dem_core.batch import simulate_batch
+from dem_core.cli.arguments import SECONDS, WORKERS
 
 from .record_members import CASES, SCENES, ignore_the_cut_strong_motion, motions
 
@@ -35,14 +36,19 @@ SAMPLE, DURATION = 64, 20.0
 OPTIONS = {"stop_at_overturn": True}
 #: where .ci/gpu-wheels writes the file and .ci/gpu-check looks for it
 DEFAULT_OUT = ".whl/agreement.json"
+#: s of the one-member batch that compiles (or loads) the CPU's kernel before a case is timed
+WARM_UP = 0.01
+#: what :func:`load` requires of the file: of it, of its machine and of each case
+REQUIRED = {"file": ("made_on", "cases"), "made_on": ("machine", "numpy", "numba"),
+            "case": ("key", "peaks", "nudged", "steps", "wall_time_s", "threads", "device")}
 
 
 def arguments(parser: argparse.ArgumentParser) -> None:
     """The options of its subcommand of ``python -m comparisons``."""
     parser.add_argument("--out", default=DEFAULT_OUT, help=f"the JSON file written (default {DEFAULT_OUT})")
-    parser.add_argument("--sample", type=int, default=SAMPLE, help=f"members a case (default {SAMPLE})")
-    parser.add_argument("--duration", type=float, default=DURATION, help=f"s of the record (default {DURATION:g})")
-    parser.add_argument("--threads", type=int, default=None,
+    parser.add_argument("--sample", type=WORKERS, default=SAMPLE, help=f"members a case (default {SAMPLE})")
+    parser.add_argument("--duration", type=SECONDS, default=DURATION, help=f"s of the record (default {DURATION:g})")
+    parser.add_argument("--threads", type=WORKERS, default=None,
                         help="the CPU batch's threads (default numba's, at most --sample)")
 
 
@@ -65,6 +71,7 @@ def cpu_side(name: str, integrator: str, sample: int, duration: float, threads: 
     alpha = float(np.arctan(tan_alpha))
     threads = min(threads or numba.get_num_threads(), sample)
     options = {"integrator": integrator, "device": "cpu", "threads": threads, "progress": progress, **OPTIONS}
+    simulate_batch(build(), motions(tan_alpha, 1), WARM_UP, **options)  # the kernel compiled outside the timing
     cpu = simulate_batch(build(), motions(tan_alpha, sample), duration, **options)
     nudged = simulate_batch(build(), motions(tan_alpha, sample, NUDGE), duration, **options)
     return {"peaks": peaks(cpu, alpha).tolist(), "nudged": peaks(nudged, alpha).tolist(),
@@ -83,14 +90,25 @@ def made_on() -> dict:
 
 
 def load(path) -> tuple[dict, dict]:
-    """``(cases by members_key, made_on)`` from a file :func:`run` wrote; ``ValueError`` naming the file where it is
-    not one."""
+    """``(cases by members_key, made_on)`` from a file :func:`run` wrote; ``ValueError`` naming the file and what it
+    lacks where it is not one."""
     try:
         written = json.loads(Path(path).read_text(encoding="utf-8"))
-        return {case["key"]: case for case in written["cases"]}, written["made_on"]
-    except (OSError, ValueError, KeyError, TypeError) as error:
-        raise ValueError(f"{path} is not a CPU reference written by `python -m comparisons gpu-reference` "
-                         f"({type(error).__name__}: {error})") from error
+        lacking = (_lacking(written, "file") or _lacking(written["made_on"], "made_on")
+                   or list(dict.fromkeys(key for case in written["cases"] for key in _lacking(case, "case"))))
+    except (OSError, ValueError, TypeError) as error:
+        lacking = [f"readable JSON ({type(error).__name__}: {error})"]
+    if lacking:
+        raise ValueError(f"{path} is not a CPU reference written by `python -m comparisons gpu-reference`: it lacks "
+                         f"{', '.join(lacking)}")
+    return {case["key"]: case for case in written["cases"]}, written["made_on"]
+
+
+def _lacking(thing, part: str) -> list:
+    """What ``thing``, the file or a part of it (a key of :data:`REQUIRED`), lacks of what :func:`load` requires."""
+    if not isinstance(thing, dict):
+        return [f"{part} as a mapping"]
+    return [f"{part} {key!r}" for key in REQUIRED[part] if key not in thing]
 
 
 def run(args: argparse.Namespace) -> None:

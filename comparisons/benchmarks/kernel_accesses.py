@@ -7,11 +7,12 @@ under ``NUMBA_DISABLE_JIT`` and numba's CUDA simulator (the command sets both in
 member of the device check's scene (:data:`~comparisons.benchmarks.record_members.SCENES`) under a sine pulse of 0.5
 s and ``--amplitude`` times g tan(alpha), its packed arrays (``batch_gpu.pack``) wrapped so that every element read
 or written is counted, by array.  It prints, for each window of ``--windows`` steps in turn, the reads and writes a
-step and the peak |theta| at its end, then the arrays the last window touched and their bytes, and its accesses a
-step by array.
+step (and, by Moreau-Jean, the passes by statuses and Gauss-Seidel sweeps a step) and the peak |theta| at its end,
+then the bytes the last window touched of the member's arrays, and its accesses a step by array.
 
-A read here is at most one load in the compiled kernel (which keeps some values in registers, and adds the loads of
-its spilled registers): the count bounds the chain of memory accesses a thread's step waits on.
+A read counted here stands for a load of the compiled kernel, which keeps some values in registers (fewer loads) and
+adds the loads of the registers it spills and of the arrays not counted: the motion's samples, the member's row of
+them and its status, a few a step.
 """
 
 import argparse
@@ -25,8 +26,8 @@ from collections import Counter
 UNCOMPILED = {"NUMBA_DISABLE_JIT": "1", "NUMBA_ENABLE_CUDASIM": "1"}
 #: the default windows (steps), per integrator: the first at the pulse's start, the next once the block rocks
 WINDOWS = {"explicit": (1000, 2000), "moreau": (100, 200)}
-#: arrays listed in the last window's table
-LISTED = 12
+#: arrays shown in the last window's table
+ARRAYS_SHOWN = 12
 #: s of the member's run: room for the windows (the block's steps are 6e-5 s, the column's 1e-3 s)
 DURATION = 2.0
 
@@ -52,7 +53,7 @@ class _Counted:
         self.touched = {}  # element address: its array's name and the element's bytes
         counted = self
 
-        def elements(array, key) -> int:
+        def record_elements(array, key) -> int:
             """Record the elements ``array[key]`` names; returns how many."""
             part = np.ndarray.__getitem__(array, key)
             if not isinstance(part, np.ndarray):  # one element: its own address
@@ -67,17 +68,19 @@ class _Counted:
             return part.size
 
         class Array(np.ndarray):
+            """An array that counts its elements read and written under its ``name``."""
+
             def __array_finalize__(self, obj):
                 self.name = getattr(obj, "name", "?")
 
             def __getitem__(self, key):
                 got = super().__getitem__(key)
                 if not isinstance(got, np.ndarray):  # an element; a view (a member's, a row) reads nothing yet
-                    counted.reads[self.name] += elements(self, key)
+                    counted.reads[self.name] += record_elements(self, key)
                 return got
 
             def __setitem__(self, key, value):
-                counted.writes[self.name] += elements(self, key)
+                counted.writes[self.name] += record_elements(self, key)
                 super().__setitem__(key, value)
 
         self.array = Array
@@ -92,17 +95,19 @@ class _Counted:
         return type(arrays)(*wrapped)
 
     def clear(self) -> None:
+        """Forget what was counted."""
         self.reads.clear()
         self.writes.clear()
         self.touched.clear()
 
 
 def _count(args) -> None:
+    """Run the member through ``args.windows`` and print what :func:`run` says, in this process (uncompiled)."""
     import numpy as np
 
     from dem_core import batch_gpu
     from dem_core.engine._members import RUNNING, SERIAL
-    from dem_core.engine.state import STEP
+    from dem_core.engine.state import SOLVER_SWEEPS, STATUS_PASSES, STEP
     from dem_core.inputs.excitation import sine_pulse
     from dem_core.inputs.records import G_STANDARD
     from dem_core.simulation import Simulation
@@ -121,33 +126,40 @@ def _count(args) -> None:
     arrays = {kind: counted.wrap(part, kind) for kind, part in kinds.items()}
     sizes = {f"{kind}.{field}": array[0].nbytes for kind, part in kinds.items() for field, array in
              zip(part._fields, part)}
-    held = [name for name in sizes if not name.startswith("outputs.")]  # the outputs: a row written per output
+    # the outputs are written a row per output, not a step's working set
+    not_outputs = [name for name in sizes if not name.startswith("outputs.")]
     print(f"{args.scene}, {args.integrator}: dt {run.dt:.4g} s, a sine pulse of {args.amplitude:g} g tan(alpha) and "
           f"0.5 s", flush=True)
     step = 0
+    counters = np.asarray(arrays["state"].counters)[0]
     for window in windows:
         counted.clear()
+        solver = counters[STATUS_PASSES], counters[SOLVER_SWEEPS]
         SERIAL[packed.integrator](arrays["model"], arrays["settings"], arrays["state"], arrays["outputs"],
                                   arrays["scratch"], motions.samples(step, window), packed.motion, window,
                                   packed.status)
-        taken = int(np.asarray(arrays["state"].counters)[0, STEP]) - step
+        taken = int(counters[STEP]) - step
         step += taken
         theta = np.abs(np.asarray(arrays["state"].pos)[0, 1:, 2]).max()
+        work = (f"{(counters[STATUS_PASSES] - solver[0]) / taken:.3g} passes by statuses and "
+                f"{(counters[SOLVER_SWEEPS] - solver[1]) / taken:.3g} sweeps a step; "
+                if args.integrator == "moreau" else "")
         print(f"steps {step - taken} to {step}: {sum(counted.reads.values()) / taken:.0f} reads and "
-              f"{sum(counted.writes.values()) / taken:.0f} writes a step; peak |theta| {theta:.2g} rad at the end",
-              flush=True)
+              f"{sum(counted.writes.values()) / taken:.0f} writes a step; {work}peak |theta| {theta:.2g} rad at the "
+              f"end", flush=True)
         if packed.status[0, 0] != RUNNING:
             print(f"the run ended: status {packed.status[0].tolist()}")
             break
-    both = counted.reads + counted.writes
+    accesses = counted.reads + counted.writes
     elements = Counter(name for name, _ in counted.touched.values())
-    touched = sum(size for name, size in counted.touched.values() if name in held)
+    touched = sum(size for name, size in counted.touched.values() if name in not_outputs)
     print(f"the last window touched {touched:,} B of the member's arrays but its outputs, in "
-          f"{sum(1 for name in held if name in elements)} of its {len(held)} arrays of "
-          f"{sum(sizes[name] for name in held):,} B")
+          f"{sum(1 for name in not_outputs if name in elements)} of its {len(not_outputs)} arrays of "
+          f"{sum(sizes[name] for name in not_outputs):,} B")
     print("its accesses a step by array (reads and writes; of all), the elements touched and the array's bytes:")
-    for name, n in both.most_common(LISTED):
-        print(f"  {name:28s} {n / taken:8.0f} {n / sum(both.values()):6.1%} {elements[name]:7,d} {sizes[name]:9,d} B")
+    for name, n in accesses.most_common(ARRAYS_SHOWN):
+        print(f"  {name:28s} {n / taken:8.0f} {n / sum(accesses.values()):6.1%} {elements[name]:7,d} "
+              f"{sizes[name]:9,d} B")
 
 
 def run(args: argparse.Namespace) -> None:
