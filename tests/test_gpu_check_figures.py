@@ -187,7 +187,8 @@ def _accesses(scene: str, integrator: str) -> dict:
                      re.search(r"touched ([\d,]+) B of the member's arrays .* of ([\d,]+) B", done.stdout).groups())
     elements = {name: int(n.replace(",", "")) for name, n in
                 re.findall(r"^  (\S+) +\d+ +[\d.]+% +([\d,]+) ", done.stdout, re.MULTILINE)}
-    return {"windows": windows, "solver": solver, "touched": touched, "held": held, "elements": elements}
+    dt = float(re.search(r"dt ([\d.e+-]+) s", done.stdout).group(1))
+    return {"windows": windows, "solver": solver, "touched": touched, "held": held, "elements": elements, "dt": dt}
 
 
 @pytest.mark.slow
@@ -210,6 +211,17 @@ def test_what_a_threads_step_waits_on_is_the_counts_over_the_h200s_steps():
                f"{step / reads * 1e9:.0f} ns |")
         assert row in section, row
     block, column = counted["block"], counted["column"]
+    per_read = np.mean([per_thread_step(table.loc[scene]) / counted[scene]["windows"][1][0] for scene in counted])
+    for scene, integrator, said in (("block", "moreau", "the block by Moreau-Jean reads"),
+                                    ("column", "explicit", "the column by central differences")):
+        other = _accesses(scene, integrator)
+        reads, dt = other["windows"][1][0], other["dt"]
+        assert f"{said} {reads:,} times" in section, (scene, reads)
+        took = per_read * reads * round(20.0 / dt)
+        assert f"{took:,.{1 if took < 10 else 0}f} s for the {scene}'s 20 s" in section, (scene, took)
+        if integrator == "explicit":
+            assert f"{reads:,} times at steps of {dt:.4g} s" in section
+    assert f"mean, {per_read * 1e9:.0f} ns a read" in section
     assert f"reads {block['windows'][0][0]} times a step and the column {column['windows'][0][0]:,}" in section
     assert f"{block['touched']:,} B of the block's arrays and {column['touched']:,} B of the column's" in section
     band, elements = column["elements"]["scratch.band"], column_band_elements()

@@ -128,7 +128,7 @@ def _count(args) -> None:
              zip(part._fields, part)}
     # the outputs are written a row per output, not a step's working set
     not_outputs = [name for name in sizes if not name.startswith("outputs.")]
-    print(f"{args.scene}, {args.integrator}: dt {run.dt:.4g} s, a sine pulse of {args.amplitude:g} g tan(alpha) and "
+    print(f"{args.scene}, {args.integrator}: dt {run.dt:.6g} s, a sine pulse of {args.amplitude:g} g tan(alpha) and "
           f"0.5 s", flush=True)
     step = 0
     counters = np.asarray(arrays["state"].counters)[0]
