@@ -13,6 +13,7 @@ import pytest
 
 import dem_core
 from comparisons.benchmarks.gpu_check import SCALING
+from comparisons.benchmarks.gpu_reference import DURATION, SAMPLE
 from comparisons.benchmarks.record_members import SCENES, motions
 from dem_core.batch import GPU_MEMBERS_PER_THREAD
 from dem_core.engine._members import THREADS_PER_BLOCK
@@ -200,28 +201,29 @@ def test_what_a_threads_step_waits_on_is_the_counts_over_the_h200s_steps():
     section = _words(text[start:text.index("\n### ", start + 1)])
     table = pd.read_csv(CHECK / "throughput.csv").set_index("scene")
     resident = resident_threads()
-    counted = {}
+    counted, per_read = {}, {}
     for scene, integrator, label in (("block", "explicit", "1 x 6 m block, central differences"),
                                      ("column", "moreau", "8-drum column, Moreau-Jean")):
         counted[scene] = found = _accesses(scene, integrator)
         _, (reads, writes) = found["windows"]
         step = per_thread_step(table.loc[scene])
+        per_read[scene] = step / reads
         shown = f"{step * 1e6:.0f} us" if step < 1e-3 else f"{step * 1e3:.2f} ms"
         row = (f"| {label} | {reads:,} | {writes:,} | {found['touched']:,} B of {found['held']:,} B | {shown} | "
-               f"{step / reads * 1e9:.0f} ns |")
+               f"{per_read[scene] * 1e9:.0f} ns |")
         assert row in section, row
     block, column = counted["block"], counted["column"]
-    per_read = np.mean([per_thread_step(table.loc[scene]) / counted[scene]["windows"][1][0] for scene in counted])
+    mean = np.mean(list(per_read.values()))
+    assert f"mean, {mean * 1e9:.1f} ns a read" in section
     for scene, integrator, said in (("block", "moreau", "the block by Moreau-Jean reads"),
                                     ("column", "explicit", "the column by central differences")):
         other = _accesses(scene, integrator)
         reads, dt = other["windows"][1][0], other["dt"]
         assert f"{said} {reads:,} times" in section, (scene, reads)
-        took = per_read * reads * round(20.0 / dt)
-        assert f"{took:,.{1 if took < 10 else 0}f} s for the {scene}'s 20 s" in section, (scene, took)
+        took = round(mean * 1e9, 1) * 1e-9 * reads * round(DURATION / dt)
+        assert f"{took:,.{1 if took < 10 else 0}f} s for the {scene}'s {DURATION:g} s" in section, (scene, took)
         if integrator == "explicit":
             assert f"{reads:,} times at steps of {dt:.4g} s" in section
-    assert f"mean, {per_read * 1e9:.0f} ns a read" in section
     assert f"reads {block['windows'][0][0]} times a step and the column {column['windows'][0][0]:,}" in section
     assert f"{block['touched']:,} B of the block's arrays and {column['touched']:,} B of the column's" in section
     band, elements = column["elements"]["scratch.band"], column_band_elements()
@@ -231,13 +233,17 @@ def test_what_a_threads_step_waits_on_is_the_counts_over_the_h200s_steps():
     assert f"{passes:.3g} passes by statuses and no Gauss-Seidel sweep a step in the second window" in section
     assert sweeps == 0.0
     build, tan_alpha = SCENES["column"]
-    ends = [dem_core.simulate(build(), motion, 20.0, integrator="moreau").info for motion in
-            (lambda members: (members[0], members[-1]))(motions(tan_alpha, 64))]
-    assert (f"{ends[0]['status_passes_per_step']:.3f} and {ends[1]['status_passes_per_step']:.3f} passes and "
-            f"{ends[0]['sweeps_per_step']:.3f} and {ends[1]['sweeps_per_step']:.3f} sweeps a step") in section
-    assert f"held {resident:,} threads at once (256 on each multiprocessor) and the column's {4096:,}" in section
-    assert table.loc["block"].members > resident and table.loc["column"].members == 4096
-    assert f"{ {8: 'eight'}[round(resident / 4096)]} times as many" in section
+    members = motions(tan_alpha, SAMPLE)
+    lowest, highest = (dem_core.simulate(build(), motion, DURATION, integrator="moreau").info
+                       for motion in (members[0], members[-1]))
+    assert (f"{lowest['status_passes_per_step']:.3f} and {highest['status_passes_per_step']:.3f} passes and "
+            f"{lowest['sweeps_per_step']:.3f} and {highest['sweeps_per_step']:.3f} sweeps a step over "
+            f"{DURATION:g} s of El Centro") in section
+    columns = table.loc["column"].members
+    assert f"held {resident:,} threads at once (256 on each multiprocessor) and the column's {columns:,}" in section
+    assert f"({THREADS_PER_BLOCK} on each of {columns // THREADS_PER_BLOCK})" in section
+    assert table.loc["block"].members > resident and resident == MULTIPROCESSORS * 256
+    assert f"{ {8: 'eight'}[round(resident / columns)]} times as many" in section
     assert (f"block's members touch {256 * block['touched']:,} B a step, and at 64 the column's "
             f"{64 * column['touched']:,} B") in section
     assert f"the block's touch {64 * block['touched']:,} B" in section

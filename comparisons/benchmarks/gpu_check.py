@@ -20,7 +20,8 @@ where the budget's end comes first (the table says which were cut):
    a GPU thread takes for a member's step as a CPU core, the ratio that ``simulate_batch(device="auto")`` rests on.
    The CPU's side is taken from ``--cpu-reference`` where that file was run ahead for this code and these members
    (``python -m comparisons gpu-reference``; its line names the machine it ran on); a case it lacks is put off to
-   ``agreement-other``, whose CPU side runs here, its kernels compiled first (minutes on a fresh machine).
+   ``agreement-other`` where that section runs later, and otherwise runs here, the CPU's kernels compiled first
+   (minutes on a fresh machine).
 4. throughput: the block (``--block-members``, 65,536) and the column (``--column-members``, 4,096) under
    ``--duration`` s of El Centro, at the integrator's automatic step: the kernels' member-steps per second, the
    members' set-up and the whole batch's time (the set-up, the packing of the members' arrays, their copies to
@@ -57,7 +58,7 @@ from dem_core import scenes
 from dem_core.analyses.study_members import MembersInterrupted
 from dem_core.batch import BatchInterrupted, simulate_batch
 from dem_core.batch_gpu import gpu_available, run_members
-from dem_core.cli.arguments import WORKERS
+from dem_core.cli.arguments import SECONDS, WORKERS
 from dem_core.gpu_kernels import ENVIRONMENT, load_named_kernels
 from dem_core.engine.settings import INTEGRATORS
 from dem_core.engine.state import STEP
@@ -92,14 +93,15 @@ def arguments(parser: argparse.ArgumentParser) -> None:
                         help=f"members of each agreement check (default {gpu_reference.SAMPLE})")
     parser.add_argument("--cpu-reference", default=None,
                         help="the agreement's CPU side run ahead (`python -m comparisons gpu-reference`): its cases "
-                             "are taken where they are for this code and these members, and run here otherwise")
+                             "are taken where they are for this code and these members; a marked case it lacks is "
+                             "put off to agreement-other where that runs later, and run here otherwise")
     parser.add_argument("--block-members", type=int, default=65536)
     parser.add_argument("--column-members", type=int, default=4096)
     parser.add_argument("--cpu-members", type=int, default=0,
                         help="members of the CPU's throughput beside the GPU's (default 0: none; the CPU's threaded "
                              "kernel compiles first, minutes on a fresh machine; the agreement section measures a GPU "
                              "thread against a CPU core in any case)")
-    parser.add_argument("--duration", type=float, default=gpu_reference.DURATION,
+    parser.add_argument("--duration", type=SECONDS, default=gpu_reference.DURATION,
                         help=f"s of El Centro (default {gpu_reference.DURATION:g})")
     parser.add_argument("--stripes", type=int, default=None, help="the fragility study's stripes (default its own)")
     parser.add_argument("--systems", type=int, default=None, help="the fine scan's first N systems (default all)")
@@ -185,7 +187,7 @@ def _median_interval(values: np.ndarray, rng, samples: int = 2000) -> tuple:
 
 def _cpu_reference(path) -> dict:
     """The cases by key of ``--cpu-reference`` (:func:`gpu_reference.load`), with a line naming the machine they
-    ran on; none, with a line saying why, where it is not given, not there or not a reference."""
+    ran on; none where it is not given, and none with a line saying why where it cannot be used."""
     if path is None:
         return {}
     try:
@@ -198,16 +200,17 @@ def _cpu_reference(path) -> dict:
     return cases
 
 
-def agreement_section(args, clock: Clock, cases=MARKED_CASES, cpu_here: bool = False) -> None:
+def agreement_section(args, clock: Clock, section: str = "agreement", cases=MARKED_CASES) -> None:
     """Each of ``cases`` on the GPU against its CPU side: from ``args.reference`` (:func:`_cpu_reference`) where it
-    has the case, else run here if ``cpu_here``, else put off to ``agreement-other`` (``args.put_off``): the CPU's
-    kernels would compile first, minutes of device time ahead of the issue's marks."""
+    has the case; else, in ``agreement`` where ``agreement-other`` runs after it (``args.other_later``), put off to
+    that section (``args.put_off``), since the CPU's kernels would compile first, minutes of device time ahead of
+    the issue's marks; else run here.  Its lines carry ``section``'s name."""
     rng = np.random.default_rng(0)
     for name, integrator in cases:
         cpu = args.reference.get(members_key(name, integrator, args.sample, args.duration))
-        if cpu is None and not cpu_here:
+        if cpu is None and section == "agreement" and args.other_later:
             args.put_off.append((name, integrator))
-            _line("agreement", f"{name}, {integrator}: put off to agreement-other",
+            _line(section, f"{name}, {integrator}: put off to agreement-other",
                   "no CPU reference for this code and these members (python -m comparisons gpu-reference)")
             continue
         build, tan_alpha = SCENES[name]
@@ -224,13 +227,13 @@ def agreement_section(args, clock: Clock, cases=MARKED_CASES, cpu_here: bool = F
         within = int(np.sum(np.abs(on_gpu - on_cpu)[steady] <= AGREEMENT * np.abs(on_cpu)[steady]))
         g, c = _median_interval(on_gpu, rng), _median_interval(on_cpu, rng)
         overlap = g[1] <= c[0] <= g[2] and c[1] <= g[0] <= c[2]
-        _line("agreement", f"{name}, {integrator}: the CPU's side", where)
-        _line("agreement", f"{name}, {integrator}: steady members within 1e-9",
+        _line(section, f"{name}, {integrator}: the CPU's side", where)
+        _line(section, f"{name}, {integrator}: steady members within 1e-9",
               f"{within} of {int(steady.sum())} (of {len(on_cpu)})",
               "met" if within == int(steady.sum()) else "NOT met")
-        _line("agreement", f"{name}, {integrator}: median theta/alpha GPU, CPU",
+        _line(section, f"{name}, {integrator}: median theta/alpha GPU, CPU",
               f"{g[0]:.4f} ({g[1]:.4f}-{g[2]:.4f}), {c[0]:.4f}", "met" if overlap else "NOT met")
-        _line("agreement", f"{name}, {integrator}: a GPU thread's step against a CPU core's",
+        _line(section, f"{name}, {integrator}: a GPU thread's step against a CPU core's",
               f"{_thread_against_core(gpu, cpu):.3g} times as long")
 
 
@@ -390,8 +393,8 @@ def fine_section(args, clock: Clock) -> None:
 
 SECTIONS = {"device": device_section, "agreement": agreement_section, "throughput": throughput_section,
             "throughput-other": lambda args, clock: throughput_section(args, clock, OTHER_CASES),
-            "agreement-other": lambda args, clock: agreement_section(args, clock, [*args.put_off, *OTHER_CASES],
-                                                                     cpu_here=True),
+            "agreement-other": lambda args, clock: agreement_section(args, clock, "agreement-other",
+                                                                     [*args.put_off, *OTHER_CASES]),
             "fragility": fragility_section, "fine": fine_section, "scaling": scaling_section}
 
 
@@ -405,13 +408,16 @@ def run(args: argparse.Namespace) -> None:
         args.duration, args.systems, args.fine_step = SMOKE_DURATION, 1, 1.0
     Path(args.out).mkdir(parents=True, exist_ok=True)
     load_named_kernels()  # before any section: the throughput's batches are launched without simulate_batch
-    args.reference = _cpu_reference(args.cpu_reference) if {"agreement", "agreement-other"} & set(args.sections) else {}
-    args.put_off = []
     clock = Clock(args.budget)
     ignore_the_cut_strong_motion()
     print(f"gpu-check, budget {args.budget:g} s, {args.duration:g} s of {RECORD}", flush=True)
     _line("section", "item", "value", "issue's mark")
-    for name in dict.fromkeys(args.sections):
+    order = list(dict.fromkeys(args.sections))
+    args.reference = _cpu_reference(args.cpu_reference) if {"agreement", "agreement-other"} & set(order) else {}
+    args.other_later = ("agreement" in order and "agreement-other" in order
+                        and order.index("agreement-other") > order.index("agreement"))
+    args.put_off = []
+    for name in order:
         began = time.perf_counter()
         try:
             rows = SECTIONS[name](args, clock)

@@ -16,7 +16,6 @@ and runs the CPU side itself otherwise.
 
 import argparse
 import json
-import time
 from importlib import metadata
 from pathlib import Path
 
@@ -90,14 +89,23 @@ def made_on() -> dict:
 
 
 def load(path) -> tuple[dict, dict]:
-    """``(cases by members_key, made_on)`` from a file :func:`run` wrote; ``ValueError`` naming the file and what it
-    lacks where it is not one."""
+    """``(cases by members_key, made_on)`` from a file :func:`run` wrote; ``ValueError`` naming the file and what is
+    wrong with it where it is not one."""
     try:
         written = json.loads(Path(path).read_text(encoding="utf-8"))
-        lacking = (_lacking(written, "file") or _lacking(written["made_on"], "made_on")
-                   or list(dict.fromkeys(key for case in written["cases"] for key in _lacking(case, "case"))))
-    except (OSError, ValueError, TypeError) as error:
-        lacking = [f"readable JSON ({type(error).__name__}: {error})"]
+    except OSError as error:
+        raise ValueError(f"{path} cannot be read ({error.strerror or error})") from None
+    except ValueError as error:
+        raise ValueError(f"{path} is not JSON ({error})") from None
+    lacking = _lacking(written, "file")
+    if not lacking:
+        lacking = _lacking(written["made_on"], "made_on")
+        if not isinstance(written["cases"], list):
+            lacking.append("cases as a list")
+        else:
+            lacking += list(dict.fromkeys(what for case in written["cases"] for what in _lacking(case, "case")))
+    if not lacking and not all(isinstance(case["key"], str) for case in written["cases"]):
+        lacking.append("case keys as text")
     if lacking:
         raise ValueError(f"{path} is not a CPU reference written by `python -m comparisons gpu-reference`: it lacks "
                          f"{', '.join(lacking)}")
@@ -108,7 +116,7 @@ def _lacking(thing, part: str) -> list:
     """What ``thing``, the file or a part of it (a key of :data:`REQUIRED`), lacks of what :func:`load` requires."""
     if not isinstance(thing, dict):
         return [f"{part} as a mapping"]
-    return [f"{part} {key!r}" for key in REQUIRED[part] if key not in thing]
+    return [f"{part} {name!r}" for name in REQUIRED[part] if name not in thing]
 
 
 def run(args: argparse.Namespace) -> None:
@@ -116,12 +124,12 @@ def run(args: argparse.Namespace) -> None:
     ignore_the_cut_strong_motion()
     cases = []
     for name, integrator in CASES:
-        began = time.perf_counter()
         side = cpu_side(name, integrator, args.sample, args.duration, args.threads)
         cases.append({"scene": name, "integrator": integrator, "sample": args.sample, "duration": args.duration,
                       "key": members_key(name, integrator, args.sample, args.duration), **side})
-        print(f"{name}, {integrator}: {args.sample} members and as many nudged, {args.duration:g} s each, on "
-              f"{side['device']}: {time.perf_counter() - began:.1f} s", flush=True)
+        print(f"{name}, {integrator}: {args.sample} members, {args.duration:g} s each, on {side['device']}: "
+              f"{side['wall_time_s']:.1f} s, its longest member {max(side['steps']):,} steps (and as many nudged)",
+              flush=True)
     out = Path(args.out)
     out.parent.mkdir(parents=True, exist_ok=True)
     out.write_text(json.dumps({"made_on": made_on(), "cases": cases}, indent=1) + "\n", encoding="utf-8")

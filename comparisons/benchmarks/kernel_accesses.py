@@ -11,8 +11,8 @@ step (and, by Moreau-Jean, the passes by statuses and Gauss-Seidel sweeps a step
 then the bytes the last window touched of the member's arrays, and its accesses a step by array.
 
 A read counted here stands for a load of the compiled kernel, which keeps some values in registers (fewer loads) and
-adds the loads of the registers it spills and of the arrays not counted: the motion's samples, the member's row of
-them and its status, a few a step.
+adds the loads of the registers it spills and of the arrays not counted: the motion's samples (about four a step),
+and the member's row of them and its status (once a chunk).
 """
 
 import argparse
@@ -21,6 +21,8 @@ import os
 import subprocess
 import sys
 from collections import Counter
+
+from dem_core.cli.arguments import WORKERS
 
 #: what the counting process must run under
 UNCOMPILED = {"NUMBA_DISABLE_JIT": "1", "NUMBA_ENABLE_CUDASIM": "1"}
@@ -39,7 +41,7 @@ def arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--scene", choices=tuple(SCENES), default="block")
     parser.add_argument("--integrator", choices=tuple(WINDOWS), default="explicit")
     parser.add_argument("--amplitude", type=float, default=3.0, help="the pulse's peak over g tan(alpha) (default 3)")
-    parser.add_argument("--windows", type=int, nargs="+", default=None,
+    parser.add_argument("--windows", type=WORKERS, nargs="+", default=None,
                         help="steps of each window in turn (default 1000 2000 explicit, 100 200 Moreau-Jean)")
 
 
@@ -127,22 +129,22 @@ def _count(args) -> None:
     sizes = {f"{kind}.{field}": array[0].nbytes for kind, part in kinds.items() for field, array in
              zip(part._fields, part)}
     # the outputs are written a row per output, not a step's working set
-    not_outputs = [name for name in sizes if not name.startswith("outputs.")]
+    working = [name for name in sizes if not name.startswith("outputs.")]
     print(f"{args.scene}, {args.integrator}: dt {run.dt:.6g} s, a sine pulse of {args.amplitude:g} g tan(alpha) and "
           f"0.5 s", flush=True)
     step = 0
     counters = np.asarray(arrays["state"].counters)[0]
     for window in windows:
         counted.clear()
-        solver = counters[STATUS_PASSES], counters[SOLVER_SWEEPS]
+        passes_before, sweeps_before = counters[STATUS_PASSES], counters[SOLVER_SWEEPS]
         SERIAL[packed.integrator](arrays["model"], arrays["settings"], arrays["state"], arrays["outputs"],
                                   arrays["scratch"], motions.samples(step, window), packed.motion, window,
                                   packed.status)
         taken = int(counters[STEP]) - step
         step += taken
         theta = np.abs(np.asarray(arrays["state"].pos)[0, 1:, 2]).max()
-        work = (f"{(counters[STATUS_PASSES] - solver[0]) / taken:.3g} passes by statuses and "
-                f"{(counters[SOLVER_SWEEPS] - solver[1]) / taken:.3g} sweeps a step; "
+        work = (f"{(counters[STATUS_PASSES] - passes_before) / taken:.3g} passes by statuses and "
+                f"{(counters[SOLVER_SWEEPS] - sweeps_before) / taken:.3g} sweeps a step; "
                 if args.integrator == "moreau" else "")
         print(f"steps {step - taken} to {step}: {sum(counted.reads.values()) / taken:.0f} reads and "
               f"{sum(counted.writes.values()) / taken:.0f} writes a step; {work}peak |theta| {theta:.2g} rad at the "
@@ -152,10 +154,10 @@ def _count(args) -> None:
             break
     accesses = counted.reads + counted.writes
     elements = Counter(name for name, _ in counted.touched.values())
-    touched = sum(size for name, size in counted.touched.values() if name in not_outputs)
+    touched = sum(size for name, size in counted.touched.values() if name in working)
     print(f"the last window touched {touched:,} B of the member's arrays but its outputs, in "
-          f"{sum(1 for name in not_outputs if name in elements)} of its {len(not_outputs)} arrays of "
-          f"{sum(sizes[name] for name in not_outputs):,} B")
+          f"{sum(1 for name in working if name in elements)} of its {len(working)} arrays of "
+          f"{sum(sizes[name] for name in working):,} B")
     print("its accesses a step by array (reads and writes; of all), the elements touched and the array's bytes:")
     for name, n in accesses.most_common(ARRAYS_SHOWN):
         print(f"  {name:28s} {n / taken:8.0f} {n / sum(accesses.values()):6.1%} {elements[name]:7,d} "
@@ -164,9 +166,6 @@ def _count(args) -> None:
 
 def run(args: argparse.Namespace) -> None:
     """Count in a process of its own under :data:`UNCOMPILED` (numba reads them at its import)."""
-    if args.windows is not None and min(args.windows) < 1:
-        raise SystemExit(f"kernel-accesses: --windows {' '.join(map(str, args.windows))}: each window is a number of "
-                         f"steps, at least 1")
     if not math.isfinite(args.amplitude):
         raise SystemExit(f"kernel-accesses: --amplitude {args.amplitude}: give a finite multiple of g tan(alpha)")
     if all(os.environ.get(name) == value for name, value in UNCOMPILED.items()):
