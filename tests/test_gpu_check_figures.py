@@ -264,3 +264,10 @@ def column_band_elements() -> int:
 
     runs = [Simulation(SCENES["column"][0](), sine_pulse(2.0, 0.5), 0.1, integrator="moreau")]
     return pack(runs, _motions(runs)).scratch.band[0].size
+
+
+def test_the_device_checks_reference_paragraph_names_the_members_it_runs():
+    """docs/performance.md's paragraph on the agreement's CPU side run ahead: the members and record length are
+    gpu-reference's own."""
+    text = _words((REPOSITORY / "docs" / "performance.md").read_text())
+    assert f"each case's batch of {SAMPLE} members, {DURATION:g} s of El Centro on 2 threads" in text
