@@ -2,6 +2,7 @@
 and tables, as ``bash .ci/gpu-check`` wrote them on a lent H200): docs/performance.md's table and the ratios under
 it, the README's sentence, and ``GPU_MEMBERS_PER_THREAD``, where ``device="auto"`` takes the GPU."""
 
+import os
 import re
 import subprocess
 import sys
@@ -14,6 +15,7 @@ import pytest
 import dem_core
 from comparisons.benchmarks.gpu_check import SCALING
 from comparisons.benchmarks.gpu_reference import DURATION, SAMPLE
+from comparisons.benchmarks.kernel_accesses import UNCOMPILED
 from comparisons.benchmarks.record_members import SCENES, motions
 from dem_core.batch import GPU_MEMBERS_PER_THREAD
 from dem_core.engine._members import THREADS_PER_BLOCK
@@ -175,11 +177,13 @@ def test_the_members_bytes_and_the_shortfalls_are_so(section, logs):
     assert f"fragility study {took / 60.0:.1f} times" in section
 
 
-def _accesses(scene: str, integrator: str) -> dict:
-    """``python -m comparisons kernel-accesses`` on its default windows: each window's reads and writes a step, the
-    last window's bytes touched of the member's, and the elements it touched of each array."""
+def _accesses(scene: str, integrator: str, *options: str) -> dict:
+    """``python -m comparisons kernel-accesses`` (on its default windows unless ``options`` say): each window's
+    reads and writes a step, the last window's bytes touched of the member's, and the elements it touched of each
+    array."""
     done = subprocess.run([sys.executable, "-m", "comparisons", "kernel-accesses", "--scene", scene, "--integrator",
-                           integrator], capture_output=True, text=True, cwd=REPOSITORY, timeout=600, check=True)
+                           integrator, *options], capture_output=True, text=True, cwd=REPOSITORY, timeout=600, check=True,
+                          env={**os.environ, **UNCOMPILED})  # the command counts in this process, not one of its own
     windows = [tuple(int(v) for v in found) for found in
                re.findall(r"steps \d+ to \d+: (\d+) reads and (\d+) writes a step", done.stdout)]
     solver = [tuple(float(v) for v in found) for found in
@@ -215,15 +219,17 @@ def test_what_a_threads_step_waits_on_is_the_counts_over_the_h200s_steps():
     block, column = counted["block"], counted["column"]
     mean = np.mean(list(per_read.values()))
     assert f"mean, {mean * 1e9:.1f} ns a read" in section
-    for scene, integrator, said in (("block", "moreau", "the block by Moreau-Jean reads"),
-                                    ("column", "explicit", "the column by central differences")):
-        other = _accesses(scene, integrator)
+    for scene, integrator, said, windows in (("block", "moreau", "the block by Moreau-Jean reads", ()),
+                                             ("column", "explicit", "the column by central differences",
+                                              ("--windows", "200", "400"))):
+        other = _accesses(scene, integrator, *windows)
         reads, dt = other["windows"][1][0], other["dt"]
         assert f"{said} {reads:,} times" in section, (scene, reads)
         took = round(mean * 1e9, 1) * 1e-9 * reads * round(DURATION / dt)
         assert f"{took:,.{1 if took < 10 else 0}f} s for the {scene}'s {DURATION:g} s" in section, (scene, took)
         if integrator == "explicit":
             assert f"{reads:,} times at steps of {dt:.4g} s" in section
+            assert f"`--scene column --integrator explicit {' '.join(windows)}`" in section
     assert f"reads {block['windows'][0][0]} times a step and the column {column['windows'][0][0]:,}" in section
     assert f"{block['touched']:,} B of the block's arrays and {column['touched']:,} B of the column's" in section
     band, elements = column["elements"]["scratch.band"], column_band_elements()
