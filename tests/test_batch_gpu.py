@@ -364,7 +364,9 @@ def test_the_device_check_takes_the_cpus_side_run_ahead_where_it_is_for_its_memb
     for name, integrator in CASES:
         section = "agreement" if (name, integrator) in MARKED_CASES else "agreement-other"
         assert f"| {section:16s} | {name}, {integrator}: the CPU's side" in done.stdout
-        assert re.search(rf"\| {name}, {integrator}: steady members within 1e-9 +\| (\d) of \1 \(of 2\) +\| met",
+        # in 0.05 s only the explicit members rise above round-off; Moreau-Jean's peaks there move with the nudge
+        steady = "2 of 2" if integrator == "explicit" else "0 of 0"
+        assert re.search(rf"\| {name}, {integrator}: steady members within 1e-9 +\| {steady} \(of 2\) +\| met",
                          done.stdout), done.stdout
     assert done.stdout.count("run ahead (cpu, ") == len(CASES), done.stdout
     assert done.stdout.count(f"run on {machine()}, numpy ") == 1, done.stdout

@@ -169,12 +169,12 @@ def test_what_validation_md_says_of_the_default_runs_step_is_the_runs(validation
             f"{slides[1]:.2f} and {slides[2]:.2f} mm: the run's peak at 1e-3 s is {short:.0f}% under its value at "
             f"2.5e-4 s")
     assert _words(said) in validation, said
-    times = {2: "twice", 3: "three times", 4: "four times"}[round(slides[0] / slides[2])]
+    times = TIMES[round(slides[0] / slides[2])]
     assert f"is {times} it" in validation
     converged = _with_every_solve_converged(spec)
     unconverged = runs[0].info["unconverged_steps"]
     assert converged.info["unconverged_steps"] == 0
-    still = {2: "twice", 3: "three times", 4: "four times"}[round(1e3 * converged.total_sliding / slides[2])]
+    still = TIMES[round(1e3 * converged.total_sliding / slides[2])]
     said = (f"ended short of their tolerance in {unconverged} of its steps. With every solve converged (a hundredth "
             f"of the tolerance and up to {CONVERGED_SWEEPS} sweeps), the run at 1e-3 s peaks at "
             f"{converged.damage_ratio:.3f} alpha, {100 * (1 - converged.damage_ratio / peaks[2]):.0f}% under, and "
@@ -184,6 +184,8 @@ def test_what_validation_md_says_of_the_default_runs_step_is_the_runs(validation
     assert converged.damage_ratio > peaks[0], "validation.md: the unsettled solves held back part of the peak"
 
 
+#: a ratio as validation.md words it
+TIMES = {2: "twice", 3: "three times", 4: "four times"}
 #: the sweeps allowed to the converged run of validation.md's default step (its tolerance a hundredth of the default)
 CONVERGED_SWEEPS = 5000
 
