@@ -29,6 +29,7 @@ BENCHMARKS = {
     "gpu-check": "gpu_check",
     "gpu-reference": "gpu_reference",
     "kernel-accesses": "kernel_accesses",
+    "step-instructions": "step_instructions",
     "fragility-suite": "fragility_suite",
     "connector-cost": "connector_cost",
 }

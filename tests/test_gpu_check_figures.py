@@ -1,6 +1,8 @@
 """The GPU figures the docs quote, read from the device check's committed output (reports/gpu_check/h200: its logs
 and tables, as ``bash .ci/gpu-check`` wrote them on a lent H200): docs/performance.md's table and the ratios under
-it, the README's sentence, and ``GPU_MEMBERS_PER_THREAD``, where ``device="auto"`` takes the GPU."""
+it, the README's sentence, and ``GPU_MEMBERS_PER_THREAD``, where ``device="auto"`` takes the GPU; and the counts made
+without a GPU that performance.md sets against them (``kernel-accesses``, run here, and ``step-instructions``, from
+its committed log: valgrind counts for minutes)."""
 
 import os
 import re
@@ -23,6 +25,8 @@ from test_quoted_figures import _words
 
 REPOSITORY = Path(__file__).resolve().parents[1]
 CHECK = REPOSITORY / "reports" / "gpu_check" / "h200"
+#: what ``python -m comparisons step-instructions`` printed on the development machine
+STEP_INSTRUCTIONS = REPOSITORY / "reports" / "step_instructions" / "amd_epyc.log"
 #: the H200's multiprocessors (NVIDIA's H200 SXM: 132) and the registers each holds (65,536)
 MULTIPROCESSORS, REGISTERS = 132, 65536
 #: a step of one member on a core of the development machine (AMD EPYC), s: docs/performance.md's "Measuring the
@@ -277,3 +281,78 @@ def test_the_device_checks_reference_paragraph_names_the_members_it_runs():
     gpu-reference's own."""
     text = _words((REPOSITORY / "docs" / "performance.md").read_text())
     assert f"each case's batch of {SAMPLE} members, {DURATION:g} s of El Centro on 2 threads" in text
+
+
+def _step_counts() -> dict:
+    """``(scene, integrator, amplitude) -> (instructions a step, the command)`` from the committed log of ``python
+    -m comparisons step-instructions``, and the machine and counted build it names."""
+    counts, said = {}, set()
+    for part in STEP_INSTRUCTIONS.read_text().split("$ ")[1:]:
+        command = part.splitlines()[0].strip()
+        scene, integrator, amplitude, machine = re.search(
+            r"^(\w+) by (\w+), [\d.]+ s of \w+ at ([\d.]+) g tan\(alpha\): [\d,]+ steps, \d+ ns a step on (.+)$", part,
+            re.MULTILINE).groups()
+        count, cpu = re.search(r"^([\d,]+) instructions a step \(x86-64, the driver built for (\w+);", part,
+                               re.MULTILINE).groups()
+        counts[scene, integrator, float(amplitude)] = int(count.replace(",", "")), command
+        said.add((machine, cpu))
+    return counts, said
+
+
+def test_a_members_step_in_instructions_is_the_counts_log():
+    """docs/performance.md's table of instructions a step and what they allow an H200, from the committed log of
+    ``step-instructions``, the check's committed throughput and the issue's marks."""
+    from comparisons.benchmarks.gpu_check import MARKS
+    from comparisons.benchmarks.step_instructions import GPUS
+
+    text = (REPOSITORY / "docs" / "performance.md").read_text()
+    start = text.index("### A member's step in instructions, and what an H200 can make of it")
+    section = _words(text[start:text.index("\n### ", start + 1)])
+    counts, said = _step_counts()
+    assert said == {("x86_64, 2 cores, AMD EPYC", "haswell")}
+    assert all(command.startswith("python -m comparisons step-instructions --scene ") for _, command in counts.values())
+    ((multiprocessors, lanes, clock),) = GPUS.values()
+    issue = multiprocessors * lanes * clock
+    assert f"{multiprocessors} multiprocessors x {lanes // 32} schedulers x 32 lanes x {clock / 1e9:g} GHz" in section
+    assert f"{issue:.4g} instructions a second" in section
+    middle = {}
+    for scene, integrator, label in (("block", "explicit", "1 x 6 m block, central differences"),
+                                     ("column", "moreau", "8-drum column, Moreau-Jean")):
+        spread = [counts[scene, integrator, a][0] for a in (1.2, 2.1, 3.0)]
+        middle[scene] = spread[1]
+        assert f"| {label} | {', '.join(f'{n:,}' for n in spread)} | {issue / spread[1]:.3g} |" in section, label
+    for scene, integrator, label, note in (("block", "moreau", "1 x 6 m block, Moreau-Jean", "at 2.1"),
+                                           ("column", "explicit", "8-drum column, central differences",
+                                            "at 2.1 (2 s)")):
+        n = counts[scene, integrator, 2.1][0]
+        assert f"| {label} | {n:,} {note} | {issue / n:.3g} |" in section, label
+    assert "--duration 2" in counts["column", "explicit", 2.1][1]
+    table = pd.read_csv(CHECK / "throughput.csv").set_index("scene")
+    block, column, mark = table.loc["block"], table.loc["column"], MARKS["block explicit member-steps/s"]
+    assert f"block's mark is {mark * middle['block'] / issue:.0%} of the H200's peak issue" in section
+    assert f"{mark:.0e} member-steps a second at {middle['block']:,} instructions".replace("e+", "e") in section
+    assert f"every {resident_threads() * clock / (mark * middle['block']):.1f} cycles" in section
+    rate = block.member_steps / block.kernel_s
+    assert f"The H200 ran {rate:.1e}: {rate * middle['block'] / issue:.1%} of peak issue".replace("e+0", "e") in section
+    step = per_thread_step(block)
+    assert (f"a thread's instruction every {step * clock / middle['block']:.0f} cycles (its {step * 1e6:.0f} us a step "
+            f"over {middle['block']:,})") in section
+    prototype = float(re.search(r"prototype's ([\d.]+e\d+) on an H100", section).group(1))
+    assert f"at most {issue / prototype:.0f} instructions a step" in section
+    steps, seconds = round(DURATION / 1e-3), MARKS["column moreau batch s"]
+    assert (f"A member's {steps:,} steps of {middle['column']:,} instructions in {seconds:g} s, with nothing else in "
+            f"those {seconds:g} s, is an instruction every {seconds * clock / (steps * middle['column']):.0f} cycles"
+            ) in section
+    assert (f"the {column.members:,} threads together would issue "
+            f"{column.members * steps * middle['column'] / seconds / issue:.1%} of the GPU's peak") in section
+    step = per_thread_step(column)
+    assert (f"step of {step * 1e3:.2f} ms took {step * clock / middle['column']:.0f} cycles an instruction "
+            f"({step / middle['column'] * 1e9:.1f} ns)") in section
+
+
+def test_step_instructions_without_valgrind_says_what_it_needs(tmp_path):
+    done = subprocess.run([sys.executable, "-m", "comparisons", "step-instructions", "--duration", "0.1"],
+                          capture_output=True, text=True, cwd=REPOSITORY, timeout=300,
+                          env={**os.environ, "PATH": str(tmp_path)})
+    assert done.returncode != 0 and "Traceback" not in done.stderr
+    assert "valgrind and callgrind_control not found" in done.stderr and "apt-get install valgrind" in done.stderr

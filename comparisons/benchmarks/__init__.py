@@ -12,5 +12,7 @@
 * :mod:`.moreau_stages` (``moreau-stages``): where Moreau-Jean's step spends its time;
 * :mod:`.gpu_check` (``gpu-check``): the GPU path measured on the machine it runs on;
 * :mod:`.gpu_reference` (``gpu-reference``): the device check's CPU side, run ahead where there is no GPU;
-* :mod:`.kernel_accesses` (``kernel-accesses``): a GPU thread's reads and writes a step, counted without a GPU.
+* :mod:`.kernel_accesses` (``kernel-accesses``): a GPU thread's reads and writes a step, counted without a GPU;
+* :mod:`.step_instructions` (``step-instructions``): a member's step in instructions, counted on the CPU, and what
+  that many allows a GPU.
 """
