@@ -283,71 +283,92 @@ def test_the_device_checks_reference_paragraph_names_the_members_it_runs():
     assert f"each case's batch of {SAMPLE} members, {DURATION:g} s of El Centro on 2 threads" in text
 
 
-def _step_counts() -> dict:
-    """``(scene, integrator, amplitude) -> (instructions a step, the command)`` from the committed log of ``python
-    -m comparisons step-instructions``, and the machine and counted build it names."""
-    counts, said = {}, set()
+def _step_counts() -> tuple:
+    """From the committed log of ``python -m comparisons step-instructions``: ``{(scene, integrator, amplitude):
+    (instructions a step, steps, s of the record, the command)}``, and the set of (machine, counted build) it names."""
+    counts, machines = {}, set()
     for part in STEP_INSTRUCTIONS.read_text().split("$ ")[1:]:
         command = part.splitlines()[0].strip()
-        scene, integrator, amplitude, machine = re.search(
-            r"^(\w+) by (\w+), [\d.]+ s of \w+ at ([\d.]+) g tan\(alpha\): [\d,]+ steps, \d+ ns a step on (.+)$", part,
-            re.MULTILINE).groups()
+        scene, integrator, seconds, amplitude, steps, machine = re.search(
+            r"^(\w+) by (\w+), ([\d.]+) s of \w+ at ([\d.]+) g tan\(alpha\): ([\d,]+) steps, \d+ ns a step on (.+) "
+            r"\(the driver built for it\)$", part, re.MULTILINE).groups()
         count, cpu = re.search(r"^([\d,]+) instructions a step \(x86-64, the driver built for (\w+);", part,
                                re.MULTILINE).groups()
-        counts[scene, integrator, float(amplitude)] = int(count.replace(",", "")), command
-        said.add((machine, cpu))
-    return counts, said
+        counts[scene, integrator, float(amplitude)] = (int(count.replace(",", "")), int(steps.replace(",", "")),
+                                                       float(seconds), command)
+        machines.add((machine, cpu))
+    return counts, machines
 
 
 def test_a_members_step_in_instructions_is_the_counts_log():
     """docs/performance.md's table of instructions a step and what they allow an H200, from the committed log of
-    ``step-instructions``, the check's committed throughput and the issue's marks."""
+    ``step-instructions``, the check's committed throughput, the reads counted above and the issue's marks."""
     from comparisons.benchmarks.gpu_check import MARKS
+    from comparisons.benchmarks.record_members import HIGHEST, LOWEST, MIDDLE
     from comparisons.benchmarks.step_instructions import GPUS
 
-    text = (REPOSITORY / "docs" / "performance.md").read_text()
+    text = _words((REPOSITORY / "docs" / "performance.md").read_text())
     start = text.index("### A member's step in instructions, and what an H200 can make of it")
-    section = _words(text[start:text.index("\n### ", start + 1)])
-    counts, said = _step_counts()
-    assert said == {("x86_64, 2 cores, AMD EPYC", "haswell")}
-    assert all(command.startswith("python -m comparisons step-instructions --scene ") for _, command in counts.values())
+    section = text[start:text.index(" ### ", start + 1)]
+    counts, machines = _step_counts()
+    ((machine, cpu),) = machines
+    assert machine == "x86_64, 2 cores, AMD EPYC"
+    assert "2-vCPU AMD EPYC development machine" in section
+    assert f"the counted driver for the CPU valgrind presents, {cpu})" in section
+    assert all(command.startswith("python -m comparisons step-instructions --scene ") for *_, command in
+               counts.values())
     ((multiprocessors, lanes, clock),) = GPUS.values()
     issue = multiprocessors * lanes * clock
     assert f"{multiprocessors} multiprocessors x {lanes // 32} schedulers x 32 lanes x {clock / 1e9:g} GHz" in section
     assert f"{issue:.4g} instructions a second" in section
+    amplitudes = (LOWEST, MIDDLE, HIGHEST)
+    assert f"{amplitudes[0]:g}, {amplitudes[1]:g} (the default: the device check's middle member) and " \
+           f"{amplitudes[2]:g} times g tan(alpha)" in section
     middle = {}
     for scene, integrator, label in (("block", "explicit", "1 x 6 m block, central differences"),
                                      ("column", "moreau", "8-drum column, Moreau-Jean")):
-        spread = [counts[scene, integrator, a][0] for a in (1.2, 2.1, 3.0)]
-        middle[scene] = spread[1]
-        assert f"| {label} | {', '.join(f'{n:,}' for n in spread)} | {issue / spread[1]:.3g} |" in section, label
-    for scene, integrator, label, note in (("block", "moreau", "1 x 6 m block, Moreau-Jean", "at 2.1"),
-                                           ("column", "explicit", "8-drum column, central differences",
-                                            "at 2.1 (2 s)")):
-        n = counts[scene, integrator, 2.1][0]
+        runs = [counts[scene, integrator, a] for a in amplitudes]
+        middle[scene] = runs[1]
+        assert f"| {label} | {', '.join(f'{n:,}' for n, *_ in runs)} | {issue / runs[1][0]:.3g} |" in section, label
+        assert {seconds for _, _, seconds, _ in runs} == {DURATION}
+        assert runs[2][1] < runs[1][1]  # overturned before the record's end, as the section says
+    assert f"{DURATION:g} s of the record" in section and "overturns both members before the record's end" in section
+    for scene, integrator, label in (("block", "moreau", "1 x 6 m block, Moreau-Jean"),
+                                     ("column", "explicit", "8-drum column, central differences")):
+        n, _, seconds, _ = counts[scene, integrator, MIDDLE]
+        note = f"at {MIDDLE:g}" + ("" if seconds == DURATION else f" ({seconds:g} s)")
         assert f"| {label} | {n:,} {note} | {issue / n:.3g} |" in section, label
-    assert "--duration 2" in counts["column", "explicit", 2.1][1]
     table = pd.read_csv(CHECK / "throughput.csv").set_index("scene")
     block, column, mark = table.loc["block"], table.loc["column"], MARKS["block explicit member-steps/s"]
-    assert f"block's mark is {mark * middle['block'] / issue:.0%} of the H200's peak issue" in section
-    assert f"{mark:.0e} member-steps a second at {middle['block']:,} instructions".replace("e+", "e") in section
-    assert f"every {resident_threads() * clock / (mark * middle['block']):.1f} cycles" in section
+    per_step = middle["block"][0]
+    assert f"block's mark is {mark * per_step / issue:.0%} of the H200's peak issue" in section
+    assert f"{mark:.0e} member-steps a second at {per_step:,} instructions".replace("e+", "e") in section
+    warps = REGISTERS // (32 * 256)
+    assert f"At 255 registers a multiprocessor holds {warps} warps, {warps // 4} a scheduler" in section
+    assert f"every {resident_threads() * clock / (mark * per_step):.1f} cycles" in section
+    reads = re.search(r"\| 1 x 6 m block, central differences \| ([\d,]+) \|", text[:start]).group(1)
+    assert f"branches that differ between its members and {reads} reads a step" in section
     rate = block.member_steps / block.kernel_s
-    assert f"The H200 ran {rate:.1e}: {rate * middle['block'] / issue:.1%} of peak issue".replace("e+0", "e") in section
+    assert f"The H200 ran {rate:.1e}: {rate * per_step / issue:.1%} of peak issue".replace("e+0", "e") in section
     step = per_thread_step(block)
-    assert (f"a thread's instruction every {step * clock / middle['block']:.0f} cycles (its {step * 1e6:.0f} us a step "
-            f"over {middle['block']:,})") in section
-    prototype = float(re.search(r"prototype's ([\d.]+e\d+) on an H100", section).group(1))
+    assert (f"a thread's instruction every {step * clock / per_step:.0f} cycles (its {step * 1e6:.0f} us a step "
+            f"over {per_step:,})") in section
+    prototype = float(re.search(r"The prototype of the issue that asked for the GPU path measured ([\d.]+e\d+) "
+                                r"member-steps per second", text).group(1))
+    assert f"prototype's {prototype:.1e}".replace("e+", "e") in section
     assert f"at most {issue / prototype:.0f} instructions a step" in section
-    steps, seconds = round(DURATION / 1e-3), MARKS["column moreau batch s"]
-    assert (f"A member's {steps:,} steps of {middle['column']:,} instructions in {seconds:g} s, with nothing else in "
-            f"those {seconds:g} s, is an instruction every {seconds * clock / (steps * middle['column']):.0f} cycles"
+    per_step, steps, _, _ = middle["column"]
+    seconds = MARKS["column moreau batch s"]
+    assert (f"A member's {steps:,} steps of {per_step:,} instructions in {seconds:g} s, with nothing else in "
+            f"those {seconds:g} s, is an instruction every {seconds * clock / (steps * per_step):.0f} cycles"
             ) in section
     assert (f"the {column.members:,} threads together would issue "
-            f"{column.members * steps * middle['column'] / seconds / issue:.1%} of the GPU's peak") in section
+            f"{column.members * steps * per_step / seconds / issue:.1%} of the GPU's peak") in section
     step = per_thread_step(column)
-    assert (f"step of {step * 1e3:.2f} ms took {step * clock / middle['column']:.0f} cycles an instruction "
-            f"({step / middle['column'] * 1e9:.1f} ns)") in section
+    assert (f"step of {step * 1e3:.2f} ms (by the members' mean steps, as above) took {step * clock / per_step:.0f} "
+            f"cycles an instruction ({step / per_step * 1e9:.1f} ns)") in section
+    assert (f"its kernel's {column.kernel_s:.1f} s over the longest member's {steps:,} steps, "
+            f"{column.kernel_s / steps * clock / per_step:.0f} cycles") in section
 
 
 def test_step_instructions_without_valgrind_says_what_it_needs(tmp_path):

@@ -22,16 +22,23 @@ OTHER_CASES = (("block", "moreau"), ("column", "explicit"))
 CASES = MARKED_CASES + OTHER_CASES
 #: the members' amplitudes span these multiples of g tan(alpha)
 LOWEST, HIGHEST = 1.2, 3.0
+#: the amplitude of a lone member, midway
+MIDDLE = 0.5 * (LOWEST + HIGHEST)
 RECORD = "el_centro_1940"
+
+
+def motion(tan_alpha: float, amplitude: float, nudge: float = 0.0):
+    """The record scaled to ``amplitude`` times g tan(alpha), times ``1 + nudge``."""
+    record = excitation.record(RECORD)
+    return excitation.scaled(record, amplitude * (G_STANDARD * tan_alpha / record.horizontal.peak_acceleration
+                                                  * (1.0 + nudge)))
 
 
 def motions(tan_alpha: float, members: int, nudge: float = 0.0) -> list:
     """The members' ground motions: the record at ``members`` amplitudes from LOWEST to HIGHEST g tan(alpha) (one
-    member: midway), each scale times ``1 + nudge``."""
-    record = excitation.record(RECORD)
-    amplitudes = np.linspace(LOWEST, HIGHEST, members) if members > 1 else np.array([0.5 * (LOWEST + HIGHEST)])
-    factor = G_STANDARD * tan_alpha / record.horizontal.peak_acceleration * (1.0 + nudge)
-    return [excitation.scaled(record, a * factor) for a in amplitudes]
+    member: MIDDLE), each scale times ``1 + nudge``."""
+    amplitudes = np.linspace(LOWEST, HIGHEST, members) if members > 1 else np.array([MIDDLE])
+    return [motion(tan_alpha, a, nudge) for a in amplitudes]
 
 
 def ignore_the_cut_strong_motion() -> None:
