@@ -96,6 +96,15 @@ def test_members_under_either_contact_law_share_a_batch():
         _assert_same_run(dem_core.simulate(scene, motion, 1.0, integrator="explicit"), run.result())
 
 
+def test_the_device_checks_members_scale_one_record_sampled_once_for_them_all():
+    """The benchmarks' members (record_members.motions) scale one record, so that a batch samples it once."""
+    from comparisons.benchmarks.record_members import SCENES, motions
+
+    build, tan_alpha = SCENES["block"]
+    runs = [Simulation(build(), motion, 0.05) for motion in motions(tan_alpha, 4)]
+    assert len(_motions(runs).units) == 1
+
+
 def test_a_batch_holds_one_blank_and_one_shared_model_for_its_members_until_its_kernel_runs():
     """Every member starts with blank outputs and scratch (most of a member's bytes: 2.4 GB and 0.8 GB for 4,096
     columns of 20 s), and members of one scene set up once share its model, so packing a batch makes one member's

@@ -18,7 +18,7 @@ import dem_core
 from comparisons.benchmarks.gpu_check import SCALING
 from comparisons.benchmarks.gpu_reference import DURATION, SAMPLE
 from comparisons.benchmarks.kernel_accesses import UNCOMPILED
-from comparisons.benchmarks.record_members import SCENES, motions
+from comparisons.benchmarks.record_members import MIDDLE, SCENES, motions
 from dem_core.batch import GPU_MEMBERS_PER_THREAD
 from dem_core.engine._members import THREADS_PER_BLOCK
 from test_quoted_figures import _words
@@ -294,6 +294,10 @@ def _step_counts() -> tuple:
             r"\(the driver built for it\)$", part, re.MULTILINE).groups()
         count, cpu = re.search(r"^([\d,]+) instructions a step \(x86-64, the driver built for (\w+);", part,
                                re.MULTILINE).groups()
+        options = dict(re.findall(r"--(\w+) (\S+)", command))
+        assert (options["scene"], options["integrator"]) == (scene, integrator), command
+        assert float(options.get("amplitude", MIDDLE)) == float(amplitude), command
+        assert float(options.get("duration", DURATION)) == float(seconds), command
         counts[scene, integrator, float(amplitude)] = (int(count.replace(",", "")), int(steps.replace(",", "")),
                                                        float(seconds), command)
         machines.add((machine, cpu))
@@ -304,7 +308,7 @@ def test_a_members_step_in_instructions_is_the_counts_log():
     """docs/performance.md's table of instructions a step and what they allow an H200, from the committed log of
     ``step-instructions``, the check's committed throughput, the reads counted above and the issue's marks."""
     from comparisons.benchmarks.gpu_check import MARKS
-    from comparisons.benchmarks.record_members import HIGHEST, LOWEST, MIDDLE
+    from comparisons.benchmarks.record_members import HIGHEST, LOWEST
     from comparisons.benchmarks.step_instructions import GPUS
 
     text = _words((REPOSITORY / "docs" / "performance.md").read_text())
@@ -372,8 +376,33 @@ def test_a_members_step_in_instructions_is_the_counts_log():
 
 
 def test_step_instructions_without_valgrind_says_what_it_needs(tmp_path):
+    """Where valgrind is not installed, the command names what it needs and how to install it, no traceback."""
     done = subprocess.run([sys.executable, "-m", "comparisons", "step-instructions", "--duration", "0.1"],
                           capture_output=True, text=True, cwd=REPOSITORY, timeout=300,
                           env={**os.environ, "PATH": str(tmp_path)})
     assert done.returncode != 0 and "Traceback" not in done.stderr
     assert "valgrind and callgrind_control not found" in done.stderr and "apt-get install valgrind" in done.stderr
+
+
+def test_the_counted_member_is_the_run_simulate_steps_its_samples_made_ahead():
+    """step-instructions' member, sampled for its whole run before it steps, ends where the same run sampled chunk by
+    chunk ends, bit for bit; a sequence, whose events a single sampling would not follow, is refused."""
+    import argparse
+
+    from comparisons.benchmarks.record_members import motion
+    from comparisons.benchmarks.step_instructions import _member, _SampledAhead
+    from dem_core.inputs.excitation import sequence, sine_pulse
+    from dem_core.simulation import Simulation
+
+    for scene, integrator in (("block", "explicit"), ("column", "moreau")):
+        counted = _member(argparse.Namespace(scene=scene, integrator=integrator, amplitude=MIDDLE, duration=0.5))
+        build, tan_alpha = SCENES[scene]
+        chunked = Simulation(build(), motion(tan_alpha, MIDDLE), 0.5, integrator=integrator)
+        counted.advance(100)  # more than one chunk each
+        counted.advance()
+        chunked.advance()
+        assert counted.step == chunked.step == chunked.settings.last_step
+        assert np.array_equal(counted.state.pos, chunked.state.pos), scene
+        assert np.array_equal(counted.state.vel, chunked.state.vel), scene
+    with pytest.raises(TypeError, match="not a sequence"):
+        _SampledAhead(SCENES["block"][0](), sequence([sine_pulse(1.0, 0.5)] * 2, rest=0.5))

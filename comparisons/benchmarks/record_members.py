@@ -27,18 +27,21 @@ MIDDLE = 0.5 * (LOWEST + HIGHEST)
 RECORD = "el_centro_1940"
 
 
-def motion(tan_alpha: float, amplitude: float, nudge: float = 0.0):
-    """The record scaled to ``amplitude`` times g tan(alpha), times ``1 + nudge``."""
-    record = excitation.record(RECORD)
+def motion(tan_alpha: float, amplitude: float, nudge: float = 0.0, record=None):
+    """The record (``record``, else :data:`RECORD` loaded) scaled to ``amplitude`` times g tan(alpha), times
+    ``1 + nudge``."""
+    record = record or excitation.record(RECORD)
     return excitation.scaled(record, amplitude * (G_STANDARD * tan_alpha / record.horizontal.peak_acceleration
                                                   * (1.0 + nudge)))
 
 
 def motions(tan_alpha: float, members: int, nudge: float = 0.0) -> list:
-    """The members' ground motions: the record at ``members`` amplitudes from LOWEST to HIGHEST g tan(alpha) (one
-    member: MIDDLE), each scale times ``1 + nudge``."""
+    """The members' ground motions: one record, loaded once, at ``members`` amplitudes from LOWEST to HIGHEST g
+    tan(alpha) (one member: MIDDLE), each scale times ``1 + nudge``.  The members scale the same record, so that a
+    batch samples it once for all of them."""
+    record = excitation.record(RECORD)
     amplitudes = np.linspace(LOWEST, HIGHEST, members) if members > 1 else np.array([MIDDLE])
-    return [motion(tan_alpha, a, nudge) for a in amplitudes]
+    return [motion(tan_alpha, a, nudge, record) for a in amplitudes]
 
 
 def ignore_the_cut_strong_motion() -> None:

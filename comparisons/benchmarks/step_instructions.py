@@ -16,11 +16,11 @@ instruction set, so it measures the step's length, not a GPU's instructions exac
 where x86-64 folds it into the arithmetic, its 64-bit integer arithmetic and float64 division take several, an
 x86-64 vector instruction may do the work of two to four of a thread's, and a GPU fuses a multiply and an add.  The
 rate it gives a GPU is an estimate, at peak issue.  The counted build is for the CPU valgrind presents, which may
-lack some of this machine's instructions; numba builds the driver for it once (about ten minutes on the development
-machine) and caches it.
+lack some of this machine's instructions; numba builds the driver for it once (minutes) and caches it.
 """
 
 import argparse
+import contextlib
 import math
 import os
 import re
@@ -35,6 +35,7 @@ import numpy as np
 
 from dem_core.cli.arguments import POSITIVE, SECONDS
 from dem_core.engine.settings import STATUS_OVERTURNED
+from dem_core.inputs.excitation import MotionSequence
 from dem_core.simulation import Simulation
 
 from .record_members import MIDDLE, RECORD, SCENES, ignore_the_cut_strong_motion, motion
@@ -65,12 +66,14 @@ def arguments(parser: argparse.ArgumentParser) -> None:
 
 class _SampledAhead(Simulation):
     """A run that makes its ground samples for the whole run once it is set up, and hands each chunk a copy of their
-    columns, the same values: the record's sampling, which the host does for a GPU thread, then falls outside the
-    steps timed and counted."""
+    columns, the same values under a single motion: the record's sampling, which the host does for a GPU thread,
+    then falls outside the steps timed and counted."""
 
     def __init__(self, *args, **options):
         self.ahead = None
         super().__init__(*args, **options)
+        if isinstance(self.excitation, MotionSequence):
+            raise TypeError("step-instructions samples a single motion ahead, not a sequence's events")
         self.ahead = super()._samples(0, self.settings.last_step)
 
     def _samples(self, first: int, steps: int) -> np.ndarray:
@@ -89,8 +92,6 @@ def _stepped(args, around=None, repeats: int = 1) -> tuple:
     """``(steps, s)``: the member stepped through its run, the least time of ``repeats`` runs, after one that
     compiles the driver (or loads it from numba's cache), ``around`` (a context manager, or None) about the steps
     alone."""
-    import contextlib
-
     warm = argparse.Namespace(**{**vars(args), "duration": 0.01})
     _member(warm).advance()
     took = math.inf
@@ -171,7 +172,7 @@ def run(args: argparse.Namespace) -> None:
           f"{steps:,} steps, {took / steps * 1e9:.0f} ns a step on {machine()} (the driver built for it)",
           flush=True)
     print("counting under valgrind (the first count on a machine compiles the driver for the CPU valgrind presents, "
-          "about ten minutes; numba's cache keeps it)", flush=True)
+          "for minutes under valgrind; numba's cache keeps it)", flush=True)
     instructions, counted, cpu = _counted(args)
     if counted != steps:
         raise SystemExit(f"step-instructions: the counted run took {counted:,} steps, the timed one {steps:,}")
