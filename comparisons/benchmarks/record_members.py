@@ -30,7 +30,7 @@ RECORD = "el_centro_1940"
 def motion(tan_alpha: float, amplitude: float, nudge: float = 0.0, record=None):
     """The record (``record``, else :data:`RECORD` loaded) scaled to ``amplitude`` times g tan(alpha), times
     ``1 + nudge``."""
-    record = record or excitation.record(RECORD)
+    record = excitation.record(RECORD) if record is None else record
     return excitation.scaled(record, amplitude * (G_STANDARD * tan_alpha / record.horizontal.peak_acceleration
                                                   * (1.0 + nudge)))
 
