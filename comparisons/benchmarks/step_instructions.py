@@ -89,11 +89,9 @@ def _member(args) -> _SampledAhead:
 
 
 def _stepped(args, around=None, repeats: int = 1) -> tuple:
-    """``(steps, s)``: the member stepped through its run, the least time of ``repeats`` runs, after one that
-    compiles the driver (or loads it from numba's cache), ``around`` (a context manager, or None) about the steps
-    alone."""
-    warm = argparse.Namespace(**{**vars(args), "duration": 0.01})
-    _member(warm).advance()
+    """``(steps, s)``: the member stepped through its run, the least time of ``repeats`` runs, ``around`` (a context
+    manager, or None) about the steps alone: each run's set-up, outside it, compiles the driver or loads it from
+    numba's cache."""
     took = math.inf
     for _ in range(repeats):
         run = _member(args)
